@@ -1,0 +1,25 @@
+// Helpers shared by the tests.
+#ifndef NRSFM_TESTS_TEST_UTIL_H_
+#define NRSFM_TESTS_TEST_UTIL_H_
+
+#include <string>
+
+namespace nrsfm {
+namespace testing_util {
+
+// Directory of the real datasets (`../shared/datasets`), or "" when absent.
+// NRSFM_SHARED_DIR in the environment overrides the default location.
+std::string SharedDatasetsDir();
+
+// A fresh, empty directory under the test's temporary directory.
+std::string MakeTempDir(const std::string& prefix);
+
+}  // namespace testing_util
+}  // namespace nrsfm
+
+// Skips the current test when the shared datasets are not there.
+#define NRSFM_SKIP_WITHOUT_SHARED_DATA(dir_var)                         \
+  const std::string dir_var = ::nrsfm::testing_util::SharedDatasetsDir(); \
+  if (dir_var.empty()) GTEST_SKIP() << "../shared/datasets not present"
+
+#endif  // NRSFM_TESTS_TEST_UTIL_H_
