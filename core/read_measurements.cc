@@ -1,0 +1,206 @@
+#include "core/read_measurements.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <vector>
+
+#include "core/mat_io.h"
+#include "core/shape_layouts.h"
+#include "core/text_io.h"
+
+namespace nrsfm {
+namespace {
+
+std::string Lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) {
+    return static_cast<char>(std::tolower(c));
+  });
+  return s;
+}
+
+Status DetectFormat(const std::string& path, const std::string& requested,
+                    std::string* format) {
+  if (requested != "auto") {
+    *format = requested;
+    return Status::OK();
+  }
+  const std::string ext =
+      Lower(std::filesystem::path(path).extension().string());
+  if (ext == ".mat") {
+    *format = "mat";
+  } else if (ext == ".txt" || ext == ".csv" || ext == ".tsv" || ext == ".dat") {
+    *format = "text";
+  } else if (ext == ".obs" || ext == ".list") {
+    *format = "list";
+  } else {
+    return Status::Error(
+        path + ": cannot tell the input format from the extension '" + ext +
+        "' (.mat; .txt/.csv/.tsv/.dat; .obs/.list); set the format");
+  }
+  return Status::OK();
+}
+
+// Picks the measurement variable: the requested one, else W, P3_gt, X.
+Status ChooseVariable(const std::string& path, const std::string& requested,
+                      std::string* variable) {
+  if (!requested.empty()) {
+    *variable = requested;
+    return Status::OK();
+  }
+  std::vector<std::string> names;
+  NRSFM_RETURN_IF_ERROR(ListMatVariables(path, &names));
+  for (const char* candidate : {"W", "P3_gt", "X"}) {
+    if (std::find(names.begin(), names.end(), candidate) != names.end()) {
+      *variable = candidate;
+      return Status::OK();
+    }
+  }
+  std::string joined;
+  for (const std::string& name : names)
+    joined += (joined.empty() ? "" : ", ") + name;
+  return Status::Error(
+      path + ": none of the variables W, P3_gt, X is in the file (it has: " +
+      (joined.empty() ? "(none)" : joined) + "); name one");
+}
+
+// Reads the chosen variable as a (2FM) × P matrix W.
+Status ReadWFromMat(const std::string& path, const std::string& variable,
+                    int num_cameras, Eigen::MatrixXd* w) {
+  const std::string name = path + ": " + variable;
+  if (variable == "P3_gt") {
+    Eigen::MatrixXd block;
+    NRSFM_RETURN_IF_ERROR(ReadMatVariable(path, variable, &block));
+    std::vector<Eigen::Matrix3Xd> frames;
+    NRSFM_RETURN_IF_ERROR(FramesFromBlockLayout(block, name, &frames));
+    if (num_cameras != 1) {
+      return Status::Error(name +
+                           " holds monocular data; num_cameras must be 1");
+    }
+    *w = OrthographicW(frames);
+    return Status::OK();
+  }
+  std::vector<Eigen::MatrixXd> slices;
+  NRSFM_RETURN_IF_ERROR(ReadMatArray3(path, variable, &slices));
+  if (variable == "X" || slices.size() > 1) {
+    std::vector<Eigen::Matrix3Xd> frames;
+    NRSFM_RETURN_IF_ERROR(FramesFromArray3(slices, name, &frames));
+    if (num_cameras != 1) {
+      return Status::Error(name +
+                           " holds monocular data; num_cameras must be 1");
+    }
+    *w = OrthographicW(frames);
+    return Status::OK();
+  }
+  *w = std::move(slices[0]);
+  return Status::OK();
+}
+
+// Sets W to NaN where the mask variable says not visible.
+Status ApplyMask(const std::string& path, const std::string& mask_variable,
+                 int num_cameras, Eigen::MatrixXd* w) {
+  const std::string name = path + ": mask " + mask_variable;
+  Eigen::MatrixXd mask;
+  NRSFM_RETURN_IF_ERROR(ReadMatVariable(path, mask_variable, &mask));
+  const Eigen::Index views = w->rows() / 2;
+  if (mask.cols() != w->cols() ||
+      (mask.rows() != w->rows() && mask.rows() != views)) {
+    return Status::Error(
+        name + " is " + std::to_string(mask.rows()) + " x " +
+        std::to_string(mask.cols()) + "; expected " +
+        std::to_string(w->rows()) + " x " + std::to_string(w->cols()) + " or " +
+        std::to_string(views) + " x " + std::to_string(w->cols()) + " (W is " +
+        std::to_string(w->rows()) + " x " + std::to_string(w->cols()) +
+        ", M = " + std::to_string(num_cameras) + ")");
+  }
+  if (!mask.allFinite())
+    return Status::Error(name + " holds NaN or Inf; expected 0/1");
+  const bool per_row = mask.rows() == w->rows();
+  for (Eigen::Index view = 0; view < views; ++view) {
+    for (Eigen::Index p = 0; p < w->cols(); ++p) {
+      bool visible = mask(per_row ? 2 * view : view, p) != 0.0;
+      if (per_row && visible != (mask(2 * view + 1, p) != 0.0)) {
+        return Status::Error(name + ": rows " + std::to_string(2 * view + 1) +
+                             " and " + std::to_string(2 * view + 2) +
+                             " (u and v of one view) differ at column " +
+                             std::to_string(p + 1) + " (1-based)");
+      }
+      if (!visible) {
+        (*w)(2 * view, p) = std::nan("");
+        (*w)(2 * view + 1, p) = std::nan("");
+      }
+    }
+  }
+  return Status::OK();
+}
+
+Status ReadMatMeasurements(const std::string& path, const InputOptions& options,
+                           Measurements* measurements) {
+  std::string variable;
+  NRSFM_RETURN_IF_ERROR(ChooseVariable(path, options.variable, &variable));
+  Eigen::MatrixXd w;
+  NRSFM_RETURN_IF_ERROR(ReadWFromMat(path, variable, options.num_cameras, &w));
+  const std::string name = path + ": " + variable;
+  // A W of the wrong shape is reported by FromMatrixWithNaN, not by the mask.
+  if (!options.mask_variable.empty() && w.size() > 0 &&
+      w.rows() % (2 * options.num_cameras) == 0) {
+    NRSFM_RETURN_IF_ERROR(
+        ApplyMask(path, options.mask_variable, options.num_cameras, &w));
+  }
+  return Measurements::FromMatrixWithNaN(w, options.num_cameras, name,
+                                         measurements);
+}
+
+}  // namespace
+
+Status InputOptions::Check() const {
+  if (num_cameras < 1) {
+    return Status::Error("input options: num_cameras must be >= 1, got " +
+                         std::to_string(num_cameras));
+  }
+  if (format != "auto" && format != "mat" && format != "text" &&
+      format != "list") {
+    return Status::Error(
+        "input options: format must be auto, mat, text or list, got '" +
+        format + "'");
+  }
+  return Status::OK();
+}
+
+Status ReadMeasurements(const std::string& path, const InputOptions& options,
+                        Measurements* measurements) {
+  NRSFM_RETURN_IF_ERROR(options.Check());
+  std::string format;
+  NRSFM_RETURN_IF_ERROR(DetectFormat(path, options.format, &format));
+  if (format != "mat" &&
+      (!options.variable.empty() || !options.mask_variable.empty())) {
+    return Status::Error(
+        path +
+        ": a variable or mask variable can only be named for .mat "
+        "input (this is read as " +
+        format + ")");
+  }
+  Measurements m;
+  if (format == "mat") {
+    NRSFM_RETURN_IF_ERROR(ReadMatMeasurements(path, options, &m));
+  } else if (format == "text") {
+    Eigen::MatrixXd w;
+    NRSFM_RETURN_IF_ERROR(ReadTextMatrix(path, &w));
+    NRSFM_RETURN_IF_ERROR(
+        Measurements::FromMatrixWithNaN(w, options.num_cameras, path, &m));
+  } else {
+    NRSFM_RETURN_IF_ERROR(ReadObservationList(path, &m));
+    if (options.num_cameras != 1 && options.num_cameras != m.num_cameras) {
+      return Status::Error(path + ": the list has " +
+                           std::to_string(m.num_cameras) +
+                           " camera(s) but num_cameras is " +
+                           std::to_string(options.num_cameras));
+    }
+  }
+  NRSFM_RETURN_IF_ERROR(m.Validate().WithContext(path));
+  *measurements = std::move(m);
+  return Status::OK();
+}
+
+}  // namespace nrsfm

@@ -1,0 +1,52 @@
+// Measurements from an input file (DESIGN.md §5): a MATLAB .mat file, a text
+// matrix W, or an observation list.
+//
+// Format (options.format = "auto" decides by the extension, any case):
+//   .mat                      MATLAB v4, v5 or v7.3 (core/mat_io.h)
+//   .txt .csv .tsv .dat       text matrix W, 2FM × P (core/text_io.h)
+//   .obs .list                observation list "frame camera point u v"
+//
+// In a .mat file the measurements come from the variable options.variable,
+// or, when it is "", from the first that exists of
+//   W      2FM × P, rows u, v per (frame, camera) (core/measurements.h);
+//   P3_gt  3F × P, block layout [x rows; y rows; z rows] (monocular): the
+//          2-D input is W_t = (x_t, y_t);
+//   X      3 × P × F (a 3 × P matrix is one frame), W_t = rows 0, 1 of X_t.
+// A variable named with options.variable is read as P3_gt when so named, as
+// X when named X or 3-D, as W otherwise.
+// NaN marks a missing entry (both coordinates of a point or neither).
+// options.mask_variable optionally names a (2FM) × P (rows u, v, which must
+// agree) or (FM) × P variable of the same file: nonzero = visible. An entry
+// is visible when the mask says so AND W holds numbers there; W is set to
+// NaN where it is not visible.
+#ifndef NRSFM_CORE_READ_MEASUREMENTS_H_
+#define NRSFM_CORE_READ_MEASUREMENTS_H_
+
+#include <string>
+
+#include "core/measurements.h"
+#include "core/status.h"
+
+namespace nrsfm {
+
+struct InputOptions {
+  // .mat variable with the measurements; "" = auto: W, then P3_gt, then X.
+  std::string variable;
+  // .mat variable with the visibility mask, nonzero = visible; "" = none.
+  std::string mask_variable;
+  // M, the number of synchronised cameras of a W with 2FM rows (W input).
+  // An observation list sets M from its largest camera index; a value other
+  // than 1 here must then agree with it. P3_gt and X are monocular (M = 1).
+  int num_cameras = 1;
+  // "auto" (by extension) | "mat" | "text" | "list".
+  std::string format = "auto";
+
+  Status Check() const;
+};
+
+Status ReadMeasurements(const std::string& path, const InputOptions& options,
+                        Measurements* measurements);
+
+}  // namespace nrsfm
+
+#endif  // NRSFM_CORE_READ_MEASUREMENTS_H_

@@ -1,0 +1,355 @@
+#include "core/result_writer.h"
+
+#include <matio.h>
+
+#include <Eigen/Core>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <system_error>
+
+namespace nrsfm {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A file written with fprintf; Close() reports any write error.
+class OutputFile {
+ public:
+  ~OutputFile() {
+    if (file_ != nullptr) std::fclose(file_);
+  }
+  Status Open(const fs::path& path) {
+    path_ = path.string();
+    file_ = std::fopen(path_.c_str(), "w");
+    if (file_ == nullptr) {
+      return Status::Error(path_ +
+                           ": cannot create the file: " + std::strerror(errno));
+    }
+    return Status::OK();
+  }
+  std::FILE* get() { return file_; }
+  Status Close() {
+    const bool failed = std::ferror(file_) != 0;
+    const bool close_failed = std::fclose(file_) != 0;
+    file_ = nullptr;
+    if (failed || close_failed)
+      return Status::Error(path_ + ": error while writing the file");
+    return Status::OK();
+  }
+
+ private:
+  std::string path_;
+  std::FILE* file_ = nullptr;
+};
+
+void PrintXyz(std::FILE* file, const Eigen::Vector3d& x) {
+  std::fprintf(file, ",%.17g,%.17g,%.17g\n", x(0), x(1), x(2));
+}
+
+Status WritePointsCamera(const fs::path& dir, const Model& model) {
+  OutputFile out;
+  NRSFM_RETURN_IF_ERROR(out.Open(dir / "points_camera.csv"));
+  std::fputs("frame,camera,point,x,y,z\n", out.get());
+  for (int t = 0; t < model.num_frames; ++t) {
+    for (int c = 0; c < model.num_cameras; ++c) {
+      const Eigen::Matrix3Xd points = model.ShapeInCamera(t, c);
+      for (int p = 0; p < model.num_points; ++p) {
+        std::fprintf(out.get(), "%d,%d,%d", t, c, p);
+        PrintXyz(out.get(), points.col(p));
+      }
+    }
+  }
+  return out.Close();
+}
+
+Status WritePointsObject(const fs::path& dir, const Model& model) {
+  OutputFile out;
+  NRSFM_RETURN_IF_ERROR(out.Open(dir / "points_object.csv"));
+  std::fputs("frame,point,x,y,z\n", out.get());
+  for (int t = 0; t < model.num_frames; ++t) {
+    const Eigen::Matrix3Xd shape = model.ShapeInObject(t);
+    for (int p = 0; p < model.num_points; ++p) {
+      std::fprintf(out.get(), "%d,%d", t, p);
+      PrintXyz(out.get(), shape.col(p));
+    }
+  }
+  return out.Close();
+}
+
+Status WriteViews(const fs::path& dir, const Model& model) {
+  OutputFile rotations, translations;
+  NRSFM_RETURN_IF_ERROR(rotations.Open(dir / "rotations.csv"));
+  NRSFM_RETURN_IF_ERROR(translations.Open(dir / "translations.csv"));
+  std::fputs("frame,camera,r11,r12,r13,r21,r22,r23,r31,r32,r33\n",
+             rotations.get());
+  std::fputs("frame,camera,tx,ty,scale\n", translations.get());
+  for (int t = 0; t < model.num_frames; ++t) {
+    for (int c = 0; c < model.num_cameras; ++c) {
+      const Eigen::Matrix3d r = model.Rotation(t, c);
+      std::fprintf(rotations.get(), "%d,%d", t, c);
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j)
+          std::fprintf(rotations.get(), ",%.17g", r(i, j));
+      }
+      std::fputc('\n', rotations.get());
+      const int view = model.View(t, c);
+      std::fprintf(translations.get(), "%d,%d,%.17g,%.17g,%.17g\n", t, c,
+                   model.translations(0, view), model.translations(1, view),
+                   model.scales(view));
+    }
+  }
+  NRSFM_RETURN_IF_ERROR(rotations.Close());
+  return translations.Close();
+}
+
+Status WriteWeightsAndBasis(const fs::path& dir, const Model& model) {
+  OutputFile weights, basis;
+  NRSFM_RETURN_IF_ERROR(weights.Open(dir / "weights.csv"));
+  NRSFM_RETURN_IF_ERROR(basis.Open(dir / "basis.csv"));
+  std::fputs("frame", weights.get());
+  for (int k = 0; k < model.num_bases; ++k)
+    std::fprintf(weights.get(), ",l%d", k + 1);
+  std::fputc('\n', weights.get());
+  for (int t = 0; t < model.num_frames; ++t) {
+    std::fprintf(weights.get(), "%d", t);
+    for (int k = 0; k < model.num_bases; ++k) {
+      std::fprintf(weights.get(), ",%.17g", model.weights(k, t));
+    }
+    std::fputc('\n', weights.get());
+  }
+  std::fputs("k,point,x,y,z\n", basis.get());
+  for (int k = 0; k < model.num_bases; ++k) {
+    for (int p = 0; p < model.num_points; ++p) {
+      std::fprintf(basis.get(), "%d,%d", k, p);
+      PrintXyz(basis.get(), model.basis.block<3, 1>(3 * k, p));
+    }
+  }
+  NRSFM_RETURN_IF_ERROR(weights.Close());
+  return basis.Close();
+}
+
+Status WritePly(const fs::path& dir, const Model& model) {
+  const fs::path ply_dir = dir / "ply";
+  std::error_code ec;
+  if (!fs::create_directory(ply_dir, ec)) {
+    return Status::Error(ply_dir.string() +
+                         ": cannot create the directory: " + ec.message());
+  }
+  for (int t = 0; t < model.num_frames; ++t) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "frame_%05d.ply", t);
+    OutputFile out;
+    NRSFM_RETURN_IF_ERROR(out.Open(ply_dir / name));
+    std::fprintf(out.get(),
+                 "ply\nformat ascii 1.0\ncomment nrsfm frame %d in the frame "
+                 "of camera 0\n"
+                 "element vertex %d\nproperty double x\nproperty double y\n"
+                 "property double z\nend_header\n",
+                 t, model.num_points);
+    const Eigen::Matrix3Xd points = model.ShapeInCamera(t, 0);
+    for (int p = 0; p < model.num_points; ++p) {
+      std::fprintf(out.get(), "%.17g %.17g %.17g\n", points(0, p), points(1, p),
+                   points(2, p));
+    }
+    NRSFM_RETURN_IF_ERROR(out.Close());
+  }
+  return Status::OK();
+}
+
+Status WriteJson(const fs::path& dir, const Measurements& measurements,
+                 const Model& model, const ReconstructionReport& report) {
+  using Json = nlohmann::ordered_json;
+  Json json;
+  json["input"] = report.input;
+  json["num_frames"] = model.num_frames;
+  json["num_cameras"] = model.num_cameras;
+  json["num_points"] = model.num_points;
+  json["num_bases"] = model.num_bases;
+  json["num_visible"] = measurements.NumVisible();
+  Json options = Json::object();
+  for (const auto& [key, value] : report.options) options[key] = value;
+  json["options"] = options;
+  json["start_used"] = report.start_used;
+  json["start_reprojection_rms"] = report.start_reprojection_rms;
+  Json stages = Json::array();
+  for (const StageReport& stage : report.stages) {
+    stages.push_back({{"name", stage.name},
+                      {"initial_cost", stage.initial_cost},
+                      {"final_cost", stage.final_cost},
+                      {"iterations", stage.iterations},
+                      {"seconds", stage.seconds}});
+  }
+  json["stages"] = stages;
+  json["reprojection_rms"] = report.reprojection_rms;
+  json["solution_usable"] = report.solution_usable;
+  json["warnings"] = report.warnings;
+  Json metrics = Json::object();
+  for (const auto& [name, value] : report.metrics) metrics[name] = value;
+  json["metrics"] = metrics;
+  Json versions = Json::object();
+  for (const auto& [name, value] : report.versions) versions[name] = value;
+  versions["eigen"] = std::to_string(EIGEN_WORLD_VERSION) + "." +
+                      std::to_string(EIGEN_MAJOR_VERSION) + "." +
+                      std::to_string(EIGEN_MINOR_VERSION);
+  versions["matio"] = MATIO_VERSION_STR;
+  versions["nlohmann_json"] = std::to_string(NLOHMANN_JSON_VERSION_MAJOR) +
+                              "." +
+                              std::to_string(NLOHMANN_JSON_VERSION_MINOR) +
+                              "." + std::to_string(NLOHMANN_JSON_VERSION_PATCH);
+  json["versions"] = versions;
+
+  OutputFile out;
+  NRSFM_RETURN_IF_ERROR(out.Open(dir / "result.json"));
+  // Invalid UTF-8 (e.g. in a path) is replaced instead of throwing.
+  const std::string text =
+      json.dump(2, ' ', false, Json::error_handler_t::replace);
+  std::fputs(text.c_str(), out.get());
+  std::fputc('\n', out.get());
+  return out.Close();
+}
+
+Status WriteAll(const fs::path& dir, const Measurements& measurements,
+                const Model& model, const ReconstructionReport& report,
+                const WriteOptions& options) {
+  NRSFM_RETURN_IF_ERROR(WritePointsCamera(dir, model));
+  NRSFM_RETURN_IF_ERROR(WritePointsObject(dir, model));
+  NRSFM_RETURN_IF_ERROR(WriteViews(dir, model));
+  NRSFM_RETURN_IF_ERROR(WriteWeightsAndBasis(dir, model));
+  if (options.write_ply) NRSFM_RETURN_IF_ERROR(WritePly(dir, model));
+  return WriteJson(dir, measurements, model, report);
+}
+
+// A new, empty directory `parent/.<name>.<tag>-NNNNNNNN` (mode from umask).
+Status MakeSiblingDir(const fs::path& parent, const std::string& name,
+                      const char* tag, fs::path* created) {
+  std::random_device random;
+  std::error_code ec;
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    char suffix[16];
+    std::snprintf(suffix, sizeof(suffix), "%08x",
+                  static_cast<unsigned>(random()));
+    const fs::path candidate = parent / ("." + name + "." + tag + "-" + suffix);
+    if (fs::create_directory(candidate, ec)) {
+      *created = candidate;
+      return Status::OK();
+    }
+    if (ec) break;
+  }
+  return Status::Error(parent.string() + ": cannot create a directory there" +
+                       (ec ? ": " + ec.message() : std::string()));
+}
+
+// Checks whether `target` may be (re)placed; sets *exists.
+Status CheckTarget(const fs::path& target, bool overwrite, bool* exists) {
+  std::error_code ec;
+  const fs::file_status status = fs::symlink_status(target, ec);
+  *exists = fs::exists(status);
+  if (!*exists) return Status::OK();
+  if (!fs::is_directory(status)) {
+    return Status::Error(target.string() + ": exists and is not a directory");
+  }
+  const bool empty = fs::is_empty(target, ec);
+  if (ec)
+    return Status::Error(target.string() +
+                         ": cannot read the directory: " + ec.message());
+  if (empty) return Status::OK();
+  if (!overwrite) {
+    return Status::Error(target.string() +
+                         ": the output directory exists and is not empty "
+                         "(allow overwriting to replace it)");
+  }
+  if (!fs::exists(target / "result.json", ec)) {
+    return Status::Error(
+        target.string() +
+        ": the output directory is not empty and holds no result.json, so it "
+        "is not an earlier result; refusing to replace it");
+  }
+  return Status::OK();
+}
+
+// Renames the finished `staging` directory to `target`, replacing an
+// existing target (moved aside first, removed after the swap).
+Status MoveIntoPlace(const fs::path& staging, const fs::path& target,
+                     bool target_exists) {
+  std::error_code ec;
+  if (target_exists && fs::is_empty(target, ec)) {
+    fs::remove(target, ec);
+    target_exists = false;
+  }
+  fs::path old;
+  if (target_exists) {
+    NRSFM_RETURN_IF_ERROR(MakeSiblingDir(
+        target.parent_path(), target.filename().string(), "old", &old));
+    fs::rename(target, old, ec);  // replaces the empty directory `old`
+    if (ec) {
+      fs::remove(old, ec);
+      return Status::Error(
+          target.string() +
+          ": cannot move the old result aside: " + ec.message());
+    }
+  }
+  fs::rename(staging, target, ec);
+  if (ec) {
+    const std::string message = ec.message();
+    if (target_exists) fs::rename(old, target, ec);
+    return Status::Error(target.string() +
+                         ": cannot move the result into place: " + message);
+  }
+  if (target_exists) fs::remove_all(old, ec);
+  return Status::OK();
+}
+
+}  // namespace
+
+Status WriteReconstruction(const std::string& dir,
+                           const Measurements& measurements, const Model& model,
+                           const ReconstructionReport& report,
+                           const WriteOptions& options) {
+  NRSFM_RETURN_IF_ERROR(
+      model.Validate().WithContext("WriteReconstruction: model"));
+  if (measurements.num_frames != model.num_frames ||
+      measurements.num_cameras != model.num_cameras ||
+      measurements.num_points != model.num_points) {
+    return Status::Error(
+        "WriteReconstruction: the measurements (F = " +
+        std::to_string(measurements.num_frames) +
+        ", M = " + std::to_string(measurements.num_cameras) +
+        ", P = " + std::to_string(measurements.num_points) +
+        ") do not match the model (F = " + std::to_string(model.num_frames) +
+        ", M = " + std::to_string(model.num_cameras) +
+        ", P = " + std::to_string(model.num_points) + ")");
+  }
+  if (dir.empty())
+    return Status::Error("WriteReconstruction: empty output directory name");
+  std::error_code ec;
+  fs::path target = fs::absolute(dir, ec).lexically_normal();
+  if (ec)
+    return Status::Error(dir + ": invalid output directory: " + ec.message());
+  if (target.filename().empty()) target = target.parent_path();
+  const std::string name = target.filename().string();
+  if (name.empty() || name == "." || name == ".." ||
+      target == target.root_path()) {
+    return Status::Error(dir + ": not usable as an output directory");
+  }
+  bool exists = false;
+  NRSFM_RETURN_IF_ERROR(CheckTarget(target, options.overwrite, &exists));
+
+  const fs::path parent = target.parent_path();
+  fs::create_directories(parent, ec);
+  if (ec) {
+    return Status::Error(parent.string() +
+                         ": cannot create the directory: " + ec.message());
+  }
+  fs::path staging;
+  NRSFM_RETURN_IF_ERROR(MakeSiblingDir(parent, name, "tmp", &staging));
+  Status status = WriteAll(staging, measurements, model, report, options);
+  if (status.ok()) status = MoveIntoPlace(staging, target, exists);
+  if (!status.ok()) fs::remove_all(staging, ec);
+  return status;
+}
+
+}  // namespace nrsfm

@@ -1,0 +1,80 @@
+// Writes a reconstruction into one directory (DESIGN.md §5).
+//
+// Files (indices 0-based; numbers with %.17g so they read back exactly):
+//   points_camera.csv  frame,camera,point,x,y,z   X_tc = s_tc R_tc S_t, for
+//                      every frame, camera and point (missing ones too);
+//                      F·M·P rows, frame-major, then camera, then point.
+//   points_object.csv  frame,point,x,y,z          S_t (object frame).
+//   rotations.csv      frame,camera,r11,r12,r13,r21,r22,r23,r31,r32,r33
+//                      R_tc row by row (rotation_cam_from_object).
+//   translations.csv   frame,camera,tx,ty,scale   T_tc and s_tc, so that
+//                      w_tcp = Π X_tc[:,p] + T_tc reproduces W.
+//   weights.csv        frame,l1..lK               l_t (column l(k+1) weighs
+//                                                 basis shape k).
+//   basis.csv          k,point,x,y,z              S_k, k = 0..K-1.
+//   result.json        the report below plus F, M, P, K, the number of
+//                      visible entries and library versions (NaN → null).
+//   ply/frame_00000.ply …  with WriteOptions::write_ply: ASCII PLY of each
+//                      frame's points in camera 0's frame (P vertices).
+//
+// The files are written into a fresh hidden sibling directory
+// (".<name>.tmp-XXXXXX") that is renamed to DIR only when everything has
+// been written, so a failure never leaves a partial DIR that looks complete.
+#ifndef NRSFM_CORE_RESULT_WRITER_H_
+#define NRSFM_CORE_RESULT_WRITER_H_
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/measurements.h"
+#include "core/model.h"
+#include "core/status.h"
+
+namespace nrsfm {
+
+// One optimisation stage (e.g. a Ceres solve) as reported in result.json.
+struct StageReport {
+  std::string name;
+  double initial_cost = 0;  // cost before the stage (solver units)
+  double final_cost = 0;    // cost after the stage
+  int iterations = 0;
+  double seconds = 0;  // wall time
+};
+
+struct ReconstructionReport {
+  std::string input;  // input path
+  std::vector<std::pair<std::string, std::string>>
+      options;                        // options used, key/value
+  std::string start_used;             // "factorization" | "rigid"
+  double start_reprojection_rms = 0;  // of the start, input units
+  std::vector<StageReport> stages;
+  double reprojection_rms = 0;  // final, input units
+  bool solution_usable = true;
+  std::vector<std::string> warnings;
+  std::vector<std::pair<std::string, double>> metrics;  // e.g. {"e3d", 0.03}
+  // Versions of the caller's libraries, e.g. {"nrsfm", "0.1.0"},
+  // {"ceres", CERES_VERSION_STRING}; the writer adds eigen, matio and
+  // nlohmann_json itself.
+  std::vector<std::pair<std::string, std::string>> versions;
+};
+
+struct WriteOptions {
+  bool write_ply = false;  // also write ply/frame_NNNNN.ply
+  // Replace an existing non-empty DIR. Only a directory that holds a
+  // result.json (an earlier result) is replaced, never another directory.
+  bool overwrite = true;
+};
+
+// Fails (writing nothing) when the model is invalid or its sizes differ from
+// the measurements', when DIR is a file, when DIR is non-empty and overwrite
+// is false or DIR holds no result.json, and when the parent of DIR cannot be
+// created or written.
+Status WriteReconstruction(const std::string& dir,
+                           const Measurements& measurements, const Model& model,
+                           const ReconstructionReport& report,
+                           const WriteOptions& options);
+
+}  // namespace nrsfm
+
+#endif  // NRSFM_CORE_RESULT_WRITER_H_

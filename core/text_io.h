@@ -1,0 +1,58 @@
+// Plain-text inputs: a measurement matrix W as text/CSV, a sparse observation
+// list, and the CSV tables nrsfm writes (DESIGN.md §5).
+//
+// Common text rules: fields are separated by whitespace and/or single commas;
+// `#` starts a comment that runs to the end of the line; blank and
+// comment-only lines are skipped; "\r\n" line ends are accepted. Numbers are
+// parsed independently of the locale ("1.5", "-2e-3", "+4"). `NaN` (any case)
+// marks a missing value; ±Inf is always an error. Errors name the file, the
+// 1-based line and, for a bad field, the 1-based column (field number).
+#ifndef NRSFM_CORE_TEXT_IO_H_
+#define NRSFM_CORE_TEXT_IO_H_
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "core/measurements.h"
+#include "core/status.h"
+
+namespace nrsfm {
+
+// Reads a matrix, one row per line; every row must have the same number of
+// fields (the error names the first line that differs). NaN entries are kept
+// as NaN. Fails on an empty file (no numbers), a field that is not a number,
+// an empty field ("1,,2") and on ±Inf.
+Status ReadTextMatrix(const std::string& path, Eigen::MatrixXd* matrix);
+
+// Writes a matrix in the format ReadTextMatrix reads: one row per line,
+// values separated by single spaces, full precision (%.17g, so values round
+// trip exactly), NaN as "NaN".
+Status WriteTextMatrix(const std::string& path, const Eigen::MatrixXd& matrix);
+
+// Reads a CSV table whose first (non-comment) line is a header that must
+// equal `header` (field by field, e.g. {"frame", "point", "x"}), followed by
+// numeric rows of header.size() fields. `table` gets one row per data line.
+Status ReadCsvTable(const std::string& path,
+                    const std::vector<std::string>& header,
+                    Eigen::MatrixXd* table);
+
+// Reads a sparse observation list: one observation per line,
+//   frame camera point u v
+// with 0-based integer indices (written as integers, "3", or integral
+// numbers, "3.0") and finite u, v. F, M and P are each the largest index + 1;
+// views and points that no line mentions are simply not visible (whether the
+// result can be reconstructed is for the solvers to judge). Fails on a line
+// with other than 5 fields, a negative or non-integer index, non-finite u or
+// v, the same (frame, camera, point) twice (naming both lines), no
+// observation at all, or sizes whose W would exceed 2^28 entries.
+Status ReadObservationList(const std::string& path, Measurements* measurements);
+
+// Writes the visible observations of `measurements` as an observation list
+// (frame-major order, full precision).
+Status WriteObservationList(const std::string& path,
+                            const Measurements& measurements);
+
+}  // namespace nrsfm
+
+#endif  // NRSFM_CORE_TEXT_IO_H_

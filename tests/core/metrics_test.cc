@@ -1,0 +1,252 @@
+#include "core/metrics.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "core/rotation.h"
+
+namespace nrsfm {
+namespace {
+
+using Frames = std::vector<Eigen::Matrix3Xd>;
+
+// A centred 5-point shape whose x row is orthogonal to its y and z rows and
+// whose point 0 lies on the x axis: (2, 0, 0), (−0.5, ±b, 0), (−0.5, 0, ±c).
+// These properties make the e3D alignment of the hand cases below the
+// identity, so the errors have closed forms.
+Eigen::Matrix3Xd Cross(double b, double c) {
+  Eigen::Matrix3Xd x(3, 5);
+  x << 2.0, -0.5, -0.5, -0.5, -0.5,  //
+      0.0, b, -b, 0.0, 0.0,          //
+      0.0, 0.0, 0.0, c, -c;
+  return x;
+}
+
+Frames TwoCrosses() { return {Cross(1.0, 1.0), Cross(2.0, 0.5)}; }
+
+// e3D's s for TwoCrosses(): the population std of the rows of Cross(b, c)
+// are x: 1, y: b √(2/5), z: c √(2/5); s is their mean over the 6 rows.
+double E3DScaleOfTwoCrosses() {
+  const double k = std::sqrt(0.4);
+  return (1.0 + k * 1.0 + k * 1.0 + 1.0 + k * 2.0 + k * 0.5) / 6.0;
+}
+
+// A generic frame-varying sequence for the invariance checks.
+Frames RandomSequence(int frames, int points, unsigned seed) {
+  std::srand(seed);
+  Frames shapes;
+  for (int t = 0; t < frames; ++t) {
+    shapes.push_back(Eigen::Matrix3Xd::Random(3, points));
+  }
+  return shapes;
+}
+
+Frames Transformed(const Frames& shapes, const Eigen::Matrix3d& m) {
+  Frames out;
+  for (size_t t = 0; t < shapes.size(); ++t) {
+    // A different translation per frame: the metrics must ignore it.
+    out.push_back((m * shapes[t]).colwise() +
+                  Eigen::Vector3d(t, -2.0 * t, 0.5));
+  }
+  return out;
+}
+
+const Eigen::Matrix3d kFlipZ = Eigen::Vector3d(1, 1, -1).asDiagonal();
+
+TEST(Metrics, RotatedCopyScoresZero) {
+  const Frames truth = RandomSequence(6, 9, 7);
+  const Frames estimate =
+      Transformed(truth, AngleAxisToRotation(Eigen::Vector3d(0.3, -2.0, 1.1)));
+  EXPECT_LT(ComputeE3D(truth, estimate), 1e-12);
+  EXPECT_LT(ComputeError3DPercent(truth, estimate), 1e-10);
+  EXPECT_LT(ComputeZErrorPercent(truth, estimate), 1e-10);
+}
+
+TEST(Metrics, DepthReflectedCopyScoresZero) {
+  const Frames truth = RandomSequence(6, 9, 8);
+  const Frames estimate = Transformed(truth, kFlipZ);
+  EXPECT_LT(ComputeE3D(truth, estimate), 1e-12);
+  EXPECT_LT(ComputeFrobeniusZSign(truth, estimate), 1e-15);
+  EXPECT_LT(ComputeError3DPercent(truth, estimate), 1e-10);
+  // A reflection combined with a rotation is also aligned away by e3D.
+  const Frames mirrored = Transformed(
+      truth, AngleAxisToRotation(Eigen::Vector3d(1.0, 0.2, -0.4)) * kFlipZ);
+  EXPECT_LT(ComputeE3D(truth, mirrored), 1e-12);
+}
+
+TEST(Metrics, E3DOfAKnownOffsetMatchesTheFormula) {
+  // The estimate moves point 0 by +0.1 in x in every frame. After centring
+  // the offset is 0.1 · (4/5, −1/5, −1/5, −1/5, −1/5) in x; it stays
+  // orthogonal to the y and z rows, so the alignment is the identity and
+  //   e3D = mean_p |offset_p| / s = (0.08 + 4 · 0.02) / 5 / s.
+  const Frames truth = TwoCrosses();
+  Frames estimate = truth;
+  for (Eigen::Matrix3Xd& x : estimate) x(0, 0) += 0.1;
+  const double expected = (0.08 + 4 * 0.02) / 5.0 / E3DScaleOfTwoCrosses();
+  EXPECT_NEAR(ComputeE3D(truth, estimate), expected, 1e-14);
+  // A global rotation and per-frame translations of the estimate change
+  // nothing.
+  const Frames moved = Transformed(
+      estimate, AngleAxisToRotation(Eigen::Vector3d(0.5, 0.5, -1.5)));
+  EXPECT_NEAR(ComputeE3D(truth, moved), expected, 1e-13);
+}
+
+TEST(Metrics, E3DUsesThePopulationStd) {
+  // Truth = Cross(1, 1) alone, estimate = 0.9 · truth: the least-squares map
+  // is 1/0.9 · I, Y = I, and e3D = 0.1 · mean_p ||X_p|| / s with
+  // s = (1 + 2 √(2/5)) / 3 (divide by P = 5, not P − 1).
+  const Frames truth = {Cross(1.0, 1.0)};
+  const Frames estimate = {0.9 * Cross(1.0, 1.0)};
+  const double mean_norm = (2.0 + 4.0 * std::sqrt(1.25)) / 5.0;
+  const double s = (1.0 + 2.0 * std::sqrt(0.4)) / 3.0;
+  EXPECT_NEAR(ComputeE3D(truth, estimate), 0.1 * mean_norm / s, 1e-14);
+}
+
+TEST(Metrics, FrobeniusZSignOnATwoFrameHandExample) {
+  const Frames truth = TwoCrosses();
+  // Frame 0: depth flipped (error 0 after the flip); frame 1: half the size
+  // (relative error 0.5; flipping z would make it larger).
+  const Frames estimate = {kFlipZ * truth[0], 0.5 * truth[1]};
+  EXPECT_NEAR(ComputeFrobeniusZSign(truth, estimate), 0.25, 1e-15);
+
+  // No rotation alignment: a copy turned by 180° about the optical axis,
+  // diag(−1, −1, 1) X, keeps an error. Unflipped it is 2 ||(x, y)||_F,
+  // flipped 2 ||X||_F; the minimum is the first.
+  const Eigen::Matrix3d turn = Eigen::Vector3d(-1, -1, 1).asDiagonal();
+  const Frames turned = {turn * truth[0], turn * truth[1]};
+  double expected = 0.0;
+  for (const Eigen::Matrix3Xd& x : truth) {
+    expected += 2.0 * x.topRows<2>().norm() / x.norm();
+  }
+  expected /= 2.0;
+  EXPECT_NEAR(ComputeFrobeniusZSign(truth, turned), expected, 1e-14);
+  EXPECT_GT(expected, 1.0);
+}
+
+TEST(Metrics, PercentErrorsOnAHandExample) {
+  // Estimate = diag(0.5, 1, 0.5) X of Cross(1, 1): the least-squares map is
+  // diag(2, 1, 2), Y = I, and the residual of point p is (0.5 x_p, 0, 0.5 z_p).
+  const Frames truth = {Cross(1.0, 1.0)};
+  const Frames estimate = {Eigen::Vector3d(0.5, 1.0, 0.5).asDiagonal() *
+                           truth[0]};
+  // Diameter: |(2, 0, 0) − (−0.5, 1, 0)| = √7.25.
+  const double size = std::sqrt(7.25);
+  EXPECT_NEAR(ShapeSize(truth), size, 1e-15);
+  const double mean_distance =
+      (1.0 + 0.25 + 0.25 + 2.0 * 0.5 * std::sqrt(1.25)) / 5.0;
+  const double mean_z = 0.5 * 2.0 / 5.0;
+  EXPECT_NEAR(ComputeError3DPercent(truth, estimate),
+              100.0 * mean_distance / size, 1e-12);
+  EXPECT_NEAR(ComputeZErrorPercent(truth, estimate), 100.0 * mean_z / size,
+              1e-12);
+}
+
+TEST(Metrics, ShapeSizeIsTheMeanDiameter) {
+  // Frame 1 = Cross(2, 0.5): the farthest pair is (−0.5, 2, 0), (−0.5, −2, 0).
+  EXPECT_NEAR(ShapeSize(TwoCrosses()), (std::sqrt(7.25) + 4.0) / 2.0, 1e-15);
+}
+
+TEST(Metrics, EvaluateShapesFillsEveryField) {
+  const Frames truth = TwoCrosses();
+  Frames estimate = truth;
+  for (Eigen::Matrix3Xd& x : estimate) x(0, 0) += 0.1;
+  ShapeErrors errors;
+  ASSERT_TRUE(EvaluateShapes(truth, estimate, &errors).ok());
+  EXPECT_EQ(errors.num_frames, 2);
+  EXPECT_EQ(errors.num_points, 5);
+  EXPECT_EQ(errors.e3d, ComputeE3D(truth, estimate));
+  EXPECT_EQ(errors.frob_zsign, ComputeFrobeniusZSign(truth, estimate));
+  EXPECT_EQ(errors.error3d_pct, ComputeError3DPercent(truth, estimate));
+  EXPECT_EQ(errors.zerror_pct, ComputeZErrorPercent(truth, estimate));
+  EXPECT_GT(errors.error3d_pct, 0.0);
+}
+
+TEST(Metrics, EvaluateShapesRejectsBadInput) {
+  const Frames truth = TwoCrosses();
+  ShapeErrors errors;
+  auto message = [&](const Frames& t, const Frames& e) {
+    const Status status = EvaluateShapes(t, e, &errors);
+    EXPECT_FALSE(status.ok());
+    return status.message();
+  };
+  EXPECT_NE(
+      message(truth, {truth[0]}).find("truth has 2 frames, estimate has 1"),
+      std::string::npos);
+  EXPECT_NE(message({}, {}).find("no frames"), std::string::npos);
+  Frames fewer_points = truth;
+  fewer_points[1] = truth[1].leftCols(4);
+  EXPECT_NE(
+      message(truth, fewer_points).find("frame 1 has 5 truth and 4 estimated"),
+      std::string::npos);
+  Frames with_nan = truth;
+  with_nan[1](2, 3) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(message(truth, with_nan).find("frame 1 of the estimate has a NaN"),
+            std::string::npos);
+  Frames collapsed = truth;
+  collapsed[0].setConstant(3.0);
+  EXPECT_NE(
+      message(collapsed, truth).find("all points of truth frame 0 coincide"),
+      std::string::npos);
+}
+
+TEST(Metrics, ReprojectionRmsSkipsMissingEntries) {
+  // F = 2, M = 2, P = 3, K = 1; camera 1 has scale 2 and its own rotation.
+  Model model;
+  model.Resize(2, 2, 3, 1);
+  model.SetBasisShape(0, Cross(1.0, 1.0).leftCols(3));
+  model.weights.setOnes();
+  model.SetRotation(1, 1, AngleAxisToRotation(Eigen::Vector3d(0.0, 0.4, 0.0)));
+  model.scales(model.View(1, 1)) = 2.0;
+  model.translations.col(model.View(0, 1)) << 5.0, -1.0;
+
+  Measurements m;
+  m.num_frames = 2;
+  m.num_cameras = 2;
+  m.num_points = 3;
+  m.W.resize(8, 3);
+  m.visible = VisibilityMask::Constant(4, 3, true);
+  for (int t = 0; t < 2; ++t) {
+    for (int c = 0; c < 2; ++c)
+      m.W.middleRows(m.Row(t, c), 2) = model.Project(t, c);
+  }
+  // Two errors: (0, 3) at (t 0, c 0, p 0) and (1, 2) at (t 1, c 1, p 2);
+  // two missing entries with garbage in W. 10 visible entries:
+  // RMS = √((9 + 5) / 10).
+  m.W(m.Row(0, 0) + 1, 0) += 3.0;
+  m.W(m.Row(1, 1), 2) += 1.0;
+  m.W(m.Row(1, 1) + 1, 2) += 2.0;
+  for (const auto& [t, c, p] : {std::tuple{0, 1, 1}, std::tuple{1, 0, 2}}) {
+    m.visible(m.View(t, c), p) = false;
+    m.W(m.Row(t, c), p) = std::numeric_limits<double>::quiet_NaN();
+    m.W(m.Row(t, c) + 1, p) = 1e9;
+  }
+  ASSERT_TRUE(m.Validate().ok());
+  EXPECT_NEAR(ReprojectionRms(m, model), std::sqrt(1.4), 1e-14);
+}
+
+TEST(Metrics, CameraFrameShapesAreShapeInCamera) {
+  Model model;
+  model.Resize(3, 2, 5, 1);
+  model.SetBasisShape(0, Cross(1.0, 2.0));
+  model.weights.setConstant(1.5);
+  model.SetRotation(2, 1, AngleAxisToRotation(Eigen::Vector3d(0.1, 0.2, 0.3)));
+  model.scales(model.View(2, 1)) = 0.5;
+  const Frames shapes = CameraFrameShapes(model, 1);
+  ASSERT_EQ(shapes.size(), 3u);
+  EXPECT_LT(
+      (shapes[2] - 0.75 * AngleAxisToRotation(Eigen::Vector3d(0.1, 0.2, 0.3)) *
+                       Cross(1.0, 2.0))
+          .norm(),
+      1e-14);
+  EXPECT_LT((CameraFrameShapes(model)[0] - 1.5 * Cross(1.0, 2.0)).norm(),
+            1e-15);
+}
+
+}  // namespace
+}  // namespace nrsfm
