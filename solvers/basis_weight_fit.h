@@ -1,0 +1,42 @@
+// The linear least-squares steps of the iterative optimisation of
+// 001 §3.4.2 (monocular), on centred measurements:
+//   w̃_tp = Π R_t Σ_k l_tk S_k[:, p] + δT_t      (001 eq. 5 / 13)
+// where w̃ is W with a first estimate of the per-frame translation removed
+// and δT_t = model.translations.col(t) a correction of it (zero when the
+// first estimate is kept). Only visible entries enter the fits (001 §3.3:
+// the rows of missing measurements are dropped). Each normal matrix N gets
+// `damping · tr(N) / n` on its diagonal so that an under-determined point or
+// frame yields a finite answer instead of NaN.
+#ifndef NRSFM_SOLVERS_BASIS_WEIGHT_FIT_H_
+#define NRSFM_SOLVERS_BASIS_WEIGHT_FIT_H_
+
+#include "core/measurements.h"
+#include "core/model.h"
+
+namespace nrsfm {
+
+// Step 1: every basis column b_p (3K) given the rotations, weights and δT of
+// `model`, over the frames that see point p. Overwrites model->basis.
+void FitBasisGivenMotion(const Measurements& centered, double damping,
+                         Model* model);
+
+// Step 2: every weight vector l_t (K) given the basis and rotations, over
+// the points frame t sees; with `fit_translations` jointly with δT_t
+// (K + 2 unknowns). Overwrites model->weights (and model->translations).
+void FitWeightsGivenBasis(const Measurements& centered, double damping,
+                          bool fit_translations, Model* model);
+
+// Subtracts from every basis shape its mean over the points and moves the
+// shift into δT_t (δT_t += Π R_t Σ_k l_tk c_k), so the projections do not
+// change. With centred bases a frame that sees every point has the
+// least-squares δT_t = 0: its translation is the 2D mean of the frame.
+void CentreBasisKeepingProjections(Model* model);
+
+// Σ over visible (t, p) of ||w̃_tp − (Π R_t S_t[:, p] + δT_t)||², and the RMS
+// of the same 2D distances.
+double CenteredCost(const Measurements& centered, const Model& model);
+double CenteredRms(const Measurements& centered, const Model& model);
+
+}  // namespace nrsfm
+
+#endif  // NRSFM_SOLVERS_BASIS_WEIGHT_FIT_H_

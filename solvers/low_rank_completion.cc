@@ -1,0 +1,266 @@
+#include "solvers/low_rank_completion.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <vector>
+
+#include <Eigen/Cholesky>
+#include <Eigen/QR>
+#include <Eigen/SVD>
+#include <glog/logging.h>
+
+namespace nrsfm {
+namespace {
+
+// Relative residual below which the fit is taken as exact (round-off level).
+constexpr double kExactFitRelative = 1e-13;
+
+// Solves (N + Λ) X = rhs for symmetric positive semi-definite N (n × n),
+// Λ = diag(damping · tr(N) / n + ridge on the first `penalised` unknowns,
+// damping · tr(N) / n on the others).
+Eigen::MatrixXd SolveDamped(Eigen::MatrixXd normal, const Eigen::MatrixXd& rhs,
+                            double damping, double ridge, int penalised) {
+  const double n = static_cast<double>(normal.rows());
+  const double trace = normal.trace();
+  normal.diagonal().array() += damping * (trace > 0.0 ? trace / n : 1.0) + 1e-300;
+  normal.diagonal().head(penalised).array() += ridge;
+  return normal.ldlt().solve(rhs);
+}
+
+struct VisibleIndex {
+  std::vector<std::vector<int>> points_of_view;  // visible columns per view
+  std::vector<std::vector<int>> views_of_point;  // visible views per point
+};
+
+VisibleIndex IndexVisible(const VisibilityMask& visible) {
+  VisibleIndex index;
+  index.points_of_view.resize(visible.rows());
+  index.views_of_point.resize(visible.cols());
+  for (int p = 0; p < visible.cols(); ++p) {
+    for (int v = 0; v < visible.rows(); ++v) {
+      if (!visible(v, p)) continue;
+      index.points_of_view[v].push_back(p);
+      index.views_of_point[p].push_back(v);
+    }
+  }
+  return index;
+}
+
+// Step 1: [a_i; t_i] of the two rows of every view given B.
+void SolveRows(const Eigen::MatrixXd& w, const VisibleIndex& index,
+               const Eigen::MatrixXd& b, double damping, double ridge,
+               Eigen::MatrixXd* a, Eigen::VectorXd* t) {
+  const int r = static_cast<int>(b.rows());
+  for (size_t v = 0; v < index.points_of_view.size(); ++v) {
+    const std::vector<int>& cols = index.points_of_view[v];
+    const int n = static_cast<int>(cols.size());
+    Eigen::MatrixXd design(r + 1, n);  // columns [b_p; 1]
+    Eigen::MatrixXd data(2, n);
+    for (int j = 0; j < n; ++j) {
+      design.col(j).head(r) = b.col(cols[j]);
+      design(r, j) = 1.0;
+      data.col(j) = w.block(2 * v, cols[j], 2, 1);
+    }
+    const Eigen::MatrixXd normal = design * design.transpose();
+    const Eigen::MatrixXd x =
+        SolveDamped(normal, design * data.transpose(), damping, ridge, r);
+    for (int row = 0; row < 2; ++row) {
+      a->row(2 * v + row) = x.col(row).head(r).transpose();
+      (*t)(2 * v + row) = x(r, row);
+    }
+  }
+}
+
+// Step 2: b_p of every column given A and t.
+void SolveColumns(const Eigen::MatrixXd& w, const VisibleIndex& index,
+                  const Eigen::MatrixXd& a, const Eigen::VectorXd& t,
+                  double damping, double ridge, Eigen::MatrixXd* b) {
+  const int r = static_cast<int>(a.cols());
+  for (size_t p = 0; p < index.views_of_point.size(); ++p) {
+    const std::vector<int>& views = index.views_of_point[p];
+    const int n = static_cast<int>(views.size());
+    Eigen::MatrixXd design(r, 2 * n);  // columns a_i
+    Eigen::VectorXd data(2 * n);
+    for (int j = 0; j < n; ++j) {
+      for (int row = 0; row < 2; ++row) {
+        const int i = 2 * views[j] + row;
+        design.col(2 * j + row) = a.row(i).transpose();
+        data(2 * j + row) = w(i, p) - t(i);
+      }
+    }
+    b->col(p) = SolveDamped(design * design.transpose(), design * data, damping,
+                            ridge, r);
+  }
+}
+
+// Step 3: centre and orthonormalise the rows of B, keeping A B + t 1ᵀ.
+void NormalizeGauge(Eigen::MatrixXd* a, Eigen::VectorXd* t, Eigen::MatrixXd* b) {
+  const Eigen::VectorXd mean = b->rowwise().mean();
+  b->colwise() -= mean;
+  *t += (*a) * mean;
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(b->transpose());
+  const Eigen::MatrixXd q =
+      qr.householderQ() * Eigen::MatrixXd::Identity(b->cols(), b->rows());
+  const Eigen::MatrixXd r_upper =
+      qr.matrixQR().topRows(b->rows()).triangularView<Eigen::Upper>();
+  *a = (*a) * r_upper.transpose();
+  *b = q.transpose();
+}
+
+double ResidualRms(const Eigen::MatrixXd& w, const VisibleIndex& index,
+                   const Eigen::MatrixXd& a, const Eigen::VectorXd& t,
+                   const Eigen::MatrixXd& b) {
+  double sum = 0.0;
+  long count = 0;
+  for (size_t v = 0; v < index.points_of_view.size(); ++v) {
+    for (int p : index.points_of_view[v]) {
+      for (int row = 0; row < 2; ++row) {
+        const int i = 2 * static_cast<int>(v) + row;
+        const double e = w(i, p) - a.row(i).dot(b.col(p)) - t(i);
+        sum += e * e;
+      }
+      ++count;
+    }
+  }
+  return count > 0 ? std::sqrt(sum / static_cast<double>(count)) : 0.0;
+}
+
+}  // namespace
+
+Status LowRankCompletionOptions::Check() const {
+  std::ostringstream msg;
+  if (rank < 1) {
+    msg << "low-rank completion: rank must be >= 1, got " << rank;
+  } else if (max_iterations < 1) {
+    msg << "low-rank completion: max_iterations must be >= 1, got "
+        << max_iterations;
+  } else if (!(tolerance >= 0.0)) {
+    msg << "low-rank completion: tolerance must be >= 0, got " << tolerance;
+  } else if (!(ridge_floor >= 0.0) || !std::isfinite(ridge_floor)) {
+    msg << "low-rank completion: ridge_floor must be finite and >= 0, got "
+        << ridge_floor;
+  } else if (!(damping >= 0.0) || !std::isfinite(damping)) {
+    msg << "low-rank completion: damping must be finite and >= 0, got "
+        << damping;
+  } else {
+    return Status::OK();
+  }
+  return Status::Error(msg.str());
+}
+
+Status CompleteLowRankAffine(const Measurements& measurements,
+                             const LowRankCompletionOptions& options,
+                             LowRankCompletion* completion) {
+  CHECK(completion != nullptr);
+  NRSFM_RETURN_IF_ERROR(options.Check());
+  NRSFM_RETURN_IF_ERROR(measurements.Validate());
+  const int r = options.rank;
+  const int num_rows = 2 * measurements.NumViews();
+  const int num_points = measurements.num_points;
+  const int num_cameras = measurements.num_cameras;
+  if (num_points < r + 1 || num_rows < r + 1) {
+    std::ostringstream msg;
+    msg << "low-rank completion: a rank-" << r + 1 << " affine fit needs at least "
+        << r + 1 << " points and " << r + 1 << " rows of W; got P = "
+        << num_points << ", " << num_rows << " rows";
+    return Status::Error(msg.str());
+  }
+  const VisibleIndex index = IndexVisible(measurements.visible);
+  for (int v = 0; v < measurements.NumViews(); ++v) {
+    const int n = static_cast<int>(index.points_of_view[v].size());
+    if (n < r + 1) {
+      std::ostringstream msg;
+      msg << "low-rank completion: frame " << v / num_cameras;
+      if (num_cameras > 1) msg << ", camera " << v % num_cameras;
+      msg << " sees " << n << " points; a rank-" << r + 1
+          << " affine fit needs at least " << r + 1;
+      return Status::Error(msg.str());
+    }
+  }
+  for (int p = 0; p < num_points; ++p) {
+    const int n = static_cast<int>(index.views_of_point[p].size());
+    if (2 * n < r) {
+      std::ostringstream msg;
+      msg << "low-rank completion: point " << p << " is seen in " << n
+          << " views; a rank-" << r << " fit needs at least " << (r + 1) / 2;
+      return Status::Error(msg.str());
+    }
+  }
+
+  const Eigen::MatrixXd& w = measurements.W;
+  // Step 0: mean-filled, row-centred matrix and its top right singular vectors.
+  Eigen::MatrixXd filled = Eigen::MatrixXd::Zero(num_rows, num_points);
+  for (int v = 0; v < measurements.NumViews(); ++v) {
+    const std::vector<int>& cols = index.points_of_view[v];
+    for (int row = 0; row < 2; ++row) {
+      const int i = 2 * v + row;
+      double mean = 0.0;
+      for (int p : cols) mean += w(i, p);
+      mean /= static_cast<double>(cols.size());
+      for (int p : cols) filled(i, p) = w(i, p) - mean;
+    }
+  }
+  const double data_rms =
+      std::sqrt(filled.squaredNorm() / (measurements.NumVisible() + 1e-300));
+  const Eigen::BDCSVD<Eigen::MatrixXd> svd(filled, Eigen::ComputeThinV);
+  Eigen::MatrixXd b = svd.matrixV().leftCols(r).transpose();
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(num_rows, r);
+  Eigen::VectorXd t = Eigen::VectorXd::Zero(num_rows);
+  NormalizeGauge(&a, &t, &b);  // a, t are set by the first row step
+  SolveRows(w, index, b, options.damping, 0.0, &a, &t);
+
+  // Ridge (see the header): σ̂² per coordinate from the current residual,
+  // at least (ridge_floor · data RMS)²; B has orthonormal rows, so an entry
+  // of b_p has mean square 1/P and an entry of a_i ||A||² / (rows · r).
+  double residual = ResidualRms(w, index, a, t, b);
+  int iteration = 0;
+  bool converged = residual <= kExactFitRelative * data_rms;
+  while (!converged && iteration < options.max_iterations) {
+    ++iteration;
+    const double floor_rms = options.ridge_floor * data_rms;
+    const double noise_variance =
+        0.5 * std::max(residual * residual, floor_rms * floor_rms);
+    SolveColumns(w, index, a, t, options.damping, noise_variance * num_points,
+                 &b);
+    NormalizeGauge(&a, &t, &b);
+    const double a_mean_square = a.squaredNorm() / (num_rows * r);
+    SolveRows(w, index, b, options.damping,
+              a_mean_square > 0.0 ? noise_variance / a_mean_square : 0.0, &a,
+              &t);
+    const double previous = residual;
+    residual = ResidualRms(w, index, a, t, b);
+    converged = residual <= kExactFitRelative * data_rms ||
+                previous - residual <= options.tolerance * previous;
+  }
+  VLOG(1) << "low-rank completion: rank " << r << " + 1, " << iteration
+          << " rounds, residual RMS " << residual
+          << (converged ? "" : " (iteration limit)");
+
+  completion->completed = w;
+  completion->translations = t;
+  for (int v = 0; v < measurements.NumViews(); ++v) {
+    const bool complete = static_cast<int>(index.points_of_view[v].size()) ==
+                          num_points;
+    for (int row = 0; row < 2; ++row) {
+      const int i = 2 * v + row;
+      if (complete) {
+        completion->translations(i) = w.row(i).mean();
+        continue;
+      }
+      for (int p = 0; p < num_points; ++p) {
+        if (!measurements.visible(v, p)) {
+          completion->completed(i, p) = a.row(i).dot(b.col(p)) + t(i);
+        }
+      }
+    }
+  }
+  completion->row_factors = std::move(a);
+  completion->column_factors = std::move(b);
+  completion->residual_rms = residual;
+  completion->iterations = iteration;
+  completion->converged = converged;
+  return Status::OK();
+}
+
+}  // namespace nrsfm

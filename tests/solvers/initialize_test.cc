@@ -1,0 +1,361 @@
+#include "solvers/initialize.h"
+
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+#include <limits>
+
+#include <Eigen/SVD>
+#include <glog/logging.h>
+#include <gtest/gtest.h>
+
+#include "core/metrics.h"
+#include "core/rotation.h"
+#include "core/synthetic.h"
+#include "solvers/low_rank_completion.h"
+#include "solvers/rigid_start.h"
+
+namespace nrsfm {
+namespace {
+
+constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+
+// RMS distance of the visible 2D points from their view's centroid: the
+// spread of the data, the scale for reprojection errors.
+double Spread(const Measurements& m) {
+  double sum = 0.0;
+  int count = 0;
+  for (int v = 0; v < m.NumViews(); ++v) {
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    int n = 0;
+    for (int p = 0; p < m.num_points; ++p) {
+      if (!m.visible(v, p)) continue;
+      mean += m.W.block<2, 1>(2 * v, p);
+      ++n;
+    }
+    mean /= n;
+    for (int p = 0; p < m.num_points; ++p) {
+      if (!m.visible(v, p)) continue;
+      sum += (m.W.block<2, 1>(2 * v, p) - mean).squaredNorm();
+      ++count;
+    }
+  }
+  return std::sqrt(sum / count);
+}
+
+// RMS over frames of the 2D image of the non-rigid part Π R_t Σ_{k≥2} l_tk S_k
+// of the truth: the residual of the rigid model (R_t, l_t1 S_1), which is a
+// feasible rigid fit.
+double NonRigidRms(const Model& truth) {
+  double sum = 0.0;
+  for (int t = 0; t < truth.num_frames; ++t) {
+    Eigen::Matrix3Xd shape = Eigen::Matrix3Xd::Zero(3, truth.num_points);
+    for (int k = 1; k < truth.num_bases; ++k) {
+      shape += truth.weights(k, t) * truth.BasisShape(k);
+    }
+    sum += (truth.Rotation(t, 0) * shape).topRows<2>().squaredNorm();
+  }
+  return std::sqrt(sum / (truth.num_frames * truth.num_points));
+}
+
+// Largest ||R̂_t − E R_t A||_F over frames, minimised over E ∈ {I, diag(1,1,−1)}
+// (depth reflection) and one orthogonal A (global rotation of the object
+// frame) fitted by Procrustes.
+double RotationErrorUpToGauge(const Model& truth, const Model& estimate) {
+  double best = std::numeric_limits<double>::infinity();
+  for (double sign : {1.0, -1.0}) {
+    const Eigen::Matrix3d e = Eigen::Vector3d(1.0, 1.0, sign).asDiagonal();
+    Eigen::Matrix3d cross = Eigen::Matrix3d::Zero();
+    for (int t = 0; t < truth.num_frames; ++t) {
+      cross += (e * truth.Rotation(t, 0)).transpose() * estimate.Rotation(t, 0);
+    }
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(
+        cross, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    const Eigen::Matrix3d a = svd.matrixU() * svd.matrixV().transpose();
+    double worst = 0.0;
+    for (int t = 0; t < truth.num_frames; ++t) {
+      worst = std::max(worst, (estimate.Rotation(t, 0) - e * truth.Rotation(t, 0) * a).norm());
+    }
+    best = std::min(best, worst);
+  }
+  return best;
+}
+
+double E3D(const SyntheticSequence& sequence, const Model& model) {
+  return ComputeE3D(CameraFrameShapes(sequence.truth), CameraFrameShapes(model));
+}
+
+SyntheticSequence RandomSequence(int num_frames, int num_points, int num_bases,
+                                 double noise, double missing, std::uint64_t seed) {
+  RandomBasisOptions options;
+  options.num_frames = num_frames;
+  options.num_points = num_points;
+  options.num_bases = num_bases;
+  options.noise_stddev = noise;
+  options.missing_fraction = missing;
+  options.seed = seed;
+  SyntheticSequence sequence;
+  EXPECT_TRUE(GenerateRandomBasis(options, &sequence).ok());
+  return sequence;
+}
+
+TEST(Initialize, RigidNoiseFreeIsExactForEveryStart) {
+  const SyntheticSequence sequence = RandomSequence(100, 30, 1, 0.0, 0.0, 1);
+  for (InitMethod method :
+       {InitMethod::kAuto, InitMethod::kFactorization, InitMethod::kRigid}) {
+    SCOPED_TRACE(InitMethodName(method));
+    InitializeOptions options;
+    options.method = method;
+    Model model;
+    InitializeSummary summary;
+    ASSERT_TRUE(Initialize(options, sequence.measurements, &model, &summary).ok());
+    ASSERT_TRUE(model.Validate().ok());
+    EXPECT_LT(RotationErrorUpToGauge(sequence.truth, model), 1e-8);
+    EXPECT_LT(E3D(sequence, model), 1e-8);
+    EXPECT_LT(summary.reprojection_rms, 1e-9);
+    EXPECT_EQ(summary.completion_rms, -1.0);
+    EXPECT_FALSE(summary.metric_upgrade_was_indefinite);
+    if (method != InitMethod::kAuto) {
+      EXPECT_EQ(summary.used, method);
+    }
+  }
+}
+
+// The measured table of the issue. Guarantee asserted (see the rigid start's
+// header): the rigid start's alternation never increases the cost, so its
+// RMS is at most that of the rigid Tomasi-Kanade model it starts from, and
+// auto keeps the lower of the two starts. The rigid Tomasi-Kanade model is
+// (near) the best rigid fit, and the truth's own rigid part (R_t, S_1) is a
+// rigid fit whose residual is the image of the deformation; so the kept RMS
+// is expected below NonRigidRms(truth). That last bound is not a theorem
+// (Tomasi-Kanade is not the optimal rigid fit), it is asserted with the
+// measured margin: over seeds 1-10 (F = 200, P = 50) the kept RMS was at most
+// 0.18 of the spread, the non-rigid RMS at least 0.29 of it.
+TEST(Initialize, NonRigidStartsTable) {
+  std::cout << "   K  noise  start          rms/spread  e3D      (seed 1, F = 150, P = 40)\n";
+  for (double noise : {0.0, 0.01}) {
+    for (int k = 2; k <= 5; ++k) {
+      SCOPED_TRACE("K = " + std::to_string(k) + ", noise " + std::to_string(noise));
+      const SyntheticSequence sequence = RandomSequence(150, 40, k, noise, 0.0, 1);
+      const double spread = Spread(sequence.measurements);
+      InitializeOptions options;
+      options.num_bases = k;
+      double rms[2] = {0.0, 0.0};
+      int i = 0;
+      for (InitMethod method : {InitMethod::kFactorization, InitMethod::kRigid}) {
+        options.method = method;
+        Model model;
+        InitializeSummary summary;
+        ASSERT_TRUE(Initialize(options, sequence.measurements, &model, &summary).ok());
+        ASSERT_TRUE(model.Validate().ok());
+        rms[i++] = summary.reprojection_rms;
+        std::cout << std::setw(4) << k << std::setw(7) << noise << "  "
+                  << std::setw(14) << std::left << InitMethodName(method) << std::right
+                  << std::setw(10) << std::setprecision(3) << summary.reprojection_rms / spread
+                  << "  " << std::setw(8) << E3D(sequence, model) << "\n";
+      }
+      options.method = InitMethod::kAuto;
+      Model model;
+      InitializeSummary summary;
+      ASSERT_TRUE(Initialize(options, sequence.measurements, &model, &summary).ok());
+      EXPECT_DOUBLE_EQ(summary.factorization_rms, rms[0]);
+      EXPECT_DOUBLE_EQ(summary.rigid_rms, rms[1]);
+      EXPECT_DOUBLE_EQ(summary.reprojection_rms, std::min(rms[0], rms[1]));
+      EXPECT_EQ(summary.used, rms[1] < rms[0] ? InitMethod::kRigid
+                                              : InitMethod::kFactorization);
+
+      // Monotone alternation: rigid start ≤ its rigid Tomasi-Kanade model.
+      Measurements centered = sequence.measurements;
+      centered.W = centered.W.colwise() - centered.W.rowwise().mean();
+      RigidStartOptions rigid_options;
+      Model rigid_model;
+      RigidStartSummary rigid_summary;
+      ASSERT_TRUE(RigidStart(centered, k, rigid_options, &rigid_model, &rigid_summary).ok());
+      EXPECT_NEAR(rigid_summary.final_rms, rms[1], 1e-12 * spread);
+      EXPECT_LE(rigid_summary.final_rms, rigid_summary.rigid_rms * (1.0 + 1e-9));
+
+      EXPECT_LT(summary.reprojection_rms, NonRigidRms(sequence.truth));
+      EXPECT_LT(summary.reprojection_rms, 0.25 * spread);
+    }
+  }
+}
+
+TEST(Initialize, ThirtyPercentMissing) {
+  // Rigid, noise-free: the completion is exact up to its ridge bias and the
+  // start is exact to the same level.
+  const SyntheticSequence rigid = RandomSequence(100, 30, 1, 0.0, 0.3, 2);
+  InitializeOptions options;
+  Model model;
+  InitializeSummary summary;
+  ASSERT_TRUE(Initialize(options, rigid.measurements, &model, &summary).ok());
+  EXPECT_GT(summary.completion_rms, 0.0);
+  EXPECT_LT(summary.completion_rms, 1e-6);
+  EXPECT_LT(RotationErrorUpToGauge(rigid.truth, model), 1e-5);
+  EXPECT_LT(E3D(rigid, model), 1e-5);
+
+  // K = 3: completion error on the missing entries below 1e-6, and the start
+  // works as on complete data.
+  const int k = 3;
+  const SyntheticSequence sequence = RandomSequence(150, 40, k, 0.0, 0.3, 2);
+  LowRankCompletionOptions completion_options;  // what Initialize uses
+  completion_options.rank = 3 * k;
+  LowRankCompletion completion;
+  ASSERT_TRUE(CompleteLowRankAffine(sequence.measurements, completion_options,
+                                    &completion).ok());
+  const Measurements& m = sequence.measurements;
+  double max_error = 0.0;
+  for (int t = 0; t < m.num_frames; ++t) {
+    const Eigen::Matrix2Xd truth = sequence.truth.Project(t, 0);
+    for (int p = 0; p < m.num_points; ++p) {
+      if (m.visible(t, p)) continue;
+      max_error = std::max(
+          max_error, (completion.completed.block<2, 1>(2 * t, p) - truth.col(p)).norm());
+    }
+  }
+  std::cout << "30 % missing, K = 3: completion max error " << max_error << "\n";
+  EXPECT_LT(max_error, 1e-6);
+
+  options.num_bases = k;
+  ASSERT_TRUE(Initialize(options, sequence.measurements, &model, &summary).ok());
+  ASSERT_TRUE(model.Validate().ok());
+  const double spread = Spread(sequence.measurements);
+  std::cout << "30 % missing, K = 3: kept " << InitMethodName(summary.used)
+            << ", rms/spread " << summary.reprojection_rms / spread << ", e3D "
+            << E3D(sequence, model) << "\n";
+  EXPECT_LT(summary.reprojection_rms, NonRigidRms(sequence.truth));
+  EXPECT_LT(summary.reprojection_rms, 0.25 * spread);
+}
+
+TEST(Initialize, TwoCamerasRecoverTheRigRotation) {
+  for (bool occlusion : {false, true}) {
+    SCOPED_TRACE(occlusion ? "self-occlusion" : "no occlusion");
+    ShoeOptions shoe;
+    shoe.num_frames = 120;
+    shoe.num_points = 60;
+    shoe.self_occlusion = occlusion;
+    SyntheticSequence sequence;
+    ASSERT_TRUE(GenerateShoe(shoe, &sequence).ok());
+    InitializeOptions options;
+    options.num_bases = 2;
+    Model model;
+    InitializeSummary summary;
+    ASSERT_TRUE(Initialize(options, sequence.measurements, &model, &summary).ok());
+    ASSERT_TRUE(model.Validate().ok());
+    ASSERT_EQ(model.num_cameras, 2);
+    EXPECT_DOUBLE_EQ(model.scales(model.View(0, 0)), 1.0);
+    // Orthographic cameras leave a global depth reflection, which maps the
+    // rig rotation R to D R D (solvers/multi_camera_start.h).
+    const Eigen::Matrix3d d = Eigen::Vector3d(1.0, 1.0, -1.0).asDiagonal();
+    const Eigen::Matrix3d rig_truth = AngleAxisToRotation(sequence.truth.rig_rotations.col(0));
+    const Eigen::Matrix3d rig = AngleAxisToRotation(model.rig_rotations.col(0));
+    const double error_deg =
+        kRadToDeg * std::min(RotationAngleBetween(rig, rig_truth),
+                             RotationAngleBetween(rig, d * rig_truth * d));
+    const double missing =
+        1.0 - static_cast<double>(sequence.measurements.NumVisible()) /
+                  sequence.measurements.visible.size();
+    std::cout << "shoe, 2 cameras, " << 100.0 * missing << " % missing: rig rotation error "
+              << error_deg << " deg (baseline " << shoe.camera_baseline_deg
+              << "), rig scale " << model.rig_scales(0) << " (truth "
+              << sequence.truth.rig_scales(0) << "), kept " << InitMethodName(summary.used)
+              << ", rms/spread " << summary.reprojection_rms / Spread(sequence.measurements)
+              << "\n";
+    EXPECT_LT(error_deg, 5.0);
+    EXPECT_NEAR(model.rig_scales(0), sequence.truth.rig_scales(0),
+                0.1 * sequence.truth.rig_scales(0));
+  }
+}
+
+// Expects Initialize to fail with a message containing `needle`.
+void ExpectError(const InitializeOptions& options, const Measurements& m,
+                 const std::string& needle) {
+  Model model;
+  InitializeSummary summary;
+  const Status status = Initialize(options, m, &model, &summary);
+  ASSERT_FALSE(status.ok()) << "expected an error containing \"" << needle << "\"";
+  EXPECT_NE(status.message().find(needle), std::string::npos) << status.message();
+  VLOG(1) << status.message();
+}
+
+TEST(Initialize, DegenerateDataGivesClearErrors) {
+  const SyntheticSequence sequence = RandomSequence(30, 20, 2, 0.0, 0.0, 3);
+  InitializeOptions options;
+  options.num_bases = 2;
+
+  Measurements one_frame = sequence.measurements;
+  one_frame.num_frames = 1;
+  one_frame.W = one_frame.W.topRows(2).eval();
+  one_frame.visible = one_frame.visible.topRows(1).eval();
+  ExpectError(options, one_frame, "at least 2 frames");
+
+  Measurements few_points = sequence.measurements;
+  few_points.num_points = 6;
+  few_points.W = few_points.W.leftCols(6).eval();
+  few_points.visible = few_points.visible.leftCols(6).eval();
+  ExpectError(options, few_points, "3K + 1 = 7 points");
+
+  Measurements empty_frame = sequence.measurements;
+  empty_frame.visible.row(5).setConstant(false);
+  empty_frame.W.middleRows(10, 2).setConstant(std::nan(""));
+  ExpectError(options, empty_frame, "frame 5 has no visible point");
+
+  Measurements empty_point = sequence.measurements;
+  empty_point.visible.col(8).setConstant(false);
+  ExpectError(options, empty_point, "point 8 is not visible in any frame");
+
+  Measurements sparse_frame = sequence.measurements;
+  sparse_frame.visible.row(4).setConstant(false);
+  sparse_frame.visible.row(4).head(5).setConstant(true);  // 5 < 3K + 1 = 7
+  ExpectError(options, sparse_frame, "frame 4 sees 5 points");
+
+  InitializeOptions no_bases = options;
+  no_bases.num_bases = 0;
+  ExpectError(no_bases, sequence.measurements, "num_bases (K) must be >= 1");
+
+  // No rotation: rigid (rank-2 tracks) and non-rigid without deformation.
+  for (int k : {1, 2}) {
+    RandomBasisOptions still;
+    still.num_frames = 30;
+    still.num_points = 20;
+    still.num_bases = k;
+    still.deformation = 0.0;
+    still.max_rotation_deg = 0.0;
+    SyntheticSequence static_sequence;
+    ASSERT_TRUE(GenerateRandomBasis(still, &static_sequence).ok());
+    InitializeOptions static_options;
+    static_options.num_bases = k;
+    for (InitMethod method :
+         {InitMethod::kAuto, InitMethod::kFactorization, InitMethod::kRigid}) {
+      static_options.method = method;
+      ExpectError(static_options, static_sequence.measurements, "no rotation");
+    }
+  }
+}
+
+TEST(Initialize, MethodNamesAndOptions) {
+  InitMethod method = InitMethod::kAuto;
+  ASSERT_TRUE(ParseInitMethod("rigid", &method).ok());
+  EXPECT_EQ(method, InitMethod::kRigid);
+  ASSERT_TRUE(ParseInitMethod("factorization", &method).ok());
+  EXPECT_EQ(method, InitMethod::kFactorization);
+  ASSERT_TRUE(ParseInitMethod("auto", &method).ok());
+  EXPECT_EQ(method, InitMethod::kAuto);
+  const Status status = ParseInitMethod("svd", &method);
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("auto, factorization, rigid"), std::string::npos);
+  EXPECT_STREQ(InitMethodName(InitMethod::kFactorization), "factorization");
+
+  InitializeOptions options;
+  EXPECT_TRUE(options.Check().ok());
+  options.completion_max_iterations = 0;
+  EXPECT_FALSE(options.Check().ok());
+  options = InitializeOptions();
+  options.rigid_initial_deformation = -1.0;
+  EXPECT_FALSE(options.Check().ok());
+  options = InitializeOptions();
+  options.rigid_refine_iterations = -1;
+  EXPECT_FALSE(options.Check().ok());
+}
+
+}  // namespace
+}  // namespace nrsfm
