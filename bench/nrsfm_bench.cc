@@ -1,18 +1,167 @@
-// nrsfm_bench: placeholder until the benchmark suites land. It only checks that
-// the library links and runs.
+// nrsfm_bench: the benchmark suites (issue 7). With no flags it runs the
+// reduced default (a few minutes on 2 cores): paper-random with R = 1,
+// superquadric, shoe (monocular and two cameras), mocap at the published K
+// when ../shared/datasets exists, and a small scale sweep.
+//
+//   --suite=default|paper-random|superquadric|shoe|mocap|scale|all
+//   --full            paper-sized runs (R = 30, full K ranges, K sweeps)
+//   --runs=R          random runs per setting (overrides the suite default)
+//   --datasets_dir    folder of the mocap .mat files
+//   --output_dir      results.json and plots (default ./bench_results)
+//   --threads         Ceres threads
+//   --plots           write plots (gnuplot, SVG); skipped with a note if absent
+//   --mocap_sequences comma-separated .mat stems (default: every file)
+//   --mocap_max_seconds  wall-time cap of each mocap refinement (default 20)
+//   --max_iterations  LM iterations per refinement (default: the library's)
+//   --strategy        mocap: plain | ms, c2f, tp, ridge joined by '+' | all
+//
+// Output: tables on stdout; <output_dir>/results.json with a "context" block
+// (date, machine, threads, versions, BLAS) and one object per suite.
+#include <cstdio>
+#include <filesystem>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include <gflags/gflags.h>
 #include <glog/logging.h>
 
-#include "core/model.h"
+#include "bench/bench_common.h"
+#include "bench/suites.h"
+
+DEFINE_string(suite, "default",
+              "default | paper-random | superquadric | shoe | mocap | scale | all");
+DEFINE_bool(full, false, "paper-sized runs (R = 30, full K ranges, K sweeps)");
+DEFINE_int32(runs, 0, "random runs per setting (0 = the suite's default)");
+DEFINE_string(datasets_dir, "../shared/datasets",
+              "folder with the mocap .mat files (skipped when absent)");
+DEFINE_string(output_dir, "./bench_results", "where results.json and plots go");
+DEFINE_int32(threads, 1, "Ceres threads per reconstruction");
+DEFINE_bool(plots, true, "write plots with gnuplot (SVG)");
+DEFINE_string(mocap_sequences, "",
+              "comma-separated .mat stems the mocap suite runs ('' = all)");
+DEFINE_double(mocap_max_seconds, 20.0,
+              "wall-time cap (s) of each mocap refinement so the default run "
+              "stays short; 0 = none");
+DEFINE_int32(max_iterations, 0,
+             "LM iterations per refinement (0 = the library default)");
+DEFINE_string(strategy, "plain",
+              "mocap strategy: plain, or '+'-joined ms (4 starts), c2f "
+              "(coarse-to-fine K), tp (temporal prior), ridge (shape ridge), or all");
+
+namespace {
+
+using nrsfm::Status;
+using nrsfm::bench::BenchConfig;
+using nrsfm::bench::Json;
+
+struct Suite {
+  const char* name;
+  Status (*run)(const BenchConfig&, Json*);
+};
+
+const std::vector<Suite>& AllSuites() {
+  static const std::vector<Suite> suites = {
+      {"paper-random", nrsfm::bench::RunPaperRandomSuite},
+      {"superquadric", nrsfm::bench::RunSuperquadricSuite},
+      {"shoe", nrsfm::bench::RunShoeSuite},
+      {"mocap", nrsfm::bench::RunMocapSuite},
+      {"scale", nrsfm::bench::RunScaleSuite},
+  };
+  return suites;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   FLAGS_logtostderr = true;
+  gflags::SetUsageMessage("nrsfm benchmark suites (see bench/nrsfm_bench.cc)");
   gflags::ParseCommandLineFlags(&argc, &argv, true);
   google::InitGoogleLogging(argv[0]);
-  nrsfm::Model model;
-  model.Resize(1, 1, 1, 1);
-  std::cout << "nrsfm_bench: benchmark suites not implemented yet (stub run)\n";
-  return 0;
+
+  BenchConfig config;
+  config.full = FLAGS_full || FLAGS_suite == "all";
+  config.runs = FLAGS_runs;
+  config.datasets_dir = FLAGS_datasets_dir;
+  config.output_dir = FLAGS_output_dir;
+  config.threads = FLAGS_threads;
+  config.plots = FLAGS_plots;
+  config.strategy = FLAGS_strategy;
+  config.mocap_sequences = FLAGS_mocap_sequences;
+  config.max_iterations = FLAGS_max_iterations;
+  config.mocap_max_seconds = FLAGS_mocap_max_seconds;
+  nrsfm::bench::SetDefaultMaxIterations(FLAGS_max_iterations);
+  if (FLAGS_runs < 0 || FLAGS_threads < 1 || FLAGS_mocap_max_seconds < 0) {
+    std::cerr << "error: --runs and --mocap_max_seconds must be >= 0, --threads >= 1\n";
+    return 2;
+  }
+  bool strategy_ok = FLAGS_strategy == "plain" || FLAGS_strategy == "all";
+  if (!strategy_ok && !FLAGS_strategy.empty()) {
+    strategy_ok = true;
+    std::string rest = FLAGS_strategy + "+";
+    for (size_t pos; (pos = rest.find('+')) != std::string::npos;) {
+      const std::string part = rest.substr(0, pos);
+      strategy_ok &= part == "ms" || part == "c2f" || part == "tp" || part == "ridge";
+      rest.erase(0, pos + 1);
+    }
+  }
+  if (!strategy_ok) {
+    std::cerr << "error: unknown --strategy '" << FLAGS_strategy << "'\n";
+    return 2;
+  }
+
+  std::vector<Suite> selected;
+  if (FLAGS_suite == "default" || FLAGS_suite == "all") {
+    selected = AllSuites();
+  } else {
+    for (const Suite& suite : AllSuites()) {
+      if (FLAGS_suite == suite.name) selected.push_back(suite);
+    }
+  }
+  if (selected.empty()) {
+    std::cerr << "error: unknown --suite '" << FLAGS_suite
+              << "' (default | paper-random | superquadric | shoe | mocap | "
+                 "scale | all)\n";
+    return 2;
+  }
+  std::error_code error;
+  std::filesystem::create_directories(config.output_dir, error);
+  if (error) {
+    std::cerr << "error: cannot create --output_dir '" << config.output_dir
+              << "': " << error.message() << "\n";
+    return 2;
+  }
+
+  Json results;
+  results["context"] = nrsfm::bench::ContextBlock(config.threads);
+  results["context"]["suite"] = FLAGS_suite;
+  results["context"]["full"] = config.full;
+  results["context"]["strategy"] = config.strategy;
+  std::cout << "nrsfm_bench: suite " << FLAGS_suite
+            << (config.full ? " (full)" : " (reduced; --full for paper size)")
+            << ", " << config.threads << " thread(s), output "
+            << config.output_dir << "\n";
+  int failures = 0;
+  const double start = nrsfm::bench::NowSeconds();
+  for (const Suite& suite : selected) {
+    Json out;
+    const double suite_start = nrsfm::bench::NowSeconds();
+    const Status status = suite.run(config, &out);
+    out["seconds"] = nrsfm::bench::NowSeconds() - suite_start;
+    if (!status.ok()) {
+      std::cout << "suite " << suite.name << " FAILED: " << status.message() << "\n";
+      out["error"] = status.message();
+      ++failures;
+    }
+    results["suites"][suite.name] = out;
+    std::cout << std::flush;
+    // Written after every suite so a long run leaves partial results.
+    nrsfm::bench::WriteJson(config, "results.json", results);
+  }
+  results["context"]["total_seconds"] = nrsfm::bench::NowSeconds() - start;
+  const std::string path = nrsfm::bench::WriteJson(config, "results.json", results);
+  std::cout << "\nresults: " << (path.empty() ? "(not written)" : path) << " ("
+            << nrsfm::bench::Fmt(nrsfm::bench::NowSeconds() - start, 1)
+            << " s)\n";
+  return failures == 0 ? 0 : 1;
 }

@@ -95,9 +95,93 @@ Status CheckReadableFile(const std::string& path, std::uintmax_t* size) {
   return Status::OK();
 }
 
+std::int32_t Int32At(const unsigned char* bytes, bool big_endian) {
+  std::uint32_t value = 0;
+  for (int i = 0; i < 4; ++i) {
+    value |= std::uint32_t(bytes[big_endian ? 3 - i : i]) << (8 * i);
+  }
+  return static_cast<std::int32_t>(value);
+}
+
+// True when the 128-byte header marks a v5 or v7.3 file, as matio decides:
+// bytes 126..127 "IM" or "MI", version 0x0100 or 0x0200 at bytes 124..125.
+// matio treats every other file as v4.
+bool HasV5Header(const unsigned char* header) {
+  const bool little = header[126] == 'I' && header[127] == 'M';
+  const bool big = header[126] == 'M' && header[127] == 'I';
+  if (!little && !big) return false;
+  const int version = little ? header[124] | (header[125] << 8)
+                             : (header[124] << 8) | header[125];
+  return version == 0x0100 || version == 0x0200;
+}
+
+// matio trusts the sizes in a v4 variable header (a 20-byte header can make
+// it allocate gigabytes for the name), so a file that matio would read as v4
+// is walked record by record first: each header (type MOPT, mrows, ncols,
+// imagf, namelen) must be valid and the name must fit in the file (data
+// that do not fit end the walk; CheckHeader rejects that variable).
+Status CheckV4Records(const std::string& path, std::uintmax_t file_size) {
+  std::ifstream in(path, std::ios::binary);
+  unsigned char header[128];
+  if (file_size >= 128 &&
+      in.read(reinterpret_cast<char*>(header), sizeof(header)) &&
+      HasV5Header(header)) {
+    return Status::OK();
+  }
+  const std::string not_mat = path + ": not a MATLAB .mat file (v4, v5 or v7.3)";
+  const std::string corrupt = path + ": the .mat file is truncated or corrupt (";
+  std::uintmax_t offset = 0;
+  for (int record = 1; offset < file_size; ++record) {
+    const std::string at = "variable " + std::to_string(record) +
+                           " of a v4 file at byte " + std::to_string(offset);
+    unsigned char h[20];
+    in.clear();
+    in.seekg(static_cast<std::streamoff>(offset));
+    if (file_size - offset < sizeof(h) ||
+        !in.read(reinterpret_cast<char*>(h), sizeof(h))) {
+      return Status::Error(record == 1 ? not_mat
+                                       : corrupt + "truncated header of " + at + ")");
+    }
+    bool big_endian = false;
+    std::int32_t type = Int32At(h, false);
+    if (type < 0 || type >= 2000) {
+      big_endian = true;
+      type = Int32At(h, true);
+    }
+    const int o = type / 100 % 10, p = type / 10 % 10, t = type % 10;
+    const std::int32_t rows = Int32At(h + 4, big_endian);
+    const std::int32_t cols = Int32At(h + 8, big_endian);
+    const std::int32_t imagf = Int32At(h + 12, big_endian);
+    const std::int32_t name_length = Int32At(h + 16, big_endian);
+    if (type < 0 || type >= 2000 || o != 0 || p > 5 || t > 2 || rows < 0 ||
+        cols < 0 || (imagf != 0 && imagf != 1) || name_length < 1) {
+      return Status::Error(record == 1 ? not_mat
+                                       : corrupt + "invalid header of " + at + ")");
+    }
+    static constexpr std::uintmax_t kElementSize[] = {8, 4, 4, 2, 2, 1};
+    const std::uintmax_t left = file_size - offset - sizeof(h);
+    const std::uintmax_t element = kElementSize[p] * (imagf + 1);
+    if (std::uintmax_t(name_length) > left) {
+      return Status::Error(corrupt + "the name of " + at +
+                           " runs past the end of the file)");
+    }
+    // Data that run past the end: matio reads the header only, and
+    // CheckHeader names the variable and its claimed size.
+    if (rows > 0 && cols > 0 &&
+        std::uintmax_t(cols) >
+            (left - name_length) / element / std::uintmax_t(rows)) {
+      return Status::OK();
+    }
+    offset += sizeof(h) + name_length +
+              std::uintmax_t(rows) * std::uintmax_t(cols) * element;
+  }
+  return Status::OK();
+}
+
 Status OpenMat(const std::string& path, MatioSession* session, MatFilePtr* mat,
                std::uintmax_t* file_size) {
   NRSFM_RETURN_IF_ERROR(CheckReadableFile(path, file_size));
+  NRSFM_RETURN_IF_ERROR(CheckV4Records(path, *file_size));
   mat->reset(Mat_Open(path.c_str(), MAT_ACC_RDONLY));
   if (*mat == nullptr) {
     return Status::Error(path + ": not a MATLAB .mat file (v4, v5 or v7.3)" +

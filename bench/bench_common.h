@@ -1,0 +1,163 @@
+// Shared pieces of the nrsfm_bench suites (bench/suite_*.cc): the run
+// configuration, one reconstruction + evaluation against ground truth,
+// statistics, the stdout table, the JSON context block, plots (gnuplot) and
+// peak-memory measurement in a forked child.
+#ifndef NRSFM_BENCH_BENCH_COMMON_H_
+#define NRSFM_BENCH_BENCH_COMMON_H_
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "core/measurements.h"
+#include "core/metrics.h"
+#include "core/model.h"
+#include "core/status.h"
+#include "core/synthetic.h"
+#include "solvers/reconstruct.h"
+
+namespace nrsfm {
+namespace bench {
+
+using Json = nlohmann::ordered_json;
+
+// What every suite reads (from the gflags of bench/nrsfm_bench.cc).
+struct BenchConfig {
+  bool full = false;          // the paper-sized run (e.g. R = 30) instead of the reduced default
+  int runs = 0;               // R, random runs per setting; 0 = the suite's default
+  std::string datasets_dir;   // folder with the mocap .mat files ("" = none)
+  std::string output_dir;     // JSON and plots go here
+  int threads = 1;            // Ceres threads
+  bool plots = true;          // write plots when gnuplot is available
+  std::string mocap_sequences;  // comma-separated file stems to run ("" = all)
+  double mocap_max_seconds = 0;  // wall-time cap of each mocap refinement, 0 = none
+  int max_iterations = 0;       // LM iterations per refinement, 0 = the library default
+  std::string strategy = "plain";  // mocap: plain | ms/c2f/tp joined by '+' | all
+};
+
+// The options every suite uses unless it says otherwise: Reconstruct()'s
+// defaults with K and the thread count set.
+// (--max_iterations > 0 replaces the LM iteration limit; set once by main
+// through SetDefaultMaxIterations.)
+ReconstructOptions DefaultReconstructOptions(int num_bases, int threads);
+void SetDefaultMaxIterations(int max_iterations);
+
+// The one place that decides how "second camera + rigidity" runs. The
+// multi-camera rigidity term (001 §3.4.3) is not in the library yet, so this
+// returns false and leaves `options` as they are; the shoe suite then runs
+// the two-camera reconstruction without it and labels the column so. When the
+// term lands, set its weight here and return true.
+bool EnableTwoCameraRigidity(ReconstructOptions* options);
+
+// One reconstruction scored against camera-0 ground truth.
+struct RunOutcome {
+  bool ok = false;              // Reconstruct() succeeded and the refinement is usable
+  std::string message;          // why not
+  ShapeErrors errors;           // core/metrics.h
+  std::string start;            // InitMethodName of the start kept
+  double init_seconds = 0;
+  double refine_seconds = 0;
+  double total_seconds = 0;
+  int iterations = 0;           // LM iterations
+  double seconds_per_iteration = 0;  // minimizer time / iterations
+  double reprojection_rms = 0;  // refined, input units
+  std::string linear_solver;
+  Model model;                  // the reconstruction
+};
+
+// Scores `model` (camera 0) against `truth` (F shapes 3 × P).
+Status Evaluate(const Model& model, const std::vector<Eigen::Matrix3Xd>& truth,
+                ShapeErrors* errors);
+
+// Reconstruct() + Evaluate(). Never fails: problems go into outcome.message.
+RunOutcome ReconstructAndEvaluate(const ReconstructOptions& options,
+                                  const Measurements& measurements,
+                                  const std::vector<Eigen::Matrix3Xd>& truth);
+
+// K sweep on synthetic data: for each K and each run r = 0 … runs − 1,
+// make(seed = r + 1) generates a sequence, options(K) reconstructs it, and
+// the errors against its truth are collected. Medians over the runs (failed
+// runs excluded and counted).
+struct SweepPoint {
+  int num_bases = 0;
+  int failures = 0;
+  double median_error3d_pct = 0, median_zerror_pct = 0, median_e3d = 0;
+  double median_seconds = 0;
+};
+struct SweepResult {
+  std::vector<SweepPoint> points;
+  Json runs = Json::array();  // every run
+};
+SweepResult SweepK(
+    const std::function<Status(std::uint64_t seed, SyntheticSequence*)>& make,
+    const std::vector<int>& ks, int runs,
+    const std::function<ReconstructOptions(int num_bases)>& options);
+
+// Camera-0 ground truth of a synthetic model (ShapeInCamera(t, 0)).
+std::vector<Eigen::Matrix3Xd> TruthShapes(const Model& truth);
+
+double Median(std::vector<double> values);  // NaN when empty
+
+// Fixed-precision number ("nan" for NaN).
+std::string Fmt(double value, int precision = 3);
+
+// A plain-text table with right-aligned columns.
+class Table {
+ public:
+  explicit Table(std::vector<std::string> headers);
+  void AddRow(std::vector<std::string> cells);
+  std::string ToString() const;
+
+ private:
+  std::vector<std::string> headers_;
+  std::vector<std::vector<std::string>> rows_;
+};
+
+// Date, host, cores, threads, compiler, Ceres/Eigen versions, BLAS/LAPACK.
+Json ContextBlock(int threads);
+
+// A line plot: one curve per series. Written as <output_dir>/<name>.svg
+// (gnuplot, svg terminal) with its data in <name>.dat and script in <name>.gp.
+struct PlotSeries {
+  std::string title;
+  std::vector<double> x, y;
+};
+struct PlotSpec {
+  std::string name;   // file stem
+  std::string title;
+  std::string xlabel, ylabel;
+  bool logx = false, logy = false;
+  std::vector<PlotSeries> series;
+};
+// Returns the path of the plot, or "" with a one-line note on stderr when
+// plots are off or gnuplot is missing or fails (never an error).
+std::string WritePlot(const BenchConfig& config, const PlotSpec& spec);
+
+// Runs `work` in a forked child and measures its memory. The child's peak
+// resident set (VmHWM) starts at the RSS it inherits, so both are reported.
+// `work` returns a JSON object that is passed back through a pipe.
+struct ChildResult {
+  bool ok = false;
+  std::string message;
+  double start_rss_mb = 0;  // RSS when the child started (inherited pages)
+  double peak_rss_mb = 0;   // VmHWM at the end of the child
+  Json payload;
+};
+ChildResult RunInChild(const std::function<Json()>& work);
+
+// Seconds since an arbitrary epoch (steady clock).
+double NowSeconds();
+
+// Writes `json` to <output_dir>/<file>; returns the path or "" on failure
+// (with a note on stderr).
+std::string WriteJson(const BenchConfig& config, const std::string& file,
+                      const Json& json);
+
+}  // namespace bench
+}  // namespace nrsfm
+
+#endif  // NRSFM_BENCH_BENCH_COMMON_H_

@@ -1,0 +1,253 @@
+// mocap suite: every .mat of config.datasets_dir that holds ground truth
+// (drink, pickup, yoga: S + Rs; face: P3_gt), reconstructed at the K of the
+// published BMM numbers (drink 12, pickup 12, yoga 10, face 7; other files 8)
+// with each reconstruction strategy, then (with --full) a K sweep. Scored with
+// e3D and the z-sign Frobenius error (core/metrics.h) against camera-frame
+// truth, with the time of each stage.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "bench/bench_common.h"
+#include "bench/suites.h"
+#include "core/ground_truth.h"
+#include "core/read_measurements.h"
+#include "solvers/coarse_to_fine.h"
+
+namespace nrsfm {
+namespace bench {
+namespace {
+
+struct PublishedNumbers {
+  int num_bases;       // K of the BMM number
+  double best_e3d;     // best published e3D (-1 = none)
+  std::string source;  // who
+};
+
+const std::map<std::string, PublishedNumbers>& Published() {
+  static const std::map<std::string, PublishedNumbers> table = {
+      {"drink", {12, 0.0250, "PTA"}},
+      {"pickup", {12, 0.1731, "BMM"}},
+      {"yoga", {10, 0.1150, "BMM"}},
+      {"face", {7, 0.0303, "BMM"}},
+  };
+  return table;
+}
+
+struct Sequence {
+  std::string name;
+  Measurements measurements;
+  std::vector<Eigen::Matrix3Xd> truth;
+};
+
+// Strategies: "plain" (Reconstruct()), or '+'-joined parts of
+// solvers/coarse_to_fine.h: "ms" (4 starts), "c2f" (coarse-to-fine K from 1),
+// "tp" (camera-frame temporal prior, λ = kTemporalPriorWeight), "ridge"
+// (shape ridge, μ = kShapeRidgeWeight). "all" runs
+// the ablation list below. One set of options for every sequence.
+constexpr double kTemporalPriorWeight = 1.0;
+constexpr double kShapeRidgeWeight = 1e-3;
+constexpr int kNumStarts = 4;
+
+std::vector<std::string> Strategies(const BenchConfig& config) {
+  if (config.strategy == "all") {
+    return {"plain", "ms", "c2f", "tp", "ridge", "c2f+ridge"};
+  }
+  return {config.strategy};
+}
+
+bool HasPart(const std::string& strategy, const std::string& part) {
+  std::string padded = "+" + strategy + "+";
+  return padded.find("+" + part + "+") != std::string::npos;
+}
+
+RunOutcome RunStrategy(const std::string& strategy, int num_bases,
+                       const BenchConfig& config, const Sequence& sequence) {
+  ReconstructOptions options =
+      DefaultReconstructOptions(num_bases, config.threads);
+  options.refine.max_seconds = config.mocap_max_seconds;
+  if (strategy == "plain") {
+    return ReconstructAndEvaluate(options, sequence.measurements,
+                                  sequence.truth);
+  }
+  RobustReconstructOptions robust;
+  robust.coarse_to_fine = HasPart(strategy, "c2f");
+  robust.num_starts = HasPart(strategy, "ms") ? kNumStarts : 1;
+  robust.temporal_prior_weight = HasPart(strategy, "tp") ? kTemporalPriorWeight : 0.0;
+  robust.shape_ridge_weight = HasPart(strategy, "ridge") ? kShapeRidgeWeight : 0.0;
+  RunOutcome outcome;
+  ReconstructResult result;
+  const double start = NowSeconds();
+  const Status status =
+      RobustReconstruct(options, robust, sequence.measurements, &result);
+  outcome.total_seconds = NowSeconds() - start;
+  if (!status.ok()) {
+    outcome.message = status.message();
+    return outcome;
+  }
+  outcome.start = InitMethodName(result.init.used);
+  outcome.init_seconds = result.init.seconds;
+  outcome.refine_seconds = outcome.total_seconds - result.init.seconds;
+  outcome.iterations = result.refine.iterations;
+  outcome.reprojection_rms = result.refine.reprojection_rms;
+  outcome.linear_solver = result.refine.linear_solver;
+  const Status eval = Evaluate(result.model, sequence.truth, &outcome.errors);
+  if (!eval.ok()) {
+    outcome.message = eval.message();
+    return outcome;
+  }
+  outcome.ok = result.refine.usable;
+  return outcome;
+}
+
+Json OutcomeJson(const RunOutcome& o) {
+  Json j;
+  j["ok"] = o.ok;
+  if (!o.message.empty()) j["message"] = o.message;
+  j["e3d"] = o.errors.e3d;
+  j["frob_zsign"] = o.errors.frob_zsign;
+  j["error3d_pct"] = o.errors.error3d_pct;
+  j["zerror_pct"] = o.errors.zerror_pct;
+  j["reprojection_rms"] = o.reprojection_rms;
+  j["start"] = o.start;
+  j["iterations"] = o.iterations;
+  j["init_seconds"] = o.init_seconds;
+  j["refine_seconds"] = o.refine_seconds;
+  j["total_seconds"] = o.total_seconds;
+  j["linear_solver"] = o.linear_solver;
+  return j;
+}
+
+}  // namespace
+
+Status RunMocapSuite(const BenchConfig& config, Json* out) {
+  namespace fs = std::filesystem;
+  std::cout << "\n== mocap: real motion-capture sequences ==\n";
+  std::error_code error;
+  if (config.datasets_dir.empty() || !fs::is_directory(config.datasets_dir, error)) {
+    const std::string why = "no datasets directory '" + config.datasets_dir +
+                            "' (set --datasets_dir); mocap suite skipped";
+    std::cout << why << "\n";
+    (*out)["skipped"] = why;
+    return Status::OK();
+  }
+  std::vector<std::string> files;
+  for (const auto& entry : fs::directory_iterator(config.datasets_dir, error)) {
+    if (entry.path().extension() == ".mat") files.push_back(entry.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  std::vector<Sequence> sequences;
+  for (const std::string& file : files) {
+    Sequence sequence;
+    sequence.name = fs::path(file).stem().string();
+    if (!config.mocap_sequences.empty() &&
+        ("," + config.mocap_sequences + ",").find("," + sequence.name + ",") ==
+            std::string::npos) {
+      continue;
+    }
+    Status status = ReadMeasurements(file, InputOptions(), &sequence.measurements);
+    GroundTruth truth;
+    if (status.ok()) status = ReadGroundTruth(file, "", &truth);
+    if (!status.ok()) {
+      std::cout << "skip " << file << ": " << status.message() << "\n";
+      continue;
+    }
+    sequence.truth = std::move(truth.points_in_camera);
+    sequences.push_back(std::move(sequence));
+  }
+  if (sequences.empty()) {
+    const std::string why = "no .mat with ground truth in " + config.datasets_dir;
+    std::cout << why << "\n";
+    (*out)["skipped"] = why;
+    return Status::OK();
+  }
+
+  Table table({"sequence", "F", "P", "K", "strategy", "e3D", "best pub.",
+               "frob_z", "rms", "start", "iters", "init s", "refine s",
+               "total s"});
+  Json runs = Json::array();
+  for (const Sequence& sequence : sequences) {
+    const auto published = Published().find(sequence.name);
+    const int num_bases =
+        published == Published().end() ? 8 : published->second.num_bases;
+    for (const std::string& strategy : Strategies(config)) {
+      const RunOutcome o = RunStrategy(strategy, num_bases, config, sequence);
+      std::string best = "-";
+      if (published != Published().end()) {
+        best = Fmt(published->second.best_e3d, 4) + " " +
+               published->second.source;
+      }
+      table.AddRow({sequence.name, std::to_string(sequence.measurements.num_frames),
+                    std::to_string(sequence.measurements.num_points),
+                    std::to_string(num_bases), strategy,
+                    o.ok ? Fmt(o.errors.e3d, 4) : "FAIL", best,
+                    Fmt(o.errors.frob_zsign, 4), Fmt(o.reprojection_rms, 4),
+                    o.start, std::to_string(o.iterations), Fmt(o.init_seconds, 2),
+                    Fmt(o.refine_seconds, 2), Fmt(o.total_seconds, 2)});
+      Json j = OutcomeJson(o);
+      j["sequence"] = sequence.name;
+      j["num_bases"] = num_bases;
+      j["strategy"] = strategy;
+      if (published != Published().end()) {
+        j["best_published_e3d"] = published->second.best_e3d;
+        j["best_published_source"] = published->second.source;
+      }
+      runs.push_back(j);
+      std::cout << "  " << sequence.name << " K=" << num_bases << " " << strategy
+                << ": e3D " << Fmt(o.errors.e3d, 4) << " (" << Fmt(o.total_seconds, 2)
+                << " s)" << (o.message.empty() ? "" : " " + o.message) << std::endl;
+    }
+  }
+  std::cout << table.ToString();
+  if (config.mocap_max_seconds > 0) {
+    std::cout << "(each refinement capped at " << config.mocap_max_seconds
+              << " s wall time, --mocap_max_seconds; 0 removes the cap)\n";
+  }
+  (*out)["refine_max_seconds"] = config.mocap_max_seconds;
+  (*out)["runs"] = runs;
+
+  if (!config.full) return Status::OK();
+  // K sweep (plain strategy and the first listed one).
+  const std::vector<int> sweep = {1, 2, 3, 4, 5, 6, 8, 10, 12};
+  PlotSpec plot;
+  plot.name = "mocap_e3d_vs_k";
+  plot.title = "mocap: e3D vs K (" + Strategies(config).front() + ")";
+  plot.xlabel = "K";
+  plot.ylabel = "e3D";
+  Table sweep_table({"sequence", "K", "e3D", "frob_z", "rms", "total s"});
+  Json sweep_runs = Json::array();
+  for (const Sequence& sequence : sequences) {
+    PlotSeries series;
+    series.title = sequence.name;
+    for (int k : sweep) {
+      if (3 * k + 1 > sequence.measurements.num_points) continue;
+      const RunOutcome o =
+          RunStrategy(Strategies(config).front(), k, config, sequence);
+      sweep_table.AddRow({sequence.name, std::to_string(k),
+                          o.ok ? Fmt(o.errors.e3d, 4) : "FAIL",
+                          Fmt(o.errors.frob_zsign, 4), Fmt(o.reprojection_rms, 4),
+                          Fmt(o.total_seconds, 2)});
+      Json j = OutcomeJson(o);
+      j["sequence"] = sequence.name;
+      j["num_bases"] = k;
+      sweep_runs.push_back(j);
+      if (o.ok) {
+        series.x.push_back(k);
+        series.y.push_back(o.errors.e3d);
+      }
+    }
+    plot.series.push_back(series);
+  }
+  std::cout << "\nK sweep:\n" << sweep_table.ToString();
+  (*out)["k_sweep"] = sweep_runs;
+  const std::string path = WritePlot(config, plot);
+  if (!path.empty()) (*out)["plots"].push_back(path);
+  return Status::OK();
+}
+
+}  // namespace bench
+}  // namespace nrsfm

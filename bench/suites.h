@@ -1,0 +1,29 @@
+// The suites of nrsfm_bench (one file each, bench/suite_*.cc). Every suite
+// prints its table(s) to stdout, writes its plots to config.output_dir and
+// returns its results as JSON (the caller adds the context block and writes
+// the file). A suite that cannot run (e.g. no data) says why on stdout and
+// returns OK with {"skipped": "<why>"}.
+#ifndef NRSFM_BENCH_SUITES_H_
+#define NRSFM_BENCH_SUITES_H_
+
+#include "bench/bench_common.h"
+#include "core/status.h"
+
+namespace nrsfm {
+namespace bench {
+
+// 001 §4.3, Fig. 5 a/b: random bases (5, 10, 20), F = 300, K = 1 … N.
+Status RunPaperRandomSuite(const BenchConfig& config, Json* out);
+// 001 §4.3, Fig. 5 c: the superquadric, K = 1 … 8.
+Status RunSuperquadricSuite(const BenchConfig& config, Json* out);
+// Shoe-style (Table 1): K = 2 … 8, monocular and two cameras, self-occlusion.
+Status RunShoeSuite(const BenchConfig& config, Json* out);
+// Real motion capture: every .mat in config.datasets_dir with ground truth.
+Status RunMocapSuite(const BenchConfig& config, Json* out);
+// Synthetic (F, P, K) sweep: time per LM iteration, total time, peak memory.
+Status RunScaleSuite(const BenchConfig& config, Json* out);
+
+}  // namespace bench
+}  // namespace nrsfm
+
+#endif  // NRSFM_BENCH_SUITES_H_

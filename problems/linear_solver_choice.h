@@ -1,0 +1,82 @@
+// The linear solver of the Levenberg–Marquardt steps, and the `auto` rule.
+//
+// Structure of the reprojection term (DESIGN.md §2): a residual couples one
+// view's rotation/translation (and scale), one frame's weights and one point's
+// basis column. So the point blocks b_p (3K each) form an independent set
+// and can be Schur-eliminated; the per-frame blocks (ω_t, T_t, l_t) share
+// residuals with each other, so "the frames" are not an independent set — of
+// them only one kind at a time (e.g. all l_t) could be eliminated. Every
+// point is normally seen in almost every frame, so the reduced system over
+// the frame blocks is dense: (5 + K)F unknowns. Eliminating the frames'
+// weights instead leaves (5F + 3KP) unknowns, dense in the points. Either
+// way a direct solver pays O(F · (3KP)²) or O(P · ((5 + K)F)²) flops per step
+// to form the reduced matrix; the iterative solvers pay O(nnz(J)) per
+// conjugate-gradient step.
+//
+// Measured (bench/refine_benchmark.cc, Release, 1 thread, random-basis data
+// at 1 % noise started from the factorisation, 2-core machine shared with
+// other jobs, 20 LM iterations at most; s/it = seconds per LM iteration):
+//   RULE_AND_TABLE_PLACEHOLDER
+#ifndef NRSFM_PROBLEMS_LINEAR_SOLVER_CHOICE_H_
+#define NRSFM_PROBLEMS_LINEAR_SOLVER_CHOICE_H_
+
+#include <string>
+
+#include <ceres/solver.h>
+
+#include "core/status.h"
+#include "problems/problem_builder.h"
+
+namespace nrsfm {
+
+enum class LinearSolverChoice {
+  kAuto,                  // the rule below, from the problem's structure
+  kDenseSchur,            // points eliminated, dense reduced system
+  kSparseSchur,           // points eliminated, sparse Cholesky of the rest
+  kIterativeSchur,        // points eliminated, CG on the implicit reduced system, JACOBI
+  kSparseNormalCholesky,  // sparse Cholesky of JᵀJ
+  kCgnr,                  // CG on the normal equations, JACOBI
+  kDenseQr,               // dense QR of J (tiny problems only)
+};
+// "auto", "dense_schur", "sparse_schur", "iterative_schur",
+// "sparse_normal_cholesky", "cgnr", "dense_qr"; an error lists them.
+Status ParseLinearSolver(const std::string& name, LinearSolverChoice* choice);
+std::string LinearSolverName(LinearSolverChoice choice);
+
+// What the rule and the memory checks look at (free parameters only).
+struct ProblemStructure {
+  int num_point_blocks = 0;           // non-constant basis columns
+  int num_point_parameters = 0;       // their total size, 3K each
+  int num_other_parameters = 0;       // every other non-constant parameter
+  int num_residuals = 0;              // rows of J
+  // Upper bound on the entries of the reduced matrix with the points
+  // eliminated (its fill: every pair of parameters that share a point).
+  double schur_matrix_entries = 0.0;
+  bool points_are_independent = true; // see ProblemBuilder
+};
+ProblemStructure DescribeProblem(ProblemBuilder* builder);
+
+// The `auto` rule (see the table above). Never returns kAuto.
+LinearSolverChoice ChooseLinearSolver(const ProblemStructure& structure);
+
+// Sets options->linear_solver_type, preconditioner_type and
+// linear_solver_ordering (points eliminated for the Schur solvers) for
+// `choice` (kAuto resolved by ChooseLinearSolver). When the point blocks
+// cannot be eliminated (not an independent set, or all constant) a Schur
+// solver gets no ordering and Ceres picks an independent set itself. Errors,
+// instead of exhausting the memory, when DENSE_QR, DENSE_SCHUR or the
+// reduced matrix of SPARSE_SCHUR would need more than kMaxDenseBytes.
+// `*used` is the resolved choice.
+// Determinism: every solver gets an explicit ordering by block kind (Ceres
+// would otherwise order blocks by address, so the rounding would depend on
+// the heap layout), and DENSE_SCHUR / SPARSE_SCHUR are set to one thread:
+// Ceres 2.1's parallel Schur elimination adds into the reduced matrix in
+// thread-scheduling order, so two runs differed in the last bits.
+inline constexpr double kMaxDenseBytes = 2.0e9;
+Status ConfigureLinearSolver(LinearSolverChoice choice, ProblemBuilder* builder,
+                             ceres::Solver::Options* options,
+                             LinearSolverChoice* used);
+
+}  // namespace nrsfm
+
+#endif  // NRSFM_PROBLEMS_LINEAR_SOLVER_CHOICE_H_

@@ -1,0 +1,159 @@
+// The one Ceres problem of a reconstruction (DESIGN.md §2).
+//
+// ProblemBuilder owns a ceres::Problem whose parameter blocks are the storage
+// of a Model (core/model.h), so solving the problem updates the model in
+// place. AddReprojectionTerms() adds the data term; further terms (smoothness
+// of the basis, multi-camera rigidity, temporal priors) are added by their own
+// files through problem() and the block accessors below — the builder does
+// not need to know them.
+//
+// Parameter blocks (pointers into the model; sizes in brackets):
+//   RotationBlock(t, c)     ω_tc, angle-axis, radians [3]  rotations.col(View(t, c))
+//   TranslationBlock(t, c)  T_tc, input units        [2]  translations.col(View(t, c))
+//   WeightsBlock(t)         l_t                      [K]  weights.col(t)
+//   BasisBlock(p)           b_p = [S_1[:,p]; …; S_K[:,p]]  [3K]  basis.col(p)
+//   ScaleBlock(t, c)        s_tc, c ≥ 1 of multi-camera data only  [1]
+//                           scales(View(t, c)); camera 0 has s = 1 and no block,
+//                           monocular data have no scale block at all.
+// A block is in the problem only once a residual uses it (a view that sees no
+// point has no rotation block; test with problem()->HasParameterBlock).
+//
+// Gauge (DESIGN.md §1): a global rotation, an invertible K × K mixing of
+// weights and basis and a depth reflection leave every residual unchanged;
+// so does a shift S_k → S_k + c_k of every basis shape (3K more dimensions)
+// while the translations are free, since T_tc absorbs s Π R_tc Σ_k l_tk c_k.
+// The Jacobian is therefore rank-deficient. Nothing is held constant to fix
+// the gauge: Levenberg–Marquardt damping (D = diag(JᵀJ) added to every step)
+// keeps each step finite and the solver converges along the other
+// directions (tests/solvers/refine_test.cc starts every linear solver from a
+// re-gauged, perturbed truth); the evaluation removes the gauge
+// (core/metrics.h).
+#ifndef NRSFM_PROBLEMS_PROBLEM_BUILDER_H_
+#define NRSFM_PROBLEMS_PROBLEM_BUILDER_H_
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <ceres/cost_function.h>
+#include <ceres/loss_function.h>
+#include <ceres/problem.h>
+#include <Eigen/Core>
+
+#include "core/measurements.h"
+#include "core/model.h"
+#include "core/status.h"
+
+namespace nrsfm {
+
+// Robust loss on the data (reprojection) term only.
+enum class RobustLoss {
+  kNone,    // ρ(s) = s, least squares
+  kHuber,   // ρ(s) = s for s ≤ a², 2a√s − a² beyond
+  kCauchy,  // ρ(s) = a² log(1 + s / a²)
+};
+// "none", "huber", "cauchy" (lower case); an error names the bad value.
+Status ParseRobustLoss(const std::string& name, RobustLoss* loss);
+std::string RobustLossName(RobustLoss loss);
+
+struct ProblemOptions {
+  // Blocks held constant (each kind is all-or-nothing), e.g. refine the basis
+  // only by setting every other flag.
+  bool constant_rotations = false;    // every ω_tc
+  bool constant_translations = false; // every T_tc
+  bool constant_weights = false;      // every l_t
+  bool constant_basis = false;        // every b_p
+  bool constant_scales = false;       // every s_tc (c ≥ 1; no effect for M = 1)
+
+  // Robust loss of each observation's squared distance, with its scale a in
+  // input units (the residual distance where the loss stops being quadratic).
+  RobustLoss robust_loss = RobustLoss::kNone;
+  double robust_scale = 1.0;  // a > 0, input units
+
+  // Per-observation weights w_obs ≥ 0, (F·M) × P like Measurements::visible;
+  // empty = every weight is 1. An observation's cost is w_obs · ρ(||e||²)
+  // (e in input units), so robust_scale keeps its meaning under any weight.
+  // Entries of invisible observations are ignored; a visible observation with
+  // w_obs = 0 gets no residual.
+  Eigen::ArrayXXd observation_weights;
+
+  // Differentiate the reprojection error automatically (the run-time-K
+  // functor of problems/reprojection_error.h) instead of using the
+  // hand-written Jacobian: same residuals and Jacobians to rounding, ~5-20×
+  // slower to evaluate. For cross-checks and benchmarks.
+  bool autodiff = false;
+
+  Status Check() const;
+};
+
+// The reprojection cost function for K bases. Hand-written Jacobian
+// (problems/reprojection_cost_function.h): K = 1…kMaxStaticBases dispatch to
+// a compile-time K (the one switch on K, in the .cc), larger K use a run-time
+// K. With `autodiff`, DynamicReprojectionError (any K). `with_scale` adds the
+// scale block; `sqrt_weight` = sqrt(w_obs). Caller owns the result.
+ceres::CostFunction* CreateReprojectionCostFunction(
+    int num_bases, bool with_scale, bool autodiff,
+    const Eigen::Vector2d& observation, double sqrt_weight);
+
+class ProblemBuilder {
+ public:
+  // `measurements` and `model` must outlive the builder; the model's storage
+  // becomes the parameter blocks.
+  ProblemBuilder(const Measurements* measurements, Model* model);
+  ProblemBuilder(const ProblemBuilder&) = delete;
+  ProblemBuilder& operator=(const ProblemBuilder&) = delete;
+
+  // Adds one residual block of 2 residuals per visible (t, c, p) with
+  // w_obs > 0 and applies the constant flags to the blocks it added. Fails
+  // (and adds nothing) on invalid options, measurements or model, on sizes
+  // of model and measurements that differ, on a camera-0 scale other than 1,
+  // or on an observation_weights matrix of the wrong size. Call once.
+  Status AddReprojectionTerms(const ProblemOptions& options);
+
+  ceres::Problem* problem() { return &problem_; }
+  const Measurements& measurements() const { return *measurements_; }
+  Model* model() { return model_; }
+
+  double* RotationBlock(int frame, int camera);
+  double* TranslationBlock(int frame, int camera);
+  double* WeightsBlock(int frame);
+  double* BasisBlock(int point);
+  double* ScaleBlock(int frame, int camera);  // CHECKs camera ≥ 1
+
+  // The blocks of the problem in two sets for the linear solver ordering:
+  // point blocks (basis columns, point order) and every other block (per
+  // view, per frame or shared). Only blocks present in the problem are
+  // listed.
+  std::vector<double*> PointBlocks();
+  std::vector<double*> NonPointBlocks();
+  // NonPointBlocks() split into groups whose order does not depend on where
+  // the model's arrays lie in memory (Ceres orders the blocks of one
+  // ordering group by address): rotations, translations, weights, scales,
+  // then every remaining block (added by other terms) in a group of its own,
+  // in the order it was added. Empty groups are left out.
+  std::vector<std::vector<double*>> NonPointBlockGroups();
+  // True when no residual block of the problem uses two point blocks (the
+  // point blocks are an independent set and can be Schur-eliminated).
+  // O(number of residual blocks).
+  bool PointBlocksAreIndependent() const;
+
+  // Number of reprojection residual blocks added.
+  int num_reprojection_terms() const { return num_reprojection_terms_; }
+
+ private:
+  ceres::LossFunction* LossForWeight(const ProblemOptions& options,
+                                     double weight);
+
+  const Measurements* measurements_;
+  Model* model_;
+  // Losses are shared between residual blocks of equal weight and owned here
+  // (declared before problem_ so they outlive it).
+  std::map<double, std::unique_ptr<ceres::LossFunction>> losses_;
+  ceres::Problem problem_;
+  int num_reprojection_terms_ = 0;
+};
+
+}  // namespace nrsfm
+
+#endif  // NRSFM_PROBLEMS_PROBLEM_BUILDER_H_

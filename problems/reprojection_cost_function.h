@@ -1,0 +1,137 @@
+// The reprojection error of problems/reprojection_error.h with hand-written
+// Jacobians (same residual, same parameter blocks, same order):
+//
+//   r = sqrt(w_obs) · ( s · Π R(ω) X + T − w_tcp ),   X = Σ_k l_k b_k = B l
+//
+// with B = [b_1 … b_K] (3 × K, the basis column b_p reshaped). Then
+//   ∂r/∂ω   = sqrt(w_obs) · s · Π ∂(R(ω) X)/∂ω    (2 × 3, dual numbers on ω
+//             through ceres::AngleAxisToRotationMatrix, exact at ω = 0)
+//   ∂r/∂T   = sqrt(w_obs) · I_2                    (2 × 2)
+//   ∂r/∂l   = sqrt(w_obs) · s · Π R B              (2 × K)
+//   ∂r/∂b_k = sqrt(w_obs) · s · l_k · Π R          (2 × 3 per k)
+//   ∂r/∂s   = sqrt(w_obs) · Π R X                  (2 × 1, scaled form only)
+//
+// Why: automatic differentiation carries all 3 + 2 + 4K (+1) derivatives
+// through every multiplication of the shape sum; for K = 12 it is 17-38×
+// slower than this (numbers in problems/reprojection_error.h,
+// bench/refine_benchmark.cc measures them). The autodiff functors stay the
+// reference the tests compare against.
+//
+// kNumBases = K fixed at compile time (fixed-size Eigen), or Eigen::Dynamic
+// with K given at run time (the fallback above kMaxStaticBases).
+#ifndef NRSFM_PROBLEMS_REPROJECTION_COST_FUNCTION_H_
+#define NRSFM_PROBLEMS_REPROJECTION_COST_FUNCTION_H_
+
+#include <vector>
+
+#include <ceres/cost_function.h>
+#include <ceres/jet.h>
+#include <ceres/rotation.h>
+#include <glog/logging.h>
+#include <Eigen/Core>
+
+namespace nrsfm {
+
+// Largest K with a compile-time specialisation (problems/problem_builder.cc
+// dispatches 1…kMaxStaticBases with a switch).
+inline constexpr int kMaxStaticBases = 16;
+
+template <int kNumBases>
+class ReprojectionCostFunction final : public ceres::CostFunction {
+ public:
+  // `num_bases` must equal kNumBases unless kNumBases is Eigen::Dynamic.
+  // `with_scale` adds the fifth block s (cameras c ≥ 1 of multi-camera data).
+  ReprojectionCostFunction(int num_bases, bool with_scale,
+                           const Eigen::Vector2d& observation,
+                           double sqrt_weight)
+      : num_bases_(num_bases),
+        with_scale_(with_scale),
+        observation_(observation),
+        sqrt_weight_(sqrt_weight) {
+    CHECK_GE(num_bases, 1);
+    CHECK(kNumBases == Eigen::Dynamic || kNumBases == num_bases);
+    set_num_residuals(2);
+    std::vector<int>* sizes = mutable_parameter_block_sizes();
+    *sizes = {3, 2, num_bases, 3 * num_bases};
+    if (with_scale) sizes->push_back(1);
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    // Eigen forbids a row-major 2 × 1 type; for K = 1 both layouts agree.
+    using RowMajor2xK =
+        Eigen::Matrix<double, 2, kNumBases,
+                      kNumBases == 1 ? Eigen::ColMajor : Eigen::RowMajor>;
+    const Eigen::Map<const Eigen::Matrix<double, kNumBases, 1>> weights(
+        parameters[2], num_bases_);
+    const Eigen::Map<const Eigen::Matrix<double, 3, kNumBases>> basis(
+        parameters[3], 3, num_bases_);
+    const double scale = with_scale_ ? parameters[4][0] : 1.0;
+    const Eigen::Vector3d point = basis * weights;
+
+    // R and ∂R/∂ω_i: dual numbers on the three angle-axis components only.
+    using Jet3 = ceres::Jet<double, 3>;
+    const Jet3 omega[3] = {Jet3(parameters[0][0], 0), Jet3(parameters[0][1], 1),
+                           Jet3(parameters[0][2], 2)};
+    Jet3 rotation_jet[9];  // column-major
+    ceres::AngleAxisToRotationMatrix(omega, rotation_jet);
+    Eigen::Matrix<double, 2, 3> projection;  // Π R
+    for (int col = 0; col < 3; ++col) {
+      for (int row = 0; row < 2; ++row) {
+        projection(row, col) = rotation_jet[3 * col + row].a;
+      }
+    }
+    const Eigen::Vector2d projected = projection * point;
+    const Eigen::Map<const Eigen::Vector2d> translation(parameters[1]);
+    Eigen::Map<Eigen::Vector2d> residual(residuals);
+    residual = sqrt_weight_ * (scale * projected + translation - observation_);
+
+    if (jacobians == nullptr) return true;
+    const double factor = sqrt_weight_ * scale;
+    if (jacobians[0] != nullptr) {
+      Eigen::Map<Eigen::Matrix<double, 2, 3, Eigen::RowMajor>> d_rotation(
+          jacobians[0]);
+      for (int i = 0; i < 3; ++i) {
+        for (int row = 0; row < 2; ++row) {
+          d_rotation(row, i) = factor * (rotation_jet[row].v[i] * point[0] +
+                                         rotation_jet[3 + row].v[i] * point[1] +
+                                         rotation_jet[6 + row].v[i] * point[2]);
+        }
+      }
+    }
+    if (jacobians[1] != nullptr) {
+      Eigen::Map<Eigen::Matrix<double, 2, 2, Eigen::RowMajor>> d_translation(
+          jacobians[1]);
+      d_translation = sqrt_weight_ * Eigen::Matrix2d::Identity();
+    }
+    if (jacobians[2] != nullptr) {
+      Eigen::Map<RowMajor2xK> d_weights(jacobians[2], 2, num_bases_);
+      d_weights = factor * projection * basis;
+    }
+    if (jacobians[3] != nullptr) {
+      for (int k = 0; k < num_bases_; ++k) {
+        for (int row = 0; row < 2; ++row) {
+          for (int col = 0; col < 3; ++col) {
+            jacobians[3][row * 3 * num_bases_ + 3 * k + col] =
+                factor * weights[k] * projection(row, col);
+          }
+        }
+      }
+    }
+    if (with_scale_ && jacobians[4] != nullptr) {
+      Eigen::Map<Eigen::Vector2d> d_scale(jacobians[4]);
+      d_scale = sqrt_weight_ * projected;
+    }
+    return true;
+  }
+
+ private:
+  const int num_bases_;
+  const bool with_scale_;
+  const Eigen::Vector2d observation_;
+  const double sqrt_weight_;
+};
+
+}  // namespace nrsfm
+
+#endif  // NRSFM_PROBLEMS_REPROJECTION_COST_FUNCTION_H_

@@ -1,0 +1,80 @@
+#include "solvers/reconstruct.h"
+
+#include <chrono>
+
+#include <glog/logging.h>
+
+namespace nrsfm {
+
+Status ReconstructOptions::Check() const {
+  NRSFM_RETURN_IF_ERROR(init.Check().WithContext("reconstruct: init"));
+  NRSFM_RETURN_IF_ERROR(refine.Check().WithContext("reconstruct: refine"));
+  return Status::OK();
+}
+
+namespace {
+
+// One start followed by its refinement.
+Status StartAndRefine(const ReconstructOptions& options, InitMethod method,
+                      const Measurements& measurements, ReconstructResult* result) {
+  InitializeOptions init = options.init;
+  init.method = method;
+  NRSFM_RETURN_IF_ERROR(
+      Initialize(init, measurements, &result->model, &result->init));
+  return Refine(options.refine, measurements, &result->model, &result->refine);
+}
+
+// Whether refined result `a` is better than `b`: a usable solution beats an
+// unusable one; then the lower final cost wins.
+bool IsBetter(const ReconstructResult& a, const ReconstructResult& b) {
+  if (a.refine.usable != b.refine.usable) return a.refine.usable;
+  return a.refine.final_cost < b.refine.final_cost;
+}
+
+}  // namespace
+
+Status Reconstruct(const ReconstructOptions& options,
+                   const Measurements& measurements, ReconstructResult* result) {
+  CHECK(result != nullptr);
+  const auto start = std::chrono::steady_clock::now();
+  *result = ReconstructResult();
+  NRSFM_RETURN_IF_ERROR(options.Check());
+  if (options.init.method != InitMethod::kAuto) {
+    NRSFM_RETURN_IF_ERROR(
+        StartAndRefine(options, options.init.method, measurements, result));
+  } else {
+    // Both starts are refined and the lower refined cost is kept: a start's
+    // own reprojection error does not tell which basin it is in (the rigid
+    // start can fit the tracks better than the factorisation start and still
+    // converge to a depth-degenerate solution).
+    ReconstructResult factorization, rigid;
+    const Status factorization_status = StartAndRefine(
+        options, InitMethod::kFactorization, measurements, &factorization);
+    const Status rigid_status =
+        StartAndRefine(options, InitMethod::kRigid, measurements, &rigid);
+    if (!factorization_status.ok() && !rigid_status.ok()) {
+      return Status::Error("both starts failed: factorization: " +
+                           factorization_status.message() +
+                           "; rigid: " + rigid_status.message());
+    }
+    const bool keep_rigid =
+        !factorization_status.ok() ||
+        (rigid_status.ok() && IsBetter(rigid, factorization));
+    *result = keep_rigid ? std::move(rigid) : std::move(factorization);
+    const Status& other = keep_rigid ? factorization_status : rigid_status;
+    if (!other.ok()) {
+      result->init.warnings.push_back(
+          std::string(keep_rigid ? "factorization" : "rigid") +
+          " start failed: " + other.message());
+    }
+    result->factorization_refined_cost =
+        factorization_status.ok() ? factorization.refine.final_cost : -1.0;
+    result->rigid_refined_cost = rigid_status.ok() ? rigid.refine.final_cost : -1.0;
+  }
+  result->total_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+          .count();
+  return Status::OK();
+}
+
+}  // namespace nrsfm

@@ -1,0 +1,142 @@
+#include "solvers/select_num_bases.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <utility>
+
+namespace nrsfm {
+namespace {
+
+// Free parameters of a model with K bases, less the gauge (see the header).
+double NumFreeParameters(const Measurements& m, int k) {
+  const double f = m.num_frames, views = m.NumViews(), p = m.num_points;
+  return views * 5.0 + f * k + 3.0 * k * p + (m.num_cameras - 1) * f -
+         (static_cast<double>(k) * k + 3.0);
+}
+
+// RMS over visible entries of the distance of w_tcp to the per-view mean of
+// the visible points: the spread of W, in input units.
+double SpreadRms(const Measurements& m) {
+  double sum = 0.0;
+  int count = 0;
+  for (int view = 0; view < m.NumViews(); ++view) {
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    int n = 0;
+    for (int p = 0; p < m.num_points; ++p) {
+      if (!m.visible(view, p)) continue;
+      mean += m.W.block<2, 1>(2 * view, p);
+      ++n;
+    }
+    if (n == 0) continue;
+    mean /= n;
+    for (int p = 0; p < m.num_points; ++p) {
+      if (!m.visible(view, p)) continue;
+      sum += (m.W.block<2, 1>(2 * view, p) - mean).squaredNorm();
+      ++count;
+    }
+  }
+  return count > 0 ? std::sqrt(sum / count) : 0.0;
+}
+
+}  // namespace
+
+Status SelectNumBasesOptions::Check() const {
+  if (max_num_bases < 2) {
+    return Status::Error("K selection: max_num_bases must be >= 2, got " +
+                         std::to_string(max_num_bases));
+  }
+  if (!(threshold >= 1.0) || !std::isfinite(threshold)) {
+    return Status::Error("K selection: threshold must be a finite number >= 1, got " +
+                         std::to_string(threshold));
+  }
+  if (!(relative_noise_floor > 0.0) || !std::isfinite(relative_noise_floor)) {
+    return Status::Error(
+        "K selection: relative_noise_floor must be a finite number > 0");
+  }
+  return Status::OK();
+}
+
+Status SelectNumBases(const ReconstructOptions& options,
+                      const SelectNumBasesOptions& select_options,
+                      const Measurements& measurements,
+                      SelectNumBasesResult* result) {
+  NRSFM_RETURN_IF_ERROR(select_options.Check());
+  NRSFM_RETURN_IF_ERROR(measurements.Validate());
+  const int num_observations = measurements.NumVisible();
+  // The largest K the data supports: 3K + 1 ≤ P and 3K + 1 ≤ 2F, and more
+  // scalar residuals than free parameters.
+  int k_max = select_options.max_num_bases;
+  while (k_max >= 1 &&
+         (3 * k_max + 1 > measurements.num_points ||
+          3 * k_max + 1 > 2 * measurements.num_frames ||
+          NumFreeParameters(measurements, k_max) >= 2.0 * num_observations)) {
+    --k_max;
+  }
+  if (k_max < 1) {
+    return Status::Error(
+        "K selection: the data supports no K >= 1 (P = " +
+        std::to_string(measurements.num_points) +
+        ", F = " + std::to_string(measurements.num_frames) + ")");
+  }
+
+  SelectNumBasesResult out;
+  std::vector<ReconstructResult> reconstructions;
+  for (int k = 1; k <= k_max; ++k) {
+    ReconstructOptions k_options = options;
+    k_options.init.num_bases = k;
+    NumBasesCandidate candidate;
+    candidate.num_bases = k;
+    ReconstructResult reconstruction;
+    const Status status = Reconstruct(k_options, measurements, &reconstruction);
+    if (!status.ok()) {
+      candidate.message = status.message();
+    } else if (!reconstruction.refine.usable) {
+      candidate.message = "refinement not usable: " + reconstruction.refine.message;
+    } else {
+      candidate.ok = true;
+      candidate.reprojection_rms = reconstruction.refine.reprojection_rms;
+      candidate.seconds = reconstruction.total_seconds;
+    }
+    out.curve.push_back(candidate);
+    reconstructions.push_back(std::move(reconstruction));
+  }
+
+  // σ̂ from the best-fitting (largest successful) K.
+  int reference = -1;
+  for (int i = k_max - 1; i >= 0; --i) {
+    if (out.curve[i].ok) {
+      reference = i;
+      break;
+    }
+  }
+  if (reference < 0) {
+    return Status::Error("K selection: no K in 1.." + std::to_string(k_max) +
+                         " reconstructed; K = 1: " + out.curve[0].message);
+  }
+  const double n_obs = 2.0 * num_observations;
+  const double rss = n_obs * 0.5 * std::pow(out.curve[reference].reprojection_rms, 2);
+  const double dof = n_obs - NumFreeParameters(measurements, reference + 1);
+  out.noise_stddev = std::sqrt(rss / std::max(dof, 1.0));
+  const double floor = select_options.relative_noise_floor * SpreadRms(measurements);
+
+  out.num_bases = reference + 1;
+  for (auto& candidate : out.curve) {
+    const double dof_k = n_obs - NumFreeParameters(measurements, candidate.num_bases);
+    candidate.expected_rms =
+        out.noise_stddev * std::sqrt(2.0 * std::max(dof_k, 0.0) / n_obs);
+  }
+  for (const auto& candidate : out.curve) {
+    if (!candidate.ok) continue;
+    if (candidate.reprojection_rms <=
+        select_options.threshold * std::max(candidate.expected_rms, floor)) {
+      out.num_bases = candidate.num_bases;
+      break;
+    }
+  }
+  out.reconstruction = std::move(reconstructions[out.num_bases - 1]);
+  *result = std::move(out);
+  return Status::OK();
+}
+
+}  // namespace nrsfm

@@ -1,0 +1,146 @@
+// End to end (closed-form start + refinement) on seeded random-basis data.
+#include "solvers/reconstruct.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include <gtest/gtest.h>
+
+#include "core/metrics.h"
+#include "core/synthetic.h"
+
+namespace nrsfm {
+namespace {
+
+constexpr int kFrames = 200;
+constexpr int kPoints = 60;
+constexpr int kBases = 3;
+
+SyntheticSequence Sequence(double noise, double missing) {
+  RandomBasisOptions options;
+  options.num_frames = kFrames;
+  options.num_points = kPoints;
+  options.num_bases = kBases;
+  options.noise_stddev = noise;
+  options.missing_fraction = missing;
+  options.seed = 1;
+  SyntheticSequence sequence;
+  EXPECT_TRUE(GenerateRandomBasis(options, &sequence).ok());
+  return sequence;
+}
+
+// Spread of the data: RMS distance of the visible observations from the
+// centroid of their view, in input units.
+double DataSpread(const Measurements& m) {
+  double sum = 0.0;
+  int count = 0;
+  for (int view = 0; view < m.NumViews(); ++view) {
+    Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+    int n = 0;
+    for (int p = 0; p < m.num_points; ++p) {
+      if (!m.visible(view, p)) continue;
+      centroid += m.W.block<2, 1>(2 * view, p);
+      ++n;
+    }
+    centroid /= n;
+    for (int p = 0; p < m.num_points; ++p) {
+      if (!m.visible(view, p)) continue;
+      sum += (m.W.block<2, 1>(2 * view, p) - centroid).squaredNorm();
+      ++count;
+    }
+  }
+  return std::sqrt(sum / count);
+}
+
+double E3D(const Model& truth, const Model& estimate) {
+  return ComputeE3D(CameraFrameShapes(truth), CameraFrameShapes(estimate));
+}
+
+ReconstructOptions Options() {
+  ReconstructOptions options;
+  options.init.num_bases = kBases;
+  return options;
+}
+
+TEST(Reconstruct, NoiseFreeIsExact) {
+  const SyntheticSequence s = Sequence(0.0, 0.0);
+  const double spread = DataSpread(s.measurements);
+  ReconstructResult result;
+  ASSERT_TRUE(Reconstruct(Options(), s.measurements, &result).ok());
+  EXPECT_TRUE(result.refine.usable) << result.refine.message;
+  const double e3d = E3D(s.truth, result.model);
+  std::printf("noise-free: start %s rms %.3e, refined rms %.3e (spread %.3f), e3D %.2e\n",
+              InitMethodName(result.init.used), result.init.reprojection_rms,
+              result.refine.reprojection_rms, spread, e3d);
+  EXPECT_LT(result.refine.reprojection_rms, 1e-6 * spread);
+  EXPECT_LT(e3d, 1e-3);
+  EXPECT_EQ(result.refine.reprojection_rms,
+            ReprojectionRms(s.measurements, result.model));
+  EXPECT_GE(result.total_seconds, result.init.seconds + result.refine.seconds);
+}
+
+// Noise of 1 % of the data spread: the reconstruction is as good as the
+// least-squares optimum near the truth (refinement started from the truth)
+// up to a factor 2 in e3D.
+TEST(Reconstruct, OnePercentNoiseIsWithinTwiceTheTrueModelRefit) {
+  const double spread = DataSpread(Sequence(0.0, 0.0).measurements);
+  const SyntheticSequence s = Sequence(0.01 * spread, 0.0);
+  ReconstructResult result;
+  ASSERT_TRUE(Reconstruct(Options(), s.measurements, &result).ok());
+  ASSERT_TRUE(result.refine.usable) << result.refine.message;
+
+  Model refit = s.truth;
+  RefineSummary refit_summary;
+  ASSERT_TRUE(Refine(RefineOptions(), s.measurements, &refit, &refit_summary).ok());
+  ASSERT_TRUE(refit_summary.usable);
+
+  const double e3d = E3D(s.truth, result.model);
+  const double e3d_refit = E3D(s.truth, refit);
+  std::printf(
+      "1%% noise: e3D reconstruction %.4e (rms %.4e), true-model refit %.4e "
+      "(rms %.4e), ratio %.3f\n",
+      e3d, result.refine.reprojection_rms, e3d_refit, refit_summary.reprojection_rms,
+      e3d / e3d_refit);
+  ::testing::Test::RecordProperty("e3d_reconstruction", std::to_string(e3d));
+  ::testing::Test::RecordProperty("e3d_true_model_refit", std::to_string(e3d_refit));
+  EXPECT_LT(e3d, 2.0 * e3d_refit);
+  EXPECT_GT(e3d_refit, 0.0);
+}
+
+TEST(Reconstruct, ThirtyPercentMissingStillConverges) {
+  const SyntheticSequence s = Sequence(0.0, 0.3);
+  ASSERT_NEAR(s.measurements.NumVisible(), 0.7 * kFrames * kPoints, 2.0);
+  const double spread = DataSpread(s.measurements);
+  ReconstructResult result;
+  ASSERT_TRUE(Reconstruct(Options(), s.measurements, &result).ok());
+  EXPECT_TRUE(result.refine.usable) << result.refine.message;
+  EXPECT_NE(result.refine.message.find("tolerance"), std::string::npos)
+      << result.refine.message;
+  const double e3d = E3D(s.truth, result.model);
+  std::printf("30%% missing: start rms %.3e, refined rms %.3e, e3D %.2e, %d iterations\n",
+              result.init.reprojection_rms, result.refine.reprojection_rms, e3d,
+              result.refine.iterations);
+  EXPECT_LT(result.refine.reprojection_rms, 1e-6 * spread);
+  EXPECT_LT(e3d, 1e-3);
+}
+
+TEST(Reconstruct, OptionsAreCheckedFirst) {
+  const SyntheticSequence s = Sequence(0.0, 0.0);
+  ReconstructOptions options = Options();
+  options.refine.num_threads = 0;
+  ReconstructResult result;
+  Status status = Reconstruct(options, s.measurements, &result);
+  EXPECT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("reconstruct: refine: refine options: num_threads"),
+            std::string::npos)
+      << status.message();
+  options = Options();
+  options.init.num_bases = 0;
+  status = Reconstruct(options, s.measurements, &result);
+  EXPECT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("reconstruct: init"), std::string::npos)
+      << status.message();
+}
+
+}  // namespace
+}  // namespace nrsfm

@@ -1,0 +1,256 @@
+// The rows of docs/failure_behaviour.md that tests/tools/cli_test.cc does not
+// already cover, driven through the real `nrsfm` binary: every bad input gives
+// a non-zero exit, one error line naming what is wrong, no crash (no "Check
+// failed", no sanitizer report) and no output directory; numerical trouble in
+// a solve is reported, never written as a trustworthy result.
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "core/mat_io.h"
+#include "tests/test_util.h"
+
+namespace nrsfm {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+struct RunResult {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+std::string ReadFile(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// W (2F × P) of a rigid object turning about the vertical axis, with
+// orthographic cameras: frame t sees rows x and z of R_y(0.1 t) S.
+Eigen::MatrixXd RotatingW(int frames, int points) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  Eigen::Matrix3Xd shape(3, points);
+  for (int p = 0; p < points; ++p) {
+    for (int i = 0; i < 3; ++i) shape(i, p) = uniform(rng);
+  }
+  Eigen::MatrixXd w(2 * frames, points);
+  for (int t = 0; t < frames; ++t) {
+    const double a = 0.1 * t;
+    w.row(2 * t) = std::cos(a) * shape.row(0) + std::sin(a) * shape.row(2);
+    w.row(2 * t + 1) = shape.row(1) + Eigen::RowVectorXd::Constant(points, 0.5 * a);
+  }
+  return w;
+}
+
+class BadInputTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = testing_util::MakeTempDir("nrsfm_bad_input");
+    ASSERT_FALSE(dir_.empty());
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+
+  RunResult Run(const std::string& args) {
+    const fs::path out = fs::path(dir_) / "stdout.txt";
+    const fs::path err = fs::path(dir_) / "stderr.txt";
+    const std::string command = "cd '" + dir_ + "' && '" NRSFM_CLI "' " + args + " >'" +
+                                out.string() + "' 2>'" + err.string() + "'";
+    const int status = std::system(command.c_str());
+    RunResult result;
+    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    result.out = ReadFile(out);
+    result.err = ReadFile(err);
+    return result;
+  }
+
+  std::string Path(const std::string& name) const { return (fs::path(dir_) / name).string(); }
+
+  void WriteW(const std::string& name, const Eigen::MatrixXd& w) {
+    ASSERT_TRUE(WriteMat(Path(name), MatVersion::kV5, {{"W", w, {}}}).ok());
+  }
+
+  // `reconstruct --input <input> <flags> --output o` fails with exit code 1,
+  // an error line on stderr holding every needle, no crash report and no o/.
+  void ExpectRejected(const std::string& input, const std::string& flags,
+                      const std::vector<std::string>& needles) {
+    const RunResult r = Run("reconstruct --input " + input + " " + flags + " --output o --quiet");
+    EXPECT_EQ(r.exit_code, 1) << input << "\n" << r.err;
+    for (const std::string& needle : needles) {
+      EXPECT_NE(r.err.find(needle), std::string::npos)
+          << input << ": expected '" << needle << "' in\n" << r.err;
+    }
+    for (const char* crash : {"Check failed", "Sanitizer", "runtime error", "terminate"}) {
+      EXPECT_EQ(r.err.find(crash), std::string::npos) << input << "\n" << r.err;
+    }
+    EXPECT_FALSE(fs::exists(Path("o"))) << input;
+  }
+
+  std::string dir_;
+};
+
+TEST_F(BadInputTest, NanAndInfInTheMeasurements) {
+  Eigen::MatrixXd w = RotatingW(10, 8);
+  w(2, 3) = kNaN;  // u of frame 1, point 3 missing but v present.
+  WriteW("half_nan.mat", w);
+  ExpectRejected("half_nan.mat", "--K 1", {"half_nan.mat", "NaN"});
+
+  w = RotatingW(10, 8);
+  w(5, 2) = std::numeric_limits<double>::infinity();
+  WriteW("inf.mat", w);
+  ExpectRejected("inf.mat", "--K 1", {"inf.mat", "nf"});
+
+  std::ofstream(Path("half_nan.txt")) << "1 2 3\nNaN 5 6\n1 2 3\n4 5 6\n";
+  ExpectRejected("half_nan.txt", "--K 1", {"half_nan.txt"});
+}
+
+TEST_F(BadInputTest, EmptyInputs) {
+  std::ofstream(Path("empty.txt")).close();
+  ExpectRejected("empty.txt", "--K 1", {"empty.txt"});
+  std::ofstream(Path("comments.csv")) << "# only a comment\n\n";
+  ExpectRejected("comments.csv", "--K 1", {"comments.csv"});
+  std::ofstream(Path("empty.mat")).close();
+  ExpectRejected("empty.mat", "--K 1", {"empty.mat", "empty"});
+  std::ofstream(Path("empty.obs")).close();
+  ExpectRejected("empty.obs", "--K 1", {"empty.obs"});
+  WriteW("empty_w.mat", Eigen::MatrixXd(0, 0));
+  ExpectRejected("empty_w.mat", "--K 1", {"empty_w.mat"});
+}
+
+TEST_F(BadInputTest, WrongShapes) {
+  WriteW("odd_rows.mat", RotatingW(10, 8).topRows(19));
+  ExpectRejected("odd_rows.mat", "--K 1", {"odd_rows.mat"});
+  // 2FM rows must be a multiple of 2M.
+  WriteW("cameras.mat", RotatingW(9, 8));
+  ExpectRejected("cameras.mat", "--K 1 --cameras 2", {"cameras.mat"});
+  // A mask whose size fits neither (2FM) × P nor (FM) × P.
+  ASSERT_TRUE(WriteMat(Path("mask.mat"), MatVersion::kV5,
+                       {{"W", RotatingW(10, 8), {}},
+                        {"mask", Eigen::MatrixXd::Ones(3, 8), {}}})
+                  .ok());
+  ExpectRejected("mask.mat", "--K 1 --mask_var mask", {"mask"});
+  // A ragged text matrix.
+  std::ofstream(Path("ragged.txt")) << "1 2 3\n4 5\n";
+  ExpectRejected("ragged.txt", "--K 1", {"ragged.txt", "line 2"});
+}
+
+TEST_F(BadInputTest, TooFewFramesOrPoints) {
+  WriteW("one_frame.mat", RotatingW(1, 8));
+  ExpectRejected("one_frame.mat", "--K 1", {"one_frame.mat", "F"});
+  WriteW("two_points.mat", RotatingW(10, 2));
+  ExpectRejected("two_points.mat", "--K 1", {"two_points.mat", "P"});
+}
+
+TEST_F(BadInputTest, AllMissingPointOrFrame) {
+  Eigen::MatrixXd w = RotatingW(10, 8);
+  w.col(4).setConstant(kNaN);
+  WriteW("lost_point.mat", w);
+  ExpectRejected("lost_point.mat", "--K 1", {"lost_point.mat", "point 4"});
+
+  w = RotatingW(10, 8);
+  w.middleRows(6, 2).setConstant(kNaN);  // frame 3
+  WriteW("lost_frame.mat", w);
+  ExpectRejected("lost_frame.mat", "--K 1", {"lost_frame.mat", "3"});
+}
+
+TEST_F(BadInputTest, NoRotation) {
+  // The same 2-D shape in every frame: rank 2 tracks, no 3-D information.
+  const Eigen::MatrixXd first = RotatingW(1, 12);
+  WriteW("still.mat", first.replicate(15, 1));
+  ExpectRejected("still.mat", "--K 1", {"still.mat", "rotation"});
+}
+
+TEST_F(BadInputTest, KTooLarge) {
+  WriteW("small.mat", RotatingW(10, 8));
+  // 3K + 1 = 10 > P = 8.
+  ExpectRejected("small.mat", "--K 3", {"small.mat", "K"});
+}
+
+TEST_F(BadInputTest, CorruptFiles) {
+  std::mt19937 rng(3);
+  std::string noise(4096, '\0');
+  for (char& c : noise) c = static_cast<char>(rng());
+  std::ofstream(Path("noise.mat"), std::ios::binary) << noise;
+  ExpectRejected("noise.mat", "--K 1", {"noise.mat", ".mat"});
+  // A v5 header followed by garbage.
+  WriteW("good.mat", RotatingW(10, 8));
+  std::string bytes = ReadFile(Path("good.mat"));
+  for (std::size_t i = 140; i < bytes.size(); i += 7) bytes[i] = static_cast<char>(rng());
+  std::ofstream(Path("garbled.mat"), std::ios::binary) << bytes;
+  ExpectRejected("garbled.mat", "--K 1", {"garbled.mat"});
+  // A truncated v7.3 (HDF5) file.
+  ASSERT_TRUE(WriteMat(Path("v73.mat"), MatVersion::kV73, {{"W", RotatingW(10, 8), {}}}).ok());
+  bytes = ReadFile(Path("v73.mat"));
+  std::ofstream(Path("cut73.mat"), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  ExpectRejected("cut73.mat", "--K 1", {"cut73.mat"});
+}
+
+TEST_F(BadInputTest, WrongVariableOrFormat) {
+  ASSERT_TRUE(WriteMat(Path("vars.mat"), MatVersion::kV5,
+                       {{"A", RotatingW(10, 8), {}}, {"B", RotatingW(4, 8), {}}})
+                  .ok());
+  // Auto-detection finds none of W, P3_gt, X and lists what there is.
+  ExpectRejected("vars.mat", "--K 1", {"vars.mat", "A, B"});
+  ExpectRejected("vars.mat", "--K 1 --var Z", {"vars.mat", "'Z'", "A, B"});
+  WriteW("w.unknown", RotatingW(10, 8));
+  ExpectRejected("w.unknown", "--K 1", {"w.unknown", "extension"});
+}
+
+TEST_F(BadInputTest, UnreadableInputPath) {
+  fs::create_directory(Path("adir.mat"));
+  ExpectRejected("adir.mat", "--K 1", {"adir.mat", "directory"});
+  ExpectRejected("missing.txt", "--K 1", {"missing.txt", "no such file"});
+}
+
+TEST_F(BadInputTest, UnwritableOutput) {
+  WriteW("w.mat", RotatingW(10, 8));
+  // The output names an existing file.
+  std::ofstream(Path("file")) << "x";
+  const RunResult r = Run("reconstruct --input w.mat --K 1 --output file --quiet");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("file"), std::string::npos) << r.err;
+  EXPECT_EQ(ReadFile(Path("file")), "x");
+  // The output lies under a file.
+  const RunResult under = Run("reconstruct --input w.mat --K 1 --output file/sub --quiet");
+  EXPECT_EQ(under.exit_code, 1) << under.err;
+  EXPECT_NE(under.err.find("file: cannot create the directory"), std::string::npos)
+      << under.err;
+}
+
+TEST_F(BadInputTest, OverflowingValuesAreNotHidden) {
+  // Values near the top of the double range: squares overflow to Inf. The
+  // tool must either reject the data or report an unusable solution; it must
+  // never write a result that claims to be usable.
+  WriteW("huge.mat", RotatingW(10, 8) * 1e300);
+  const RunResult r = Run("reconstruct --input huge.mat --K 1 --output o --quiet");
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_EQ(r.err.find("Check failed"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("runtime error"), std::string::npos) << r.err;
+  if (fs::exists(Path("o/result.json"))) {
+    const nlohmann::json json = nlohmann::json::parse(ReadFile(Path("o/result.json")));
+    EXPECT_FALSE(json["solution_usable"].get<bool>());
+    EXPECT_FALSE(json["warnings"].empty());
+  } else {
+    EXPECT_NE(r.err.find("huge.mat"), std::string::npos) << r.err;
+  }
+}
+
+}  // namespace
+}  // namespace nrsfm

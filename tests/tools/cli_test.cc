@@ -1,0 +1,200 @@
+// Drives the real `nrsfm` binary: synth -> reconstruct -> evaluate round
+// trips, every bad-input class, --help and --flagfile.
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "tests/test_util.h"
+
+namespace nrsfm {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunResult {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+std::string ReadFile(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = testing_util::MakeTempDir("nrsfm_cli");
+    ASSERT_FALSE(dir_.empty());
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+
+  // Runs `nrsfm <args>` in the test directory.
+  RunResult Run(const std::string& args) {
+    const fs::path out = fs::path(dir_) / "stdout.txt";
+    const fs::path err = fs::path(dir_) / "stderr.txt";
+    const std::string command = "cd '" + dir_ + "' && '" NRSFM_CLI "' " + args +
+                                " >'" + out.string() + "' 2>'" + err.string() + "'";
+    const int status = std::system(command.c_str());
+    RunResult result;
+    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    result.out = ReadFile(out);
+    result.err = ReadFile(err);
+    return result;
+  }
+
+  std::string Path(const std::string& name) const { return (fs::path(dir_) / name).string(); }
+
+  // The evaluate JSON line of a result directory against a truth file.
+  nlohmann::json Evaluate(const std::string& truth, const std::string& result) {
+    const RunResult r = Run("evaluate --truth " + truth + " --result " + result);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return nlohmann::json::parse(r.out);
+  }
+
+  // Expects failure with a single error line that contains `needle`, and no
+  // output directory `out` left behind.
+  void ExpectFailure(const std::string& args, const std::string& needle,
+                     const std::string& out = "") {
+    const RunResult r = Run(args);
+    EXPECT_NE(r.exit_code, 0) << args;
+    EXPECT_NE(r.err.find(needle), std::string::npos)
+        << "args: " << args << "\nstderr: " << r.err;
+    EXPECT_EQ(r.err.find("Check failed"), std::string::npos) << r.err;
+    if (!out.empty()) {
+      EXPECT_FALSE(fs::exists(Path(out))) << args;
+    }
+  }
+
+  std::string dir_;
+};
+
+TEST_F(CliTest, HelpListsTheCommandsAndOnlyTheToolsFlags) {
+  const RunResult r = Run("--help");
+  EXPECT_EQ(r.exit_code, 0);
+  const std::string text = r.out + r.err;
+  EXPECT_NE(text.find("nrsfm reconstruct --input PATH"), std::string::npos) << text;
+  EXPECT_NE(text.find("-robust_scale"), std::string::npos) << text;
+  EXPECT_EQ(text.find("-logtostderr"), std::string::npos) << "glog flags leak into --help";
+}
+
+TEST_F(CliTest, MissingOrUnknownCommandIsAnError) {
+  ExpectFailure("", "expected exactly one command");
+  ExpectFailure("reconstrut", "unknown command 'reconstrut'");
+}
+
+TEST_F(CliTest, RandomBasisRoundTrip) {
+  ASSERT_EQ(Run("synth --dataset random --K 2 --frames 80 --points 25 --seed 3 "
+                "--output r.mat").exit_code, 0);
+  const RunResult r = Run("reconstruct --input r.mat --K 2 --output out --truth r.mat");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("e3D"), std::string::npos);
+  EXPECT_NE(r.err.find("iteration"), std::string::npos) << "no progress lines";
+  for (const char* file : {"points_camera.csv", "points_object.csv", "rotations.csv",
+                           "weights.csv", "basis.csv", "result.json"}) {
+    EXPECT_TRUE(fs::exists(Path(std::string("out/") + file))) << file;
+  }
+  // Noise-free data with the generating K: the shapes are recovered.
+  const nlohmann::json e = Evaluate("r.mat", "out");
+  EXPECT_LT(e["e3d"].get<double>(), 1e-3);
+  EXPECT_EQ(e["F"].get<int>(), 80);
+  EXPECT_EQ(e["P"].get<int>(), 25);
+  const nlohmann::json result = nlohmann::json::parse(ReadFile(Path("out/result.json")));
+  EXPECT_TRUE(result.dump().find("e3d") != std::string::npos);
+  // A result directory can also serve as the truth: comparing with itself is 0.
+  EXPECT_LT(Evaluate("out", "out")["e3d"].get<double>(), 1e-12);
+}
+
+TEST_F(CliTest, SuperquadricAndShoeRoundTrips) {
+  ASSERT_EQ(Run("synth --dataset superquadric --frames 80 --points 60 --output q.mat")
+                .exit_code, 0);
+  RunResult r = Run("reconstruct --input q.mat --K 4 --output q --truth q.mat --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_LT(Evaluate("q.mat", "q")["error3d_pct"].get<double>(), 5.0);
+
+  ASSERT_EQ(Run("synth --dataset shoe --frames 100 --cameras 2 --output s.mat").exit_code, 0);
+  r = Run("reconstruct --input s.mat --cameras 2 --K 4 --output s --truth s.mat --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  // points_camera.csv holds every frame, camera and point, missing ones too.
+  const std::string csv = ReadFile(Path("s/points_camera.csv"));
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 100 * 2 * 110);
+  EXPECT_LT(Evaluate("s.mat", "s")["error3d_pct"].get<double>(), 5.0);
+}
+
+TEST_F(CliTest, FlagfileWorks) {
+  ASSERT_EQ(Run("synth --dataset random --K 1 --frames 30 --points 12 --output r.mat")
+                .exit_code, 0);
+  std::ofstream(Path("flags.txt")) << "--input=r.mat\n--K=1\n--output=ff\n--quiet\n";
+  const RunResult r = Run("reconstruct --flagfile=flags.txt");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(Path("ff/result.json")));
+}
+
+TEST_F(CliTest, BadInputGetsOneClearLineAndNoOutput) {
+  ASSERT_EQ(Run("synth --dataset random --K 1 --frames 20 --points 10 --output r.mat")
+                .exit_code, 0);
+  ExpectFailure("reconstruct --input nope.mat --K 1 --output o", "nope.mat", "o");
+  ExpectFailure("reconstruct --input r.mat --var Q --K 1 --output o", "Q", "o");
+  ExpectFailure("reconstruct --input r.mat --K 0 --output o", "--K", "o");
+  ExpectFailure("reconstruct --input r.mat --K many --output o", "--K", "o");
+  ExpectFailure("reconstruct --input r.mat --K 9 --output o", "K", "o");  // 3K+1 > P
+  ExpectFailure("reconstruct --input r.mat --K 1 --init best --output o", "--init", "o");
+  ExpectFailure("reconstruct --input r.mat --K 1 --robust tukey --output o", "--robust", "o");
+  ExpectFailure("reconstruct --input r.mat --K 1 --output /proc/nrsfm_out", "/proc");
+  ExpectFailure("reconstruct --input r.mat --K 1", "--output");
+  ExpectFailure("reconstruct --input r.mat --K 1 --max_iterations -3 --output o", "iteration", "o");
+
+  // Text inputs: Inf, odd rows, a bad token.
+  std::ofstream(Path("inf.txt")) << "1 2 3\n4 inf 6\n";
+  ExpectFailure("reconstruct --input inf.txt --K 1 --output o", "inf.txt", "o");
+  std::ofstream(Path("odd.txt")) << "1 2 3\n4 5 6\n7 8 9\n";
+  ExpectFailure("reconstruct --input odd.txt --K 1 --output o", "odd.txt", "o");
+  std::ofstream(Path("token.txt")) << "1 2 x3\n4 5 6\n";
+  ExpectFailure("reconstruct --input token.txt --K 1 --output o", "token.txt", "o");
+  // A truncated .mat file.
+  const std::string mat = ReadFile(Path("r.mat"));
+  std::ofstream(Path("cut.mat"), std::ios::binary) << mat.substr(0, mat.size() / 2);
+  ExpectFailure("reconstruct --input cut.mat --K 1 --output o", "cut.mat", "o");
+
+  // A non-empty output directory is not replaced without --overwrite.
+  fs::create_directory(Path("full"));
+  std::ofstream(Path("full/keep.txt")) << "x";
+  ExpectFailure("reconstruct --input r.mat --K 1 --output full", "full");
+  EXPECT_TRUE(fs::exists(Path("full/keep.txt")));
+
+  // evaluate and synth.
+  ExpectFailure("evaluate --truth r.mat --result missing_dir", "missing_dir");
+  ExpectFailure("evaluate --truth nope.mat --result o", "nope.mat");
+  ExpectFailure("synth --dataset cube --output c.mat", "cube");
+  ExpectFailure("synth --dataset random --frames 1 --output c.mat", "frames");
+  ExpectFailure("synth --dataset random --output c.txt", ".mat");
+}
+
+TEST_F(CliTest, AutoKFindsTheGeneratingK) {
+  for (int k : {2, 3, 5}) {
+    const std::string mat = "k" + std::to_string(k) + ".mat";
+    ASSERT_EQ(Run("synth --dataset random --K " + std::to_string(k) +
+                  " --frames 100 --points 40 --noise 0.005 --seed 7 --output " + mat)
+                  .exit_code, 0);
+    const RunResult r = Run("reconstruct --input " + mat + " --K auto --K_max 7 --output a" +
+                            std::to_string(k) + " --quiet");
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    EXPECT_NE(r.out.find("K = " + std::to_string(k) + ","), std::string::npos)
+        << "generated with K = " << k << ":\n" << r.out;
+  }
+}
+
+}  // namespace
+}  // namespace nrsfm
