@@ -1,8 +1,12 @@
 #include "tests/test_util.h"
 
+#include <sys/wait.h>
+
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <random>
+#include <sstream>
 
 namespace nrsfm {
 namespace testing_util {
@@ -26,6 +30,27 @@ std::string MakeTempDir(const std::string& prefix) {
     if (std::filesystem::create_directory(dir, ec)) return dir.string();
   }
   return "";
+}
+
+std::string ReadFileToString(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+CommandResult RunInDirectory(const std::string& dir, const std::string& executable,
+                             const std::string& args) {
+  const std::string out = (std::filesystem::path(dir) / "stdout.txt").string();
+  const std::string err = (std::filesystem::path(dir) / "stderr.txt").string();
+  const std::string command = "cd '" + dir + "' && '" + executable + "' " + args +
+                              " >'" + out + "' 2>'" + err + "'";
+  const int status = std::system(command.c_str());
+  CommandResult result;
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  result.out = ReadFileToString(out);
+  result.err = ReadFileToString(err);
+  return result;
 }
 
 }  // namespace testing_util

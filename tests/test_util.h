@@ -14,6 +14,20 @@ std::string SharedDatasetsDir();
 // A fresh, empty directory under the test's temporary directory.
 std::string MakeTempDir(const std::string& prefix);
 
+// The whole content of a file ("" when it cannot be read).
+std::string ReadFileToString(const std::string& path);
+
+// Exit code (-1 when killed by a signal) and output of a shell command.
+struct CommandResult {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+// Runs `executable args` with `dir` as the working directory, capturing
+// stdout and stderr through files in `dir`.
+CommandResult RunInDirectory(const std::string& dir, const std::string& executable,
+                             const std::string& args);
+
 }  // namespace testing_util
 }  // namespace nrsfm
 

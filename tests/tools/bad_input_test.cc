@@ -3,7 +3,6 @@
 // a non-zero exit, one error line naming what is wrong, no crash (no "Check
 // failed", no sanitizer report) and no output directory; numerical trouble in
 // a solve is reported, never written as a trustworthy result.
-#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -27,16 +26,10 @@ namespace fs = std::filesystem;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-struct RunResult {
-  int exit_code = -1;
-  std::string out, err;
-};
+using RunResult = testing_util::CommandResult;
 
 std::string ReadFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
+  return testing_util::ReadFileToString(path.string());
 }
 
 // W (2F × P) of a rigid object turning about the vertical axis, with
@@ -69,16 +62,7 @@ class BadInputTest : public ::testing::Test {
   }
 
   RunResult Run(const std::string& args) {
-    const fs::path out = fs::path(dir_) / "stdout.txt";
-    const fs::path err = fs::path(dir_) / "stderr.txt";
-    const std::string command = "cd '" + dir_ + "' && '" NRSFM_CLI "' " + args + " >'" +
-                                out.string() + "' 2>'" + err.string() + "'";
-    const int status = std::system(command.c_str());
-    RunResult result;
-    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    result.out = ReadFile(out);
-    result.err = ReadFile(err);
-    return result;
+    return testing_util::RunInDirectory(dir_, NRSFM_CLI, args);
   }
 
   std::string Path(const std::string& name) const { return (fs::path(dir_) / name).string(); }

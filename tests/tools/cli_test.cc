@@ -1,6 +1,5 @@
 // Drives the real `nrsfm` binary: synth -> reconstruct -> evaluate round
 // trips, every bad-input class, --help and --flagfile.
-#include <sys/wait.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -18,16 +17,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct RunResult {
-  int exit_code = -1;
-  std::string out, err;
-};
+using RunResult = testing_util::CommandResult;
 
 std::string ReadFile(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
+  return testing_util::ReadFileToString(path.string());
 }
 
 class CliTest : public ::testing::Test {
@@ -43,16 +36,7 @@ class CliTest : public ::testing::Test {
 
   // Runs `nrsfm <args>` in the test directory.
   RunResult Run(const std::string& args) {
-    const fs::path out = fs::path(dir_) / "stdout.txt";
-    const fs::path err = fs::path(dir_) / "stderr.txt";
-    const std::string command = "cd '" + dir_ + "' && '" NRSFM_CLI "' " + args +
-                                " >'" + out.string() + "' 2>'" + err.string() + "'";
-    const int status = std::system(command.c_str());
-    RunResult result;
-    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    result.out = ReadFile(out);
-    result.err = ReadFile(err);
-    return result;
+    return testing_util::RunInDirectory(dir_, NRSFM_CLI, args);
   }
 
   std::string Path(const std::string& name) const { return (fs::path(dir_) / name).string(); }
