@@ -66,7 +66,19 @@ Status ProblemOptions::Check() const {
     return Status::Error(
         "observation_weights must be finite and non-negative");
   }
-  return Status::OK();
+  const std::pair<const char*, double> weights[] = {
+      {"smoothness_weight", smoothness_weight},
+      {"rigidity_weight", rigidity_weight},
+      {"temporal_weights_weight", temporal_weights_weight},
+      {"temporal_rotations_weight", temporal_rotations_weight}};
+  for (const auto& [name, value] : weights) {
+    if (!(value >= 0.0) || !std::isfinite(value)) {
+      std::ostringstream msg;
+      msg << name << " must be finite and >= 0, got " << value;
+      return Status::Error(msg.str());
+    }
+  }
+  return smoothness_edges.Check();
 }
 
 ceres::CostFunction* CreateReprojectionCostFunction(
@@ -125,6 +137,16 @@ double* ProblemBuilder::BasisBlock(int point) {
 double* ProblemBuilder::ScaleBlock(int frame, int camera) {
   CHECK_GE(camera, 1) << "camera 0 has no scale block (s = 1)";
   return model_->scales.data() + model_->View(frame, camera);
+}
+
+double* ProblemBuilder::RigRotationBlock(int camera) {
+  CHECK(camera >= 1 && camera < model_->num_cameras) << "camera " << camera;
+  return model_->rig_rotations.col(camera - 1).data();
+}
+
+double* ProblemBuilder::RigScaleBlock(int camera) {
+  CHECK(camera >= 1 && camera < model_->num_cameras) << "camera " << camera;
+  return model_->rig_scales.data() + camera - 1;
 }
 
 ceres::LossFunction* ProblemBuilder::LossForWeight(

@@ -44,6 +44,7 @@
 #include "core/measurements.h"
 #include "core/model.h"
 #include "core/status.h"
+#include "problems/delaunay_edges.h"
 
 namespace nrsfm {
 
@@ -80,9 +81,18 @@ struct ProblemOptions {
 
   // Differentiate the reprojection error automatically (the run-time-K
   // functor of problems/reprojection_error.h) instead of using the
-  // hand-written Jacobian: same residuals and Jacobians to rounding, ~5-20×
-  // slower to evaluate. For cross-checks and benchmarks.
+  // hand-written Jacobian: same residuals and Jacobians to rounding, 4-7×
+  // slower Jacobians for K = 12. For cross-checks and benchmarks.
   bool autodiff = false;
+
+  // Extra terms (problems/extra_terms.h, added by AddExtraTerms), each
+  // weight ≥ 0 and 0 = off. λ multiplies the term's cost.
+  double smoothness_weight = 0.0;          // λ_s, dimensionless (problems/smoothness_error.h)
+  DelaunayEdgesOptions smoothness_edges;   // reference frame of its neighbour edges
+  double rigidity_weight = 0.0;            // λ_r, (input units / rad)², M ≥ 2 only
+  double temporal_weights_weight = 0.0;    // λ_l, (input units)² per unit of weight change
+  double temporal_rotations_weight = 0.0;  // λ_R, (input units / rad)²
+  bool constant_rig = false;               // hold the rig blocks (rigidity term)
 
   Status Check() const;
 };
@@ -120,6 +130,10 @@ class ProblemBuilder {
   double* WeightsBlock(int frame);
   double* BasisBlock(int point);
   double* ScaleBlock(int frame, int camera);  // CHECKs camera ≥ 1
+  // Rig blocks of camera c ≥ 1 (rigidity term, problems/rigidity_error.h):
+  // ω_rig_c [3] = rig_rotations.col(c − 1), s_rig_c [1] = rig_scales(c − 1).
+  double* RigRotationBlock(int camera);  // CHECKs 1 ≤ camera < M
+  double* RigScaleBlock(int camera);     // CHECKs 1 ≤ camera < M
 
   // The blocks of the problem in two sets for the linear solver ordering:
   // point blocks (basis columns, point order) and every other block (per

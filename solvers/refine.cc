@@ -10,6 +10,7 @@
 #include <glog/logging.h>
 
 #include "core/metrics.h"
+#include "problems/extra_terms.h"
 
 namespace nrsfm {
 namespace {
@@ -85,6 +86,19 @@ Status RefineOptions::Check() const {
   } else if (!refine_rotations && !refine_translations && !refine_weights &&
              !refine_basis && !refine_scales) {
     msg << "nothing to refine: every refine_* flag is false";
+  } else if (!(smoothness_weight >= 0.0) || !std::isfinite(smoothness_weight) ||
+             !(rigidity_weight >= 0.0) || !std::isfinite(rigidity_weight) ||
+             !(temporal_weights_weight >= 0.0) ||
+             !std::isfinite(temporal_weights_weight) ||
+             !(temporal_rotations_weight >= 0.0) ||
+             !std::isfinite(temporal_rotations_weight)) {
+    msg << "term weights must be finite and >= 0, got smoothness "
+        << smoothness_weight << ", rigidity " << rigidity_weight
+        << ", temporal weights " << temporal_weights_weight
+        << ", temporal rotations " << temporal_rotations_weight;
+  } else if (smoothness_reference_frame < -1) {
+    msg << "smoothness_reference_frame must be -1 (auto) or a frame, got "
+        << smoothness_reference_frame;
   } else if (verbosity < 0) {
     msg << "verbosity must be >= 0, got " << verbosity;
   }
@@ -107,11 +121,23 @@ Status Refine(const RefineOptions& options, const Measurements& measurements,
   problem_options.constant_scales = !options.refine_scales;
   problem_options.robust_loss = options.robust_loss;
   problem_options.robust_scale = options.robust_scale;
+  problem_options.constant_rig = !options.refine_rig;
+  problem_options.smoothness_weight = options.smoothness_weight;
+  problem_options.smoothness_edges.reference_frame = options.smoothness_reference_frame;
+  problem_options.rigidity_weight = options.rigidity_weight;
+  problem_options.temporal_weights_weight = options.temporal_weights_weight;
+  problem_options.temporal_rotations_weight = options.temporal_rotations_weight;
   ProblemBuilder builder(&measurements, model);
   NRSFM_RETURN_IF_ERROR(
       builder.AddReprojectionTerms(problem_options).WithContext("refine"));
+  ExtraTermCounts extra;
+  NRSFM_RETURN_IF_ERROR(
+      AddExtraTerms(problem_options, &builder, &extra).WithContext("refine"));
   const double build_seconds = SecondsSince(start);
   NRSFM_RETURN_IF_ERROR(SolveProblem(options, &builder, summary));
+  summary->num_extra_residual_blocks = extra.smoothness + extra.rigidity +
+                                       extra.temporal_weights +
+                                       extra.temporal_rotations;
   summary->build_seconds += build_seconds;
   summary->seconds = SecondsSince(start);
   return Status::OK();

@@ -4,6 +4,7 @@
 //
 //   cost = ½ Σ_{visible (t, c, p)} ρ( ||s_tc Π R_tc S_t[:, p] + T_tc − w_tcp||² )
 //
+// plus the extra terms whose weight is non-zero (problems/extra_terms.h)
 // over the free blocks (ρ = identity, Huber or Cauchy). The gauge freedoms
 // (global rotation, K × K mixing, depth reflection) are left free; LM damping
 // copes with the rank deficiency (problems/problem_builder.h).
@@ -51,11 +52,19 @@ struct RefineOptions {
   bool refine_weights = true;          // l_t
   bool refine_basis = true;            // b_p
   bool refine_scales = true;           // s_tc of cameras c ≥ 1 (multi-camera only)
+  bool refine_rig = true;              // rig rotations and scales (rigidity term only)
+  // Extra terms (problems/extra_terms.h, docs/extra_terms.md), 0 = off:
+  double smoothness_weight = 0.0;          // Delaunay smoothness λ_s, dimensionless, ≥ 0
+  int smoothness_reference_frame = -1;     // frame triangulated, -1 = most visible points
+  double rigidity_weight = 0.0;            // multi-camera rigidity λ_r, (input units / rad)², ≥ 0, M ≥ 2
+  double temporal_weights_weight = 0.0;    // l_t − l_{t−1} λ_l, (input units)², ≥ 0
+  double temporal_rotations_weight = 0.0;  // log(R_t R_{t−1}ᵀ) λ_R, (input units / rad)², ≥ 0
   int verbosity = 0;                   // 0 silent, ≥ 1 one VLOG(1) line per iteration
   std::function<void(const IterationReport&)> progress;  // optional, per iteration
 
   // Errors on a negative count, tolerance or time, num_threads < 1, a non-positive
-  // or non-finite robust_scale, and when no kind of block is free.
+  // or non-finite robust_scale, a negative or non-finite term weight, and
+  // when no kind of block is free.
   Status Check() const;
 };
 
@@ -68,6 +77,7 @@ struct RefineSummary {
   double reprojection_rms = 0.0;          // … of the final model
   int iterations = 0;           // LM iterations (successful and not)
   int num_residual_blocks = 0;  // observations in the problem
+  int num_extra_residual_blocks = 0;  // residual blocks of the extra terms
   double seconds = 0.0;         // wall time of the whole Refine() call
   // Where the time went (seconds): building the problem, Ceres' preprocessing,
   // residual and Jacobian evaluation, linear solves, the minimizer as a whole.

@@ -82,13 +82,21 @@ Status BuildReconstructOptions(const CommandFlags& flags,
   NRSFM_RETURN_IF_ERROR(CheckFinite("robust_scale", flags.robust_scale));
   NRSFM_RETURN_IF_ERROR(CheckFinite("smoothness", flags.smoothness));
   NRSFM_RETURN_IF_ERROR(CheckFinite("temporal", flags.temporal));
+  NRSFM_RETURN_IF_ERROR(CheckFinite("temporal_rotations", flags.temporal_rotations));
   NRSFM_RETURN_IF_ERROR(CheckFinite("rigidity", flags.rigidity));
-  if (flags.smoothness != 0.0 || flags.temporal != 0.0 || flags.rigidity != 0.0) {
+  if (flags.smoothness < 0.0 || flags.temporal < 0.0 || flags.temporal_rotations < 0.0 ||
+      flags.rigidity < 0.0) {
     return Status::Error(
-        "--smoothness, --temporal and --rigidity are not available in this "
-        "build yet (the extra residual blocks are not implemented); leave them "
-        "at 0");
+        "--smoothness, --temporal, --temporal_rotations and --rigidity must be >= 0");
   }
+  if (flags.rigidity > 0.0 && flags.cameras < 2) {
+    return Status::Error("--rigidity needs synchronised cameras: --cameras must be "
+                         ">= 2, got " + std::to_string(flags.cameras));
+  }
+  options->refine.smoothness_weight = flags.smoothness;
+  options->refine.temporal_weights_weight = flags.temporal;
+  options->refine.temporal_rotations_weight = flags.temporal_rotations;
+  options->refine.rigidity_weight = flags.rigidity;
   options->init.seed = flags.seed;
   options->refine.robust_scale = flags.robust_scale;
   options->refine.max_iterations = flags.max_iterations;
@@ -108,6 +116,7 @@ std::vector<std::pair<std::string, std::string>> OptionList(
           {"init", flags.init},
           {"smoothness", FormatDouble(flags.smoothness)},
           {"temporal", FormatDouble(flags.temporal)},
+          {"temporal_rotations", FormatDouble(flags.temporal_rotations)},
           {"rigidity", FormatDouble(flags.rigidity)},
           {"robust", flags.robust},
           {"robust_scale", FormatDouble(flags.robust_scale)},

@@ -35,8 +35,11 @@ DEFINE_bool(ply, false, "reconstruct: also write one PLY file per frame.");
 DEFINE_string(init, "auto", "reconstruct: start auto|factorization|rigid.");
 DEFINE_double(smoothness, 0.0, "reconstruct: weight of the Delaunay-neighbour "
               "smoothness term (0 = off).");
-DEFINE_double(temporal, 0.0, "reconstruct: weight of the temporal smoothness of "
-              "weights and rotations (0 = off).");
+DEFINE_double(temporal, 0.0, "reconstruct: weight of the temporal smoothness of the "
+              "deformation weights, l_t - l_(t-1) (0 = off; see docs/extra_terms.md).");
+DEFINE_double(temporal_rotations, 0.0, "reconstruct: weight of the temporal smoothness "
+              "of the rotations between consecutive frames (0 = off). Keep it far below "
+              "--temporal (about 1/300): it trades real rotation for deformation.");
 DEFINE_double(rigidity, 0.0, "reconstruct: weight of the multi-camera rigidity term "
               "(0 = off; needs --cameras >= 2).");
 DEFINE_int32(cameras, 1, "reconstruct: number of synchronised cameras M of a W "
@@ -124,6 +127,7 @@ int main(int argc, char** argv) {
   flags.init = FLAGS_init;
   flags.smoothness = FLAGS_smoothness;
   flags.temporal = FLAGS_temporal;
+  flags.temporal_rotations = FLAGS_temporal_rotations;
   flags.rigidity = FLAGS_rigidity;
   flags.cameras = FLAGS_cameras;
   flags.robust = FLAGS_robust;
