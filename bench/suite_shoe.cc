@@ -26,7 +26,7 @@ Status RunShoeSuite(const BenchConfig& config, Json* out) {
   const int runs = config.runs > 0 ? config.runs : (config.full ? 5 : 1);
   const std::vector<int> ks = config.full
                                   ? std::vector<int>{2, 3, 4, 5, 6, 7, 8}
-                                  : std::vector<int>{2, 4, 8};
+                                  : std::vector<int>{2, 3, 4};
   ReconstructOptions probe;
   const bool rigidity = EnableTwoCameraRigidity(&probe);
   const std::string two_label = rigidity ? "2 cams + rigidity" : "2 cams, NO rigidity";
