@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "core/rotation.h"
+#include "tests/problems/functor_test_util.h"
 
 namespace nrsfm {
 namespace {
@@ -24,22 +25,8 @@ Eigen::Matrix3d R(const Eigen::Vector3d& angle_axis) {
   return AngleAxisToRotation(angle_axis);
 }
 
-void ExpectGradientCheckPasses(const ceres::CostFunction& cost,
-                               const std::vector<const double*>& parameters) {
-  ceres::NumericDiffOptions numeric_options;
-  const std::vector<const ceres::Manifold*>* euclidean = nullptr;
-  ceres::GradientChecker checker(&cost, euclidean, numeric_options);
-  ceres::GradientChecker::ProbeResults results;
-  EXPECT_TRUE(checker.Probe(parameters.data(), 1e-7, &results))
-      << results.error_log;
-}
-
-std::vector<double> Random(int n, std::mt19937* rng) {
-  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  std::vector<double> v(n);
-  for (double& x : v) x = uniform(*rng);
-  return v;
-}
+using testing_util::ExpectGradientCheckPasses;
+using testing_util::Random;
 
 TEST(WeightsTemporalError, HandComputedResidualAndGradient) {
   const double l_t[3] = {1.0, 0.25, -0.5};
