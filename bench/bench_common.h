@@ -36,7 +36,7 @@ struct BenchConfig {
   std::string mocap_sequences;  // comma-separated file stems to run ("" = all)
   double mocap_max_seconds = 0;  // wall-time cap of each mocap refinement, 0 = none
   int max_iterations = 0;       // LM iterations per refinement, 0 = the library default
-  std::string strategy = "plain";  // mocap: plain | ms/c2f/tp joined by '+' | all
+  std::string strategy = "triple+ts";  // mocap: plain | triple/ts/ms/c2f joined by '+' | all
 };
 
 // The options every suite uses unless it says otherwise: Reconstruct()'s

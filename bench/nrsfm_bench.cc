@@ -11,9 +11,9 @@
 //   --threads         Ceres threads
 //   --plots           write plots (gnuplot, SVG); skipped with a note if absent
 //   --mocap_sequences comma-separated .mat stems (default: every file)
-//   --mocap_max_seconds  wall-time cap of each mocap refinement (default 20)
+//   --mocap_max_seconds  wall-time cap of each mocap refinement (default 60)
 //   --max_iterations  LM iterations per refinement (default: the library's)
-//   --strategy        mocap: plain | ms, c2f, tp, ridge joined by '+' | all
+//   --strategy        mocap: plain | triple, ts, ms, c2f joined by '+' | all
 //
 // Output: tables on stdout; <output_dir>/results.json with a "context" block
 // (date, machine, threads, versions, BLAS) and one object per suite.
@@ -40,14 +40,15 @@ DEFINE_int32(threads, 1, "Ceres threads per reconstruction");
 DEFINE_bool(plots, true, "write plots with gnuplot (SVG)");
 DEFINE_string(mocap_sequences, "",
               "comma-separated .mat stems the mocap suite runs ('' = all)");
-DEFINE_double(mocap_max_seconds, 20.0,
+DEFINE_double(mocap_max_seconds, 60.0,
               "wall-time cap (s) of each mocap refinement so the default run "
               "stays short; 0 = none");
 DEFINE_int32(max_iterations, 0,
              "LM iterations per refinement (0 = the library default)");
-DEFINE_string(strategy, "plain",
-              "mocap strategy: plain, or '+'-joined ms (4 starts), c2f "
-              "(coarse-to-fine K), tp (temporal prior), ridge (shape ridge), or all");
+DEFINE_string(strategy, "triple+ts",
+              "mocap strategy: plain (default options), or '+'-joined triple "
+              "(corrective-triple start), ts (temporal shape prior), ms (4 starts), "
+              "c2f (coarse-to-fine K), or all (the ablation)");
 
 namespace {
 
@@ -101,7 +102,7 @@ int main(int argc, char** argv) {
     std::string rest = FLAGS_strategy + "+";
     for (size_t pos; (pos = rest.find('+')) != std::string::npos;) {
       const std::string part = rest.substr(0, pos);
-      strategy_ok &= part == "ms" || part == "c2f" || part == "tp" || part == "ridge";
+      strategy_ok &= part == "ms" || part == "c2f" || part == "triple" || part == "ts";
       rest.erase(0, pos + 1);
     }
   }

@@ -12,6 +12,30 @@
 
 namespace nrsfm {
 
+double ImageRadius(const Measurements& measurements) {
+  double sum = 0.0;
+  long count = 0;
+  const Measurements& m = measurements;
+  for (int view = 0; view < m.NumViews(); ++view) {
+    const int row = 2 * view;
+    Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+    int seen = 0;
+    for (int p = 0; p < m.num_points; ++p) {
+      if (!m.visible(view, p)) continue;
+      centroid += m.W.block<2, 1>(row, p);
+      ++seen;
+    }
+    if (seen < 2) continue;
+    centroid /= seen;
+    for (int p = 0; p < m.num_points; ++p) {
+      if (!m.visible(view, p)) continue;
+      sum += (m.W.block<2, 1>(row, p) - centroid).squaredNorm();
+      ++count;
+    }
+  }
+  return count > 0 ? std::sqrt(sum / count) : 0.0;
+}
+
 Status AddExtraTerms(const ProblemOptions& options, ProblemBuilder* builder,
                      ExtraTermCounts* counts) {
   CHECK(builder != nullptr);
@@ -73,6 +97,31 @@ Status AddExtraTerms(const ProblemOptions& options, ProblemBuilder* builder,
                                  nullptr, builder->RotationBlock(t, c),
                                  builder->RotationBlock(t - 1, c));
         ++counts->temporal_rotations;
+      }
+    }
+  }
+  if (options.temporal_shape_weight > 0.0) {
+    const double sqrt_weight = std::sqrt(options.temporal_shape_weight);
+    for (int t = 1; t < num_frames; ++t) {
+      for (int p = 0; p < model.num_points; ++p) {
+        problem.AddResidualBlock(
+            new ShapeTemporalError(model.num_bases, sqrt_weight), nullptr,
+            {builder->WeightsBlock(t), builder->WeightsBlock(t - 1),
+             builder->BasisBlock(p)});
+        ++counts->temporal_shape;
+      }
+    }
+  }
+  if (options.rotation_acceleration_weight > 0.0) {
+    const double scale =
+        std::sqrt(options.rotation_acceleration_weight) * ImageRadius(m);
+    for (int t = 1; t + 1 < num_frames; ++t) {
+      for (int c = 0; c < num_cameras; ++c) {
+        problem.AddResidualBlock(RotationAccelerationError::Create(scale), nullptr,
+                                 {builder->RotationBlock(t + 1, c),
+                                  builder->RotationBlock(t, c),
+                                  builder->RotationBlock(t - 1, c)});
+        ++counts->rotation_acceleration;
       }
     }
   }

@@ -8,6 +8,8 @@
 //                                  problems/rigidity_error.h
 //   temporal_weights_weight λ_l    l_t − l_{t−1}, problems/temporal_error.h
 //   temporal_rotations_weight λ_R  log(R_tc R_{t−1,c}ᵀ), problems/temporal_error.h
+//   temporal_shape_weight λ_S      S_t[:, p] − S_{t−1}[:, p], problems/temporal_error.h
+//   rotation_acceleration_weight λ_A  change of log(R_tc R_{t−1,c}ᵀ), same file
 //
 // Each term's cost is λ times its unweighted cost (the functors apply √λ);
 // units are in the functors' headers. Constant flags of ProblemOptions apply
@@ -18,8 +20,9 @@
 // Structure (problems/linear_solver_choice.h): smoothness residuals couple
 // two point blocks, so with λ_s > 0 the points are no longer an independent
 // set; the temporal and rigidity residuals couple only non-point blocks
-// (consecutive frames, the views of one frame and the rig), which keeps the
-// points eliminable.
+// (consecutive frames, the views of one frame and the rig) or, for the
+// shape prior, one point with two frames' weights, which keeps the points
+// eliminable.
 #ifndef NRSFM_PROBLEMS_EXTRA_TERMS_H_
 #define NRSFM_PROBLEMS_EXTRA_TERMS_H_
 
@@ -33,8 +36,15 @@ struct ExtraTermCounts {
   int rigidity = 0;            // (t, c ≥ 1) pairs
   int temporal_weights = 0;    // t = 1 … F − 1
   int temporal_rotations = 0;  // (t ≥ 1, c) pairs
+  int temporal_shape = 0;      // (t ≥ 1, p) pairs
+  int rotation_acceleration = 0;  // (1 ≤ t ≤ F − 2, c) pairs
   int reference_frame = -1;    // frame of the Delaunay triangulation (-1: no smoothness)
 };
+
+// σ of the angular-acceleration prior: the RMS distance of the visible
+// observations from their view's centroid, in input units (0 when no view
+// sees two points).
+double ImageRadius(const Measurements& measurements);
 
 // Adds the residual blocks of every term whose weight is non-zero to the
 // builder's problem; call after builder->AddReprojectionTerms(options).

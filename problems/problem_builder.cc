@@ -70,7 +70,9 @@ Status ProblemOptions::Check() const {
       {"smoothness_weight", smoothness_weight},
       {"rigidity_weight", rigidity_weight},
       {"temporal_weights_weight", temporal_weights_weight},
-      {"temporal_rotations_weight", temporal_rotations_weight}};
+      {"temporal_rotations_weight", temporal_rotations_weight},
+      {"temporal_shape_weight", temporal_shape_weight},
+      {"rotation_acceleration_weight", rotation_acceleration_weight}};
   for (const auto& [name, value] : weights) {
     if (!(value >= 0.0) || !std::isfinite(value)) {
       std::ostringstream msg;

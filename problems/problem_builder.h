@@ -92,6 +92,8 @@ struct ProblemOptions {
   double rigidity_weight = 0.0;            // λ_r, (input units / rad)², M ≥ 2 only
   double temporal_weights_weight = 0.0;    // λ_l, (input units)² per unit of weight change
   double temporal_rotations_weight = 0.0;  // λ_R, (input units / rad)²
+  double temporal_shape_weight = 0.0;      // λ_S, dimensionless (3D move vs image error)
+  double rotation_acceleration_weight = 0.0;  // λ_A, dimensionless (scaled by the image radius)
   bool constant_rig = false;               // hold the rig blocks (rigidity term)
 
   Status Check() const;

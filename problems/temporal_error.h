@@ -4,6 +4,12 @@
 //   weights:   r = sqrt(λ_l) · (l_t − l_{t−1}),                 K residuals
 //   rotations: r = sqrt(λ_R) · log( R(ω_tc) R(ω_{t−1,c})ᵀ ),    3 residuals,
 //              one block per camera c
+//   shapes:    r = sqrt(λ_S) · (S_t[:, p] − S_{t−1}[:, p]),     3 residuals,
+//              one block per point p, S_t = Σ_k l_tk S_k in the object frame
+//   angular acceleration, t = 1 … F − 2, one block per camera c:
+//              r = sqrt(λ_A) · σ · ( log(R_{t+1} R_tᵀ) − log(R_t R_{t−1}ᵀ) ),
+//              3 residuals; σ = the data's image radius (ImageRadius in
+//              problems/extra_terms.h), so λ_A is dimensionless
 //
 // l_t the frame's basis weights (Model::weights.col(t), dimensionless), ω_tc
 // the view's angle-axis (radians); log = the angle-axis of the relative
@@ -11,15 +17,32 @@
 // Weights: λ_l in (input units)² per unit of weight change; λ_R in (input
 // units / rad)²: λ = 1 weighs a weight change of 1, or a turn of 1 rad,
 // between consecutive frames like a reprojection error of one input unit.
-// The rotation prior is invariant to the global rotation gauge; the weights
-// prior is not invariant to the scale gauge (it favours smaller weights and
-// a larger basis), so keep λ_l small against the data term.
+// Angular acceleration: λ_A = 1 weighs a change of angular velocity of
+// 1 rad/frame like a reprojection error of σ — about what such a change of
+// the turn does to the image of the object. It favours a constant angular
+// velocity rather than a slow one, so unlike the first-order rotation prior
+// it does not pull a steadily turning camera towards rest (and towards the
+// depth-reversed reading of the sequence that a turn slowed to zero allows).
+// Shapes: λ_S in (input units)² per input unit of 3D displacement, so λ_S = 1
+// weighs a point's 3D move between consecutive frames like a reprojection
+// error of the same length.
+// The rotation and shape priors are invariant to every gauge of the model
+// (global rotation, K × K mixing of weights and basis, their relative
+// scale); the weights prior is not invariant to the scale gauge (it favours
+// smaller weights and a larger basis), so keep λ_l small against the data
+// term. The shape prior is the one that constrains depth: with K near P/3
+// the images fit to round-off for a whole family of depths, and of those it
+// picks the object-frame motion that is slowest (the smooth-trajectory
+// assumption of trajectory-basis methods, Akhter et al. 2008). Each of its
+// blocks holds one point block, so the points stay Schur-eliminable.
 #ifndef NRSFM_PROBLEMS_TEMPORAL_ERROR_H_
 #define NRSFM_PROBLEMS_TEMPORAL_ERROR_H_
 
 #include <ceres/autodiff_cost_function.h>
+#include <ceres/cost_function.h>
 #include <ceres/dynamic_autodiff_cost_function.h>
 #include <glog/logging.h>
+#include <Eigen/Core>
 
 #include "problems/relative_rotation.h"
 
@@ -76,6 +99,77 @@ class RotationTemporalError {
 
  private:
   double sqrt_weight_;
+};
+
+// Blocks: ω_{t+1,c}, ω_tc, ω_{t−1,c} (3 each). `scale` = sqrt(λ_A) · σ.
+class RotationAccelerationError {
+ public:
+  explicit RotationAccelerationError(double scale) : scale_(scale) {}
+
+  template <typename T>
+  bool operator()(const T* next, const T* rotation, const T* previous,
+                  T* residuals) const {
+    T forward[3];
+    T backward[3];
+    RelativeAngleAxis<T>(next, rotation, nullptr, forward);
+    RelativeAngleAxis<T>(rotation, previous, nullptr, backward);
+    for (int i = 0; i < 3; ++i) residuals[i] = scale_ * (forward[i] - backward[i]);
+    return true;
+  }
+
+  // Caller owns the result.
+  static ceres::CostFunction* Create(double scale) {
+    return new ceres::AutoDiffCostFunction<RotationAccelerationError, 3, 3, 3, 3>(
+        new RotationAccelerationError(scale));
+  }
+
+ private:
+  double scale_;
+};
+
+// Blocks: l_t (K), l_{t−1} (K), b_p (3K, = [S_1[:, p]; …; S_K[:, p]]).
+// Linear in each block: r = sqrt(λ_S) B_p (l_t − l_{t−1}) with B_p the 3 × K
+// matrix whose column k is S_k[:, p]; analytic Jacobians, K at run time.
+class ShapeTemporalError final : public ceres::CostFunction {
+ public:
+  ShapeTemporalError(int num_bases, double sqrt_weight)
+      : num_bases_(num_bases), sqrt_weight_(sqrt_weight) {
+    CHECK_GE(num_bases, 1);
+    set_num_residuals(3);
+    *mutable_parameter_block_sizes() = {num_bases, num_bases, 3 * num_bases};
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    using RowMajor3X = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>;
+    const int k = num_bases_;
+    const Eigen::Map<const Eigen::VectorXd> weights(parameters[0], k);
+    const Eigen::Map<const Eigen::VectorXd> previous(parameters[1], k);
+    const Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic>> basis(
+        parameters[2], 3, k);
+    const Eigen::VectorXd change = weights - previous;
+    Eigen::Map<Eigen::Vector3d> residual(residuals);
+    residual = sqrt_weight_ * (basis * change);
+    if (jacobians == nullptr) return true;
+    if (jacobians[0] != nullptr) {
+      Eigen::Map<RowMajor3X>(jacobians[0], 3, k) = sqrt_weight_ * basis;
+    }
+    if (jacobians[1] != nullptr) {
+      Eigen::Map<RowMajor3X>(jacobians[1], 3, k) = -sqrt_weight_ * basis;
+    }
+    if (jacobians[2] != nullptr) {
+      Eigen::Map<RowMajor3X> j(jacobians[2], 3, 3 * k);
+      j.setZero();
+      for (int b = 0; b < k; ++b) {
+        j.block<3, 3>(0, 3 * b).diagonal().setConstant(sqrt_weight_ * change[b]);
+      }
+    }
+    return true;
+  }
+
+ private:
+  const int num_bases_;
+  const double sqrt_weight_;
 };
 
 }  // namespace nrsfm

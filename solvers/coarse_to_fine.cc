@@ -8,7 +8,6 @@
 
 #include <glog/logging.h>
 
-#include "solvers/temporal_prior_refine.h"
 
 namespace nrsfm {
 namespace {
@@ -49,16 +48,6 @@ Model AppendBasis(const Model& model, double stddev, NormalSource* normal) {
   return grown;
 }
 
-Status RefineModel(const RefineOptions& options,
-                   const RobustReconstructOptions& robust,
-                   const Measurements& measurements, Model* model,
-                   RefineSummary* summary) {
-  TemporalPriorOptions prior;
-  prior.camera_shape_weight = robust.temporal_prior_weight;
-  prior.shape_magnitude_weight = robust.shape_ridge_weight;
-  return RefineWithTemporalPrior(options, prior, measurements, model, summary);
-}
-
 Status RunOneStart(const ReconstructOptions& options,
                    const RobustReconstructOptions& robust,
                    const Measurements& measurements, ReconstructResult* result) {
@@ -71,7 +60,7 @@ Status RunOneStart(const ReconstructOptions& options,
   }
   NRSFM_RETURN_IF_ERROR(Initialize(coarse.init, measurements, &result->model,
                                    &result->init));
-  NRSFM_RETURN_IF_ERROR(RefineModel(coarse.refine, robust, measurements,
+  NRSFM_RETURN_IF_ERROR(Refine(coarse.refine, measurements,
                                     &result->model, &result->refine));
   if (!grow) return Status::OK();
   NormalSource normal(robust.seed);
@@ -85,7 +74,7 @@ Status RunOneStart(const ReconstructOptions& options,
         k == target ? options.refine : coarse.refine;
     RefineSummary summary;
     NRSFM_RETURN_IF_ERROR(
-        RefineModel(refine, robust, measurements, &grown, &summary));
+        Refine(refine, measurements, &grown, &summary));
     VLOG(1) << "coarse-to-fine: K = " << k << " cost " << summary.final_cost
             << " rms " << summary.reprojection_rms;
     result->model = std::move(grown);
@@ -110,16 +99,6 @@ Status RobustReconstructOptions::Check() const {
     return Status::Error(
         "robust reconstruct: new_weight_stddev must be positive and finite, got " +
         std::to_string(new_weight_stddev));
-  }
-  if (!(temporal_prior_weight >= 0.0) || !std::isfinite(temporal_prior_weight)) {
-    return Status::Error(
-        "robust reconstruct: temporal_prior_weight must be finite and >= 0, got " +
-        std::to_string(temporal_prior_weight));
-  }
-  if (!(shape_ridge_weight >= 0.0) || !std::isfinite(shape_ridge_weight)) {
-    return Status::Error(
-        "robust reconstruct: shape_ridge_weight must be finite and >= 0, got " +
-        std::to_string(shape_ridge_weight));
   }
   if (num_starts < 1) {
     return Status::Error("robust reconstruct: num_starts must be >= 1, got " +

@@ -16,10 +16,9 @@
 // (different random initial weights). The result with the lowest final Ceres
 // cost is kept; every start's cost is in the summary.
 //
-// Temporal prior. temporal_prior_weight > 0 runs every refinement with the
-// camera-frame smoothness prior of solvers/temporal_prior_refine.h (λ =
-// temporal_prior_weight) and/or its shape ridge (μ = shape_ridge_weight); the
-// costs compared between starts then include them.
+// Every refinement uses options.refine as given, extra terms included
+// (e.g. the temporal shape prior); the costs compared between starts then
+// include them.
 #ifndef NRSFM_SOLVERS_COARSE_TO_FINE_H_
 #define NRSFM_SOLVERS_COARSE_TO_FINE_H_
 
@@ -39,8 +38,6 @@ struct RobustReconstructOptions {
   double new_weight_stddev = 0.01;   // std of a new basis' initial weights, × RMS of the existing weights, > 0
   int num_starts = 1;                // closed-form starts tried, ≥ 1
   std::uint64_t seed = 1;            // for the new weights (mt19937_64 + Box-Muller)
-  double temporal_prior_weight = 0.0;  // λ of solvers/temporal_prior_refine.h, ≥ 0 (0 = off)
-  double shape_ridge_weight = 0.0;     // μ of solvers/temporal_prior_refine.h, ≥ 0 (0 = off)
 
   Status Check() const;
 };

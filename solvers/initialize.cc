@@ -123,6 +123,8 @@ StartOutcome RunStart(InitMethod method, const InitializeOptions& options,
     rigid_options.refine_iterations = options.rigid_refine_iterations;
     rigid_options.initial_deformation = options.rigid_initial_deformation;
     rigid_options.seed = options.seed;
+    rigid_options.rotations_from_triple = method == InitMethod::kTriple;
+    rigid_options.triple.seed = options.seed;
     RigidStartSummary start_summary;
     outcome.status = RigidStart(centered.camera0, options.num_bases,
                                 rigid_options, &camera0, &start_summary);
@@ -160,6 +162,8 @@ const char* InitMethodName(InitMethod m) {
       return "factorization";
     case InitMethod::kRigid:
       return "rigid";
+    case InitMethod::kTriple:
+      return "triple";
   }
   return "unknown";
 }
@@ -167,21 +171,22 @@ const char* InitMethodName(InitMethod m) {
 Status ParseInitMethod(const std::string& s, InitMethod* m) {
   CHECK(m != nullptr);
   for (InitMethod candidate :
-       {InitMethod::kAuto, InitMethod::kFactorization, InitMethod::kRigid}) {
+       {InitMethod::kAuto, InitMethod::kFactorization, InitMethod::kRigid,
+        InitMethod::kTriple}) {
     if (s == InitMethodName(candidate)) {
       *m = candidate;
       return Status::OK();
     }
   }
   return Status::Error("unknown initialisation method \"" + s +
-                       "\"; valid: auto, factorization, rigid");
+                       "\"; valid: auto, factorization, rigid, triple");
 }
 
 Status InitializeOptions::Check() const {
   std::ostringstream msg;
   msg << "initialize options: ";
   if (method != InitMethod::kAuto && method != InitMethod::kFactorization &&
-      method != InitMethod::kRigid) {
+      method != InitMethod::kRigid && method != InitMethod::kTriple) {
     msg << "invalid method " << static_cast<int>(method);
   } else if (num_bases < 1) {
     msg << "num_bases (K) must be >= 1, got " << num_bases;
@@ -215,8 +220,11 @@ Status Initialize(const InitializeOptions& options,
   CenteredData centered;
   NRSFM_RETURN_IF_ERROR(CenterData(options, measurements, &centered, summary));
 
-  const bool run_factorization = options.method != InitMethod::kRigid;
+  const bool run_factorization = options.method == InitMethod::kAuto ||
+                                 options.method == InitMethod::kFactorization;
   const bool run_rigid = options.method != InitMethod::kFactorization;
+  const InitMethod rigid_method =
+      options.method == InitMethod::kTriple ? InitMethod::kTriple : InitMethod::kRigid;
   StartOutcome factorization, rigid;
   if (run_factorization) {
     factorization =
@@ -224,7 +232,7 @@ Status Initialize(const InitializeOptions& options,
     if (factorization.status.ok()) summary->factorization_rms = factorization.rms;
   }
   if (run_rigid) {
-    rigid = RunStart(InitMethod::kRigid, options, measurements, centered);
+    rigid = RunStart(rigid_method, options, measurements, centered);
     if (rigid.status.ok()) summary->rigid_rms = rigid.rms;
   }
   const bool factorization_ok = run_factorization && factorization.status.ok();
@@ -245,7 +253,7 @@ Status Initialize(const InitializeOptions& options,
   const bool keep_rigid =
       rigid_ok && (!factorization_ok || rigid.rms < factorization.rms);
   StartOutcome& kept = keep_rigid ? rigid : factorization;
-  summary->used = keep_rigid ? InitMethod::kRigid : InitMethod::kFactorization;
+  summary->used = keep_rigid ? rigid_method : InitMethod::kFactorization;
   summary->reprojection_rms = kept.rms;
   summary->metric_upgrade_was_indefinite = kept.indefinite;
   if (kept.indefinite) {

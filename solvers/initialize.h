@@ -14,7 +14,10 @@
 //        rigid         — rank-3 Tomasi-Kanade + metric upgrade, then weights
 //                        and basis by least squares alternated with rotation
 //                        updates (001 §3.4.2; solvers/rigid_start.h);
-//        auto          — both; keeps the one with the lower reprojection RMS
+//        triple        — the rigid start's steps 2-3 from the rotations of
+//                        the rank-3K corrective triple (orthonormality
+//                        constraints; solvers/corrective_triple.h);
+//        auto          — factorization and rigid; keeps the one with the lower reprojection RMS
 //                        (a start that fails is skipped with a warning).
 //   4. M > 1: cameras c ≥ 1 posed against camera 0's shapes, the depth
 //      reflection chosen by them, rig rotation / scale estimated
@@ -45,9 +48,9 @@
 
 namespace nrsfm {
 
-enum class InitMethod { kAuto, kFactorization, kRigid };
+enum class InitMethod { kAuto, kFactorization, kRigid, kTriple };
 
-// "auto" | "factorization" | "rigid".
+// "auto" | "factorization" | "rigid" | "triple".
 const char* InitMethodName(InitMethod m);
 // Parses one of the names above; the error lists the valid names.
 Status ParseInitMethod(const std::string& s, InitMethod* m);

@@ -91,11 +91,17 @@ Status RefineOptions::Check() const {
              !(temporal_weights_weight >= 0.0) ||
              !std::isfinite(temporal_weights_weight) ||
              !(temporal_rotations_weight >= 0.0) ||
-             !std::isfinite(temporal_rotations_weight)) {
+             !std::isfinite(temporal_rotations_weight) ||
+             !(temporal_shape_weight >= 0.0) ||
+             !std::isfinite(temporal_shape_weight) ||
+             !(rotation_acceleration_weight >= 0.0) ||
+             !std::isfinite(rotation_acceleration_weight)) {
     msg << "term weights must be finite and >= 0, got smoothness "
         << smoothness_weight << ", rigidity " << rigidity_weight
         << ", temporal weights " << temporal_weights_weight
-        << ", temporal rotations " << temporal_rotations_weight;
+        << ", temporal rotations " << temporal_rotations_weight
+        << ", temporal shape " << temporal_shape_weight
+        << ", rotation acceleration " << rotation_acceleration_weight;
   } else if (smoothness_reference_frame < -1) {
     msg << "smoothness_reference_frame must be -1 (auto) or a frame, got "
         << smoothness_reference_frame;
@@ -127,6 +133,8 @@ Status Refine(const RefineOptions& options, const Measurements& measurements,
   problem_options.rigidity_weight = options.rigidity_weight;
   problem_options.temporal_weights_weight = options.temporal_weights_weight;
   problem_options.temporal_rotations_weight = options.temporal_rotations_weight;
+  problem_options.temporal_shape_weight = options.temporal_shape_weight;
+  problem_options.rotation_acceleration_weight = options.rotation_acceleration_weight;
   ProblemBuilder builder(&measurements, model);
   NRSFM_RETURN_IF_ERROR(
       builder.AddReprojectionTerms(problem_options).WithContext("refine"));
@@ -137,7 +145,9 @@ Status Refine(const RefineOptions& options, const Measurements& measurements,
   NRSFM_RETURN_IF_ERROR(SolveProblem(options, &builder, summary));
   summary->num_extra_residual_blocks = extra.smoothness + extra.rigidity +
                                        extra.temporal_weights +
-                                       extra.temporal_rotations;
+                                       extra.temporal_rotations +
+                                       extra.temporal_shape +
+                                       extra.rotation_acceleration;
   summary->build_seconds += build_seconds;
   summary->seconds = SecondsSince(start);
   return Status::OK();

@@ -59,6 +59,8 @@ struct RefineOptions {
   double rigidity_weight = 0.0;            // multi-camera rigidity λ_r, (input units / rad)², ≥ 0, M ≥ 2
   double temporal_weights_weight = 0.0;    // l_t − l_{t−1} λ_l, (input units)², ≥ 0
   double temporal_rotations_weight = 0.0;  // log(R_t R_{t−1}ᵀ) λ_R, (input units / rad)², ≥ 0
+  double temporal_shape_weight = 0.0;      // S_t − S_{t−1} (object frame) λ_S, dimensionless, ≥ 0
+  double rotation_acceleration_weight = 0.0;  // Δ angular velocity λ_A, dimensionless, ≥ 0
   int verbosity = 0;                   // 0 silent, ≥ 1 one VLOG(1) line per iteration
   std::function<void(const IterationReport&)> progress;  // optional, per iteration
 

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <random>
 #include <sstream>
+#include <vector>
 
 #include <Eigen/LU>
 #include <Eigen/SVD>
@@ -98,36 +99,50 @@ Status RigidStart(const Measurements& centered, int num_bases,
   }
   *summary = RigidStartSummary();
 
-  // Step 1: Tomasi-Kanade with the metric upgrade.
-  const Eigen::BDCSVD<Eigen::MatrixXd> svd(
-      centered.W, Eigen::ComputeThinU | Eigen::ComputeThinV);
-  NRSFM_RETURN_IF_ERROR(
-      CheckRotationObservable(svd.singularValues()).WithContext("rigid start"));
-  const Eigen::Vector3d root = svd.singularValues().head<3>().cwiseSqrt();
-  const Eigen::MatrixX3d q_hat = svd.matrixU().leftCols<3>() * root.asDiagonal();
-  const Eigen::Matrix3Xd b_hat =
-      root.asDiagonal() * svd.matrixV().leftCols<3>().transpose();
-  MetricUpgrade upgrade;
-  NRSFM_RETURN_IF_ERROR(
-      SolveMetricUpgrade(q_hat, &upgrade).WithContext("rigid start"));
-  summary->metric_upgrade_was_indefinite = upgrade.was_indefinite;
-  summary->metric_upgrade_conditioning = upgrade.conditioning;
+  // Step 1: rotations, scales and rigid shape.
+  std::vector<Eigen::Matrix3d> rotations;
+  Eigen::VectorXd scales;
+  Eigen::Matrix3Xd rigid_shape;
+  if (options.rotations_from_triple) {
+    NRSFM_RETURN_IF_ERROR(RotationsFromTriple(centered, k, options.triple,
+                                              &rotations, &scales, &rigid_shape,
+                                              &summary->triple)
+                              .WithContext("rigid start"));
+  } else {
+    // Tomasi-Kanade with the metric upgrade.
+    const Eigen::BDCSVD<Eigen::MatrixXd> svd(
+        centered.W, Eigen::ComputeThinU | Eigen::ComputeThinV);
+    NRSFM_RETURN_IF_ERROR(
+        CheckRotationObservable(svd.singularValues()).WithContext("rigid start"));
+    const Eigen::Vector3d root = svd.singularValues().head<3>().cwiseSqrt();
+    const Eigen::MatrixX3d q_hat = svd.matrixU().leftCols<3>() * root.asDiagonal();
+    const Eigen::Matrix3Xd b_hat =
+        root.asDiagonal() * svd.matrixV().leftCols<3>().transpose();
+    MetricUpgrade upgrade;
+    NRSFM_RETURN_IF_ERROR(
+        SolveMetricUpgrade(q_hat, &upgrade).WithContext("rigid start"));
+    summary->metric_upgrade_was_indefinite = upgrade.was_indefinite;
+    summary->metric_upgrade_conditioning = upgrade.conditioning;
+    rotations.resize(f);
+    scales.resize(f);
+    for (int t = 0; t < f; ++t) {
+      ScaledRotationFromTwoRows(q_hat.middleRows<2>(2 * t) * upgrade.g,
+                                &rotations[t], &scales[t]);
+    }
+    rigid_shape = upgrade.g.inverse() * b_hat;
+  }
 
   // Step 2: the rigid model plus small random weights for the other bases.
   model->Resize(f, 1, p, k);
   NormalSource normal(options.seed);
   for (int t = 0; t < f; ++t) {
-    Eigen::Matrix3d rotation;
-    double scale = 0.0;
-    ScaledRotationFromTwoRows(q_hat.middleRows<2>(2 * t) * upgrade.g, &rotation,
-                              &scale);
-    model->SetRotation(t, 0, rotation);
-    model->weights(0, t) = scale;
+    model->SetRotation(t, 0, rotations[t]);
+    model->weights(0, t) = scales[t];
     for (int b = 1; b < k; ++b) {
       model->weights(b, t) = options.initial_deformation * normal.Next();
     }
   }
-  model->SetBasisShape(0, upgrade.g.inverse() * b_hat);
+  model->SetBasisShape(0, rigid_shape);
   double cost = CenteredCost(centered, *model);
   summary->rigid_rms = std::sqrt(cost / centered.NumVisible());
 
@@ -137,7 +152,9 @@ Status RigidStart(const Measurements& centered, int num_bases,
     CentreBasisKeepingProjections(model);
     FitWeightsGivenBasis(centered, kDamping, /*fit_translations=*/true, model);
     BalanceBases(model);
-    RefineRotations(centered, model);
+    // The triple's rotations are exact on noise-free data; rotation updates
+    // against a still-wrong basis would only move them away.
+    if (!options.rotations_from_triple) RefineRotations(centered, model);
     ++summary->iterations;
     const double previous = cost;
     cost = CenteredCost(centered, *model);

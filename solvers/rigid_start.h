@@ -37,10 +37,18 @@
 #include "core/measurements.h"
 #include "core/model.h"
 #include "core/status.h"
+#include "solvers/corrective_triple.h"
 
 namespace nrsfm {
 
 struct RigidStartOptions {
+  // Step 1 alternative: the rotations of the rank-3K corrective triple
+  // (solvers/corrective_triple.h) and the least-squares rigid shape for
+  // them, instead of Tomasi-Kanade's rank-3 factorisation; step 3 then
+  // keeps those rotations (basis and weights only).
+  bool rotations_from_triple = false;
+  CorrectiveTripleOptions triple;
+
   int refine_iterations = 20;         // rounds of step 3, ≥ 0 (0 = the rigid model of step 2)
   double initial_deformation = 0.01;  // std of the random initial l_tk, k ≥ 2 (≥ 0)
   std::uint64_t seed = 1;             // seed of those random weights
@@ -51,6 +59,7 @@ struct RigidStartOptions {
 struct RigidStartSummary {
   bool metric_upgrade_was_indefinite = false;  // see solvers/metric_upgrade.h
   double metric_upgrade_conditioning = 0.0;    // see solvers/metric_upgrade.h
+  CorrectiveTripleSummary triple;              // rotations_from_triple only
   double rigid_rms = 0.0;  // RMS over visible entries of the step-2 model
   double final_rms = 0.0;  // RMS over visible entries of the returned model
   int iterations = 0;      // rounds of step 3 run

@@ -83,11 +83,16 @@ Status BuildReconstructOptions(const CommandFlags& flags,
   NRSFM_RETURN_IF_ERROR(CheckFinite("smoothness", flags.smoothness));
   NRSFM_RETURN_IF_ERROR(CheckFinite("temporal", flags.temporal));
   NRSFM_RETURN_IF_ERROR(CheckFinite("temporal_rotations", flags.temporal_rotations));
+  NRSFM_RETURN_IF_ERROR(CheckFinite("temporal_shape", flags.temporal_shape));
+  NRSFM_RETURN_IF_ERROR(
+      CheckFinite("rotation_acceleration", flags.rotation_acceleration));
   NRSFM_RETURN_IF_ERROR(CheckFinite("rigidity", flags.rigidity));
   if (flags.smoothness < 0.0 || flags.temporal < 0.0 || flags.temporal_rotations < 0.0 ||
+      flags.temporal_shape < 0.0 || flags.rotation_acceleration < 0.0 ||
       flags.rigidity < 0.0) {
-    return Status::Error(
-        "--smoothness, --temporal, --temporal_rotations and --rigidity must be >= 0");
+    return Status::Error("--smoothness, --temporal, --temporal_rotations, "
+                         "--temporal_shape, --rotation_acceleration and "
+                         "--rigidity must be >= 0");
   }
   if (flags.rigidity > 0.0 && flags.cameras < 2) {
     return Status::Error("--rigidity needs synchronised cameras: --cameras must be "
@@ -96,6 +101,8 @@ Status BuildReconstructOptions(const CommandFlags& flags,
   options->refine.smoothness_weight = flags.smoothness;
   options->refine.temporal_weights_weight = flags.temporal;
   options->refine.temporal_rotations_weight = flags.temporal_rotations;
+  options->refine.temporal_shape_weight = flags.temporal_shape;
+  options->refine.rotation_acceleration_weight = flags.rotation_acceleration;
   options->refine.rigidity_weight = flags.rigidity;
   options->init.seed = flags.seed;
   options->refine.robust_scale = flags.robust_scale;
@@ -117,6 +124,8 @@ std::vector<std::pair<std::string, std::string>> OptionList(
           {"smoothness", FormatDouble(flags.smoothness)},
           {"temporal", FormatDouble(flags.temporal)},
           {"temporal_rotations", FormatDouble(flags.temporal_rotations)},
+          {"temporal_shape", FormatDouble(flags.temporal_shape)},
+          {"rotation_acceleration", FormatDouble(flags.rotation_acceleration)},
           {"rigidity", FormatDouble(flags.rigidity)},
           {"robust", flags.robust},
           {"robust_scale", FormatDouble(flags.robust_scale)},

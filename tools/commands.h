@@ -22,6 +22,7 @@ struct CommandFlags {
   bool overwrite = false, ply = false;
   std::string init = "auto";
   double smoothness = 0.0, temporal = 0.0, temporal_rotations = 0.0, rigidity = 0.0;
+  double temporal_shape = 0.0, rotation_acceleration = 0.0;
   int cameras = 1;
   std::string robust = "none";
   double robust_scale = 1.0;

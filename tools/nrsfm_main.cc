@@ -32,7 +32,7 @@ DEFINE_double(K_threshold, 1.1, "reconstruct --K auto: keep the smallest K whose
 DEFINE_string(output, "", "reconstruct: output directory; synth: output .mat file.");
 DEFINE_bool(overwrite, false, "reconstruct: replace a non-empty output directory.");
 DEFINE_bool(ply, false, "reconstruct: also write one PLY file per frame.");
-DEFINE_string(init, "auto", "reconstruct: start auto|factorization|rigid.");
+DEFINE_string(init, "auto", "reconstruct: start auto|factorization|rigid|triple.");
 DEFINE_double(smoothness, 0.0, "reconstruct: weight of the Delaunay-neighbour "
               "smoothness term (0 = off).");
 DEFINE_double(temporal, 0.0, "reconstruct: weight of the temporal smoothness of the "
@@ -40,6 +40,12 @@ DEFINE_double(temporal, 0.0, "reconstruct: weight of the temporal smoothness of 
 DEFINE_double(temporal_rotations, 0.0, "reconstruct: weight of the temporal smoothness "
               "of the rotations between consecutive frames (0 = off). Keep it far below "
               "--temporal (about 1/300): it trades real rotation for deformation.");
+DEFINE_double(temporal_shape, 0.0, "reconstruct: weight of the temporal smoothness "
+              "of the 3D shape in the object frame, S_t - S_(t-1) per point (0 = off; "
+              "dimensionless; see docs/extra_terms.md).");
+DEFINE_double(rotation_acceleration, 0.0, "reconstruct: weight of the temporal "
+              "smoothness of the angular velocity, log(R_(t+1) R_t^T) - log(R_t R_(t-1)^T) "
+              "(0 = off; dimensionless; see docs/extra_terms.md).");
 DEFINE_double(rigidity, 0.0, "reconstruct: weight of the multi-camera rigidity term "
               "(0 = off; needs --cameras >= 2).");
 DEFINE_int32(cameras, 1, "reconstruct: number of synchronised cameras M of a W "
@@ -128,6 +134,8 @@ int main(int argc, char** argv) {
   flags.smoothness = FLAGS_smoothness;
   flags.temporal = FLAGS_temporal;
   flags.temporal_rotations = FLAGS_temporal_rotations;
+  flags.temporal_shape = FLAGS_temporal_shape;
+  flags.rotation_acceleration = FLAGS_rotation_acceleration;
   flags.rigidity = FLAGS_rigidity;
   flags.cameras = FLAGS_cameras;
   flags.robust = FLAGS_robust;

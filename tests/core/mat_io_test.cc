@@ -26,7 +26,8 @@ bool Contains(const std::string& text, const std::string& part) {
 // Bit-identical, NaN included.
 bool SameBits(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
   return a.rows() == b.rows() && a.cols() == b.cols() &&
-         std::memcmp(a.data(), b.data(), sizeof(double) * a.size()) == 0;
+         (a.size() == 0 ||  // memcmp must not see an empty matrix's null pointer
+          std::memcmp(a.data(), b.data(), sizeof(double) * a.size()) == 0);
 }
 
 Eigen::MatrixXd RandomMatrix(int rows, int cols, std::uint32_t seed) {

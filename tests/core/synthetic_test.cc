@@ -47,8 +47,10 @@ double MaxProjectionGap(const SyntheticSequence& s) {
 }
 
 bool SameBytes(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  // memcmp must not see the null data pointer of an empty matrix.
   return a.rows() == b.rows() && a.cols() == b.cols() &&
-         std::memcmp(a.data(), b.data(), sizeof(double) * a.size()) == 0;
+         (a.size() == 0 ||
+          std::memcmp(a.data(), b.data(), sizeof(double) * a.size()) == 0);
 }
 
 bool SameTruth(const Model& a, const Model& b) {

@@ -58,8 +58,9 @@ ReconstructOptions Options(int num_threads) {
 template <typename Derived>
 bool SameBits(const Eigen::DenseBase<Derived>& a, const Eigen::DenseBase<Derived>& b) {
   return a.rows() == b.rows() && a.cols() == b.cols() &&
-         std::memcmp(a.derived().data(), b.derived().data(),
-                     sizeof(typename Derived::Scalar) * a.size()) == 0;
+         (a.size() == 0 ||  // memcmp must not see an empty matrix's null pointer
+          std::memcmp(a.derived().data(), b.derived().data(),
+                      sizeof(typename Derived::Scalar) * a.size()) == 0);
 }
 
 // All frames' camera-frame shapes side by side (gauge-free up to the

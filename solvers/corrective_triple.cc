@@ -1,0 +1,213 @@
+#include "solvers/corrective_triple.h"
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <sstream>
+
+#include <ceres/cost_function.h>
+#include <ceres/problem.h>
+#include <ceres/solver.h>
+#include <Eigen/Cholesky>
+#include <Eigen/SVD>
+#include <glog/logging.h>
+
+#include "solvers/metric_upgrade.h"
+#include "solvers/pose_fit.h"
+
+namespace nrsfm {
+namespace {
+
+constexpr int kSignRounds = 2;
+
+// r_t of the header for one frame; one parameter block, G column-major.
+class OrthonormalityError final : public ceres::CostFunction {
+ public:
+  OrthonormalityError(const Eigen::RowVectorXd& q1, const Eigen::RowVectorXd& q2)
+      : q1_(q1), q2_(q2) {
+    set_num_residuals(2);
+    mutable_parameter_block_sizes()->push_back(3 * static_cast<int>(q1.size()));
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    const int n = static_cast<int>(q1_.size());
+    const Eigen::Map<const Eigen::MatrixXd> g(parameters[0], n, 3);
+    const Eigen::RowVector3d a1 = q1_ * g;
+    const Eigen::RowVector3d a2 = q2_ * g;
+    const double p = a1.squaredNorm();
+    const double q = a2.squaredNorm();
+    const double c = a1.dot(a2);
+    const double norm = p + q;
+    if (!(norm > 0.0)) return false;
+    residuals[0] = (p - q) / norm;
+    residuals[1] = 2.0 * c / norm;
+    if (jacobians == nullptr || jacobians[0] == nullptr) return true;
+    // d/dG (n × 3, column-major like the block) of p, q, c.
+    const Eigen::MatrixXd dp = 2.0 * q1_.transpose() * a1;
+    const Eigen::MatrixXd dq = 2.0 * q2_.transpose() * a2;
+    const Eigen::MatrixXd dc = q1_.transpose() * a2 + q2_.transpose() * a1;
+    const Eigen::MatrixXd dnorm = dp + dq;
+    const Eigen::MatrixXd d0 = (dp - dq) / norm - (p - q) / (norm * norm) * dnorm;
+    const Eigen::MatrixXd d1 = 2.0 * dc / norm - 2.0 * c / (norm * norm) * dnorm;
+    // Row-major 2 × 3n Jacobian; column j of it is entry j of the
+    // column-major G.
+    Eigen::Map<Eigen::Matrix<double, 2, Eigen::Dynamic, Eigen::RowMajor>> j(
+        jacobians[0], 2, 3 * n);
+    j.row(0) = Eigen::Map<const Eigen::RowVectorXd>(d0.data(), 3 * n);
+    j.row(1) = Eigen::Map<const Eigen::RowVectorXd>(d1.data(), 3 * n);
+    return true;
+  }
+
+ private:
+  const Eigen::RowVectorXd q1_;
+  const Eigen::RowVectorXd q2_;
+};
+
+// Standard normal draws (Box-Muller on mt19937_64; platform-independent).
+double NextNormal(std::mt19937_64* engine) {
+  const double pi = 3.14159265358979323846;
+  const double u1 = (static_cast<double>((*engine)() >> 11) + 1.0) * 0x1.0p-53;
+  const double u2 = static_cast<double>((*engine)() >> 11) * 0x1.0p-53;
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * pi * u2);
+}
+
+// Least-squares rigid shape given every frame's s_t Π R_t.
+Eigen::Matrix3Xd FitRigidShape(const Eigen::MatrixXd& w,
+                               const std::vector<Eigen::Matrix3d>& rotations,
+                               const Eigen::VectorXd& scales) {
+  Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3Xd right = Eigen::Matrix3Xd::Zero(3, w.cols());
+  for (size_t t = 0; t < rotations.size(); ++t) {
+    const Eigen::Matrix<double, 2, 3> m = scales[t] * rotations[t].topRows<2>();
+    normal += m.transpose() * m;
+    right += m.transpose() * w.middleRows<2>(2 * t);
+  }
+  normal.diagonal().array() += 1e-12 * normal.trace();
+  return normal.ldlt().solve(right);
+}
+
+}  // namespace
+
+Status CorrectiveTripleOptions::Check() const {
+  std::ostringstream msg;
+  if (num_starts < 1) {
+    msg << "corrective triple: num_starts must be >= 1, got " << num_starts;
+  } else if (max_iterations < 1) {
+    msg << "corrective triple: max_iterations must be >= 1, got " << max_iterations;
+  } else {
+    return Status::OK();
+  }
+  return Status::Error(msg.str());
+}
+
+Status SolveCorrectiveTriple(const Eigen::MatrixXd& q_hat,
+                             const CorrectiveTripleOptions& options,
+                             Eigen::MatrixX3d* g, CorrectiveTripleSummary* summary) {
+  CHECK(g != nullptr && summary != nullptr);
+  NRSFM_RETURN_IF_ERROR(options.Check());
+  const int num_frames = static_cast<int>(q_hat.rows() / 2);
+  const int n = static_cast<int>(q_hat.cols());
+  if (q_hat.rows() % 2 != 0 || num_frames < 2 || n < 3 || n % 3 != 0) {
+    std::ostringstream msg;
+    msg << "corrective triple: needs a 2F x 3K motion matrix with F >= 2, got "
+        << q_hat.rows() << " x " << q_hat.cols();
+    return Status::Error(msg.str());
+  }
+  *summary = CorrectiveTripleSummary();
+  std::mt19937_64 engine(options.seed);
+  double best_cost = std::numeric_limits<double>::infinity();
+  for (int start = 0; start < options.num_starts; ++start) {
+    Eigen::MatrixXd candidate(n, 3);
+    for (int j = 0; j < 3; ++j) {
+      for (int i = 0; i < n; ++i) candidate(i, j) = NextNormal(&engine);
+    }
+    ceres::Problem problem;
+    for (int t = 0; t < num_frames; ++t) {
+      problem.AddResidualBlock(
+          new OrthonormalityError(q_hat.row(2 * t), q_hat.row(2 * t + 1)), nullptr,
+          candidate.data());
+    }
+    ceres::Solver::Options solver_options;
+    solver_options.linear_solver_type = ceres::DENSE_QR;
+    solver_options.max_num_iterations = options.max_iterations;
+    solver_options.function_tolerance = 1e-14;
+    solver_options.gradient_tolerance = 1e-16;
+    solver_options.parameter_tolerance = 1e-14;
+    solver_options.logging_type = ceres::SILENT;
+    std::string invalid;
+    CHECK(solver_options.IsValid(&invalid)) << invalid;  // fixed options
+    ceres::Solver::Summary solver_summary;
+    ceres::Solve(solver_options, &problem, &solver_summary);
+    VLOG(2) << "corrective triple start " << start << ": cost "
+            << solver_summary.final_cost;
+    if (solver_summary.IsSolutionUsable() && candidate.allFinite() &&
+        solver_summary.final_cost < best_cost) {
+      best_cost = solver_summary.final_cost;
+      *g = candidate;
+      summary->best_start = start;
+    }
+  }
+  if (!std::isfinite(best_cost)) {
+    return Status::Error("corrective triple: no start converged to a finite solution");
+  }
+  summary->cost = best_cost;
+  summary->rms = std::sqrt(best_cost / num_frames);
+  return Status::OK();
+}
+
+Status RotationsFromTriple(const Measurements& centered, int num_bases,
+                           const CorrectiveTripleOptions& options,
+                           std::vector<Eigen::Matrix3d>* rotations,
+                           Eigen::VectorXd* scales, Eigen::Matrix3Xd* rigid_shape,
+                           CorrectiveTripleSummary* summary) {
+  CHECK(rotations != nullptr && scales != nullptr && rigid_shape != nullptr &&
+        summary != nullptr);
+  CHECK_EQ(centered.num_cameras, 1);
+  const int f = centered.num_frames;
+  const int r = 3 * num_bases;
+  if (num_bases < 1 || r > 2 * f || r > centered.num_points) {
+    std::ostringstream msg;
+    msg << "corrective triple: needs 3K <= 2F and 3K <= P; got K = " << num_bases
+        << ", F = " << f << ", P = " << centered.num_points;
+    return Status::Error(msg.str());
+  }
+  const Eigen::BDCSVD<Eigen::MatrixXd> svd(centered.W, Eigen::ComputeThinU);
+  NRSFM_RETURN_IF_ERROR(CheckRotationObservable(svd.singularValues())
+                            .WithContext("corrective triple"));
+  const Eigen::MatrixXd q_hat =
+      svd.matrixU().leftCols(r) *
+      svd.singularValues().head(r).cwiseSqrt().asDiagonal();
+  Eigen::MatrixX3d g;
+  NRSFM_RETURN_IF_ERROR(SolveCorrectiveTriple(q_hat, options, &g, summary));
+
+  rotations->assign(f, Eigen::Matrix3d::Identity());
+  scales->resize(f);
+  for (int t = 0; t < f; ++t) {
+    ScaledRotationFromTwoRows(q_hat.middleRows<2>(2 * t) * g, &(*rotations)[t],
+                              &(*scales)[t]);
+  }
+  // Signs: a frame whose least-squares scale against the rigid shape is
+  // negative is seen turned by 180° about its optical axis.
+  const Eigen::Matrix3d half_turn = Eigen::Vector3d(-1.0, -1.0, 1.0).asDiagonal();
+  for (int round = 0; round < kSignRounds; ++round) {
+    const Eigen::Matrix3Xd shape = FitRigidShape(centered.W, *rotations, *scales);
+    for (int t = 0; t < f; ++t) {
+      const Eigen::Matrix2Xd projected = (*rotations)[t].topRows<2>() * shape;
+      const double denominator = projected.squaredNorm();
+      if (!(denominator > 0.0)) continue;
+      const double scale =
+          (centered.W.middleRows(2 * t, 2).array() * projected.array()).sum() /
+          denominator;
+      if (scale < 0.0) {
+        (*rotations)[t] = half_turn * (*rotations)[t];
+        ++summary->sign_flips;
+      }
+      (*scales)[t] = std::abs(scale);
+    }
+  }
+  *rigid_shape = FitRigidShape(centered.W, *rotations, *scales);
+  return Status::OK();
+}
+
+}  // namespace nrsfm
