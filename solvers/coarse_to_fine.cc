@@ -3,30 +3,14 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <random>
 #include <string>
 
 #include <glog/logging.h>
 
+#include "solvers/normal_source.h"
 
 namespace nrsfm {
 namespace {
-
-// Standard normal draws from mt19937_64 (Box-Muller), reproducible everywhere.
-class NormalSource {
- public:
-  explicit NormalSource(std::uint64_t seed) : engine_(seed) {}
-  double Next() {
-    constexpr double kTwoPi = 6.283185307179586;
-    const double u1 =
-        (static_cast<double>(engine_() >> 11) + 1.0) * 0x1.0p-53;  // (0, 1]
-    const double u2 = static_cast<double>(engine_() >> 11) * 0x1.0p-53;
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(kTwoPi * u2);
-  }
-
- private:
-  std::mt19937_64 engine_;
-};
 
 // `model` with one more basis shape: S_{K+1} = 0, weights stddev · N(0, 1).
 Model AppendBasis(const Model& model, double stddev, NormalSource* normal) {

@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <limits>
-#include <random>
 #include <sstream>
 
 #include <ceres/cost_function.h>
@@ -13,6 +12,7 @@
 #include <glog/logging.h>
 
 #include "solvers/metric_upgrade.h"
+#include "solvers/normal_source.h"
 #include "solvers/pose_fit.h"
 
 namespace nrsfm {
@@ -64,14 +64,6 @@ class OrthonormalityError final : public ceres::CostFunction {
   const Eigen::RowVectorXd q2_;
 };
 
-// Standard normal draws (Box-Muller on mt19937_64; platform-independent).
-double NextNormal(std::mt19937_64* engine) {
-  const double pi = 3.14159265358979323846;
-  const double u1 = (static_cast<double>((*engine)() >> 11) + 1.0) * 0x1.0p-53;
-  const double u2 = static_cast<double>((*engine)() >> 11) * 0x1.0p-53;
-  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * pi * u2);
-}
-
 // Least-squares rigid shape given every frame's s_t Π R_t.
 Eigen::Matrix3Xd FitRigidShape(const Eigen::MatrixXd& w,
                                const std::vector<Eigen::Matrix3d>& rotations,
@@ -115,12 +107,12 @@ Status SolveCorrectiveTriple(const Eigen::MatrixXd& q_hat,
     return Status::Error(msg.str());
   }
   *summary = CorrectiveTripleSummary();
-  std::mt19937_64 engine(options.seed);
+  NormalSource normal(options.seed);
   double best_cost = std::numeric_limits<double>::infinity();
   for (int start = 0; start < options.num_starts; ++start) {
     Eigen::MatrixXd candidate(n, 3);
     for (int j = 0; j < 3; ++j) {
-      for (int i = 0; i < n; ++i) candidate(i, j) = NextNormal(&engine);
+      for (int i = 0; i < n; ++i) candidate(i, j) = normal.Next();
     }
     ceres::Problem problem;
     for (int t = 0; t < num_frames; ++t) {

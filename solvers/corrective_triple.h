@@ -47,7 +47,7 @@ struct CorrectiveTripleSummary {
   double cost = 0.0;   // ½ Σ_t |r_t|² of the kept G (0 = exact)
   double rms = 0.0;    // sqrt(2 cost / 2F): RMS of the residuals above
   int best_start = 0;  // which start was kept
-  int sign_flips = 0;  // frames whose sign the rigid fit reversed
+  int sign_flips = 0;  // sign reversals the rigid fit made (both rounds counted)
 };
 
 // `q_hat` is 2F × 3K (F ≥ 2, K ≥ 1). Fills `g` (3K × 3).

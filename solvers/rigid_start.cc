@@ -1,7 +1,6 @@
 #include "solvers/rigid_start.h"
 
 #include <cmath>
-#include <random>
 #include <sstream>
 #include <vector>
 
@@ -11,6 +10,7 @@
 
 #include "solvers/basis_weight_fit.h"
 #include "solvers/metric_upgrade.h"
+#include "solvers/normal_source.h"
 #include "solvers/pose_fit.h"
 
 namespace nrsfm {
@@ -19,21 +19,6 @@ namespace {
 constexpr double kDamping = 1e-12;            // of the linear solves
 constexpr int kRotationStepsPerRound = 3;     // Gauss-Newton steps per frame
 constexpr double kStopRelativeDecrease = 1e-10;
-
-// Standard normal draws from mt19937_64 (Box-Muller).
-class NormalSource {
- public:
-  explicit NormalSource(std::uint64_t seed) : engine_(seed) {}
-  double Next() {
-    const double pi = 3.14159265358979323846;
-    const double u1 = (static_cast<double>(engine_() >> 11) + 1.0) * 0x1.0p-53;
-    const double u2 = static_cast<double>(engine_() >> 11) * 0x1.0p-53;
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * pi * u2);
-  }
-
- private:
-  std::mt19937_64 engine_;
-};
 
 // One rotation update per frame (step 3 of the header), over visible points.
 void RefineRotations(const Measurements& centered, Model* model) {
