@@ -19,6 +19,16 @@ namespace nrsfm {
 namespace {
 
 constexpr int kSignRounds = 2;
+// Two consecutive frames are linked when Σ of the products of their first
+// two rotation rows (2 for equal rotations, −2 for a half turn about the
+// optical axis) has magnitude ≥ 1.5: rotations within about 40° (about the
+// optical axis) to 60° (about an axis in the image plane) of each other with
+// one relative sign, and more than 120° apart with the other.
+constexpr double kLinkAlignment = 1.5;
+// Frames are treated as a time sequence only when at least this fraction of
+// consecutive pairs is linked; frames in random order (independent
+// rotations) link far less often and keep one sign decision per frame.
+constexpr double kMinLinkedFraction = 0.9;
 
 // r_t of the header for one frame; one parameter block, G column-major.
 class OrthonormalityError final : public ceres::CostFunction {
@@ -111,8 +121,16 @@ Status SolveCorrectiveTriple(const Eigen::MatrixXd& q_hat,
   double best_cost = std::numeric_limits<double>::infinity();
   for (int start = 0; start < options.num_starts; ++start) {
     Eigen::MatrixXd candidate(n, 3);
-    for (int j = 0; j < 3; ++j) {
-      for (int i = 0; i < n; ++i) candidate(i, j) = normal.Next();
+    MetricUpgrade rigid;
+    if (start == 0 && options.rigid_first_start &&
+        SolveMetricUpgrade(q_hat.leftCols<3>(), &rigid).ok()) {
+      // The Tomasi-Kanade triple of the dominant rank-3 part (header).
+      candidate.setZero();
+      candidate.topRows<3>() = rigid.g;
+    } else {
+      for (int j = 0; j < 3; ++j) {
+        for (int i = 0; i < n; ++i) candidate(i, j) = normal.Next();
+      }
     }
     ceres::Problem problem;
     for (int t = 0; t < num_frames; ++t) {
@@ -179,23 +197,53 @@ Status RotationsFromTriple(const Measurements& centered, int num_bases,
     ScaledRotationFromTwoRows(q_hat.middleRows<2>(2 * t) * g, &(*rotations)[t],
                               &(*scales)[t]);
   }
-  // Signs: a frame whose least-squares scale against the rigid shape is
-  // negative is seen turned by 180° about its optical axis.
+  // Signs (header): link consecutive frames whose rotations are clearly
+  // closer with one relative sign than with the other, when the sequence is
+  // ordered in time; then one sign per linked segment by the rigid fit.
   const Eigen::Matrix3d half_turn = Eigen::Vector3d(-1.0, -1.0, 1.0).asDiagonal();
+  std::vector<int> segment_start = {0};
+  int links = 0;
+  std::vector<double> alignment(f, 0.0);
+  for (int t = 1; t < f; ++t) {
+    alignment[t] = ((*rotations)[t].topRows<2>().cwiseProduct(
+                        (*rotations)[t - 1].topRows<2>())).sum();
+    if (std::abs(alignment[t]) >= kLinkAlignment) ++links;
+  }
+  summary->temporal_signs =
+      options.temporal_signs && f >= 2 && links >= kMinLinkedFraction * (f - 1);
+  for (int t = 1; t < f; ++t) {
+    if (summary->temporal_signs && std::abs(alignment[t]) >= kLinkAlignment) {
+      // Recompute against the (possibly turned) previous frame.
+      const double a = ((*rotations)[t].topRows<2>().cwiseProduct(
+                            (*rotations)[t - 1].topRows<2>())).sum();
+      if (a < 0.0) (*rotations)[t] = half_turn * (*rotations)[t];
+    } else {
+      segment_start.push_back(t);
+    }
+  }
+  segment_start.push_back(f);
+  summary->sign_segments = static_cast<int>(segment_start.size()) - 1;
+  // A segment whose summed least-squares scale against the rigid shape is
+  // negative is seen turned by 180° about the optical axis.
   for (int round = 0; round < kSignRounds; ++round) {
     const Eigen::Matrix3Xd shape = FitRigidShape(centered.W, *rotations, *scales);
-    for (int t = 0; t < f; ++t) {
-      const Eigen::Matrix2Xd projected = (*rotations)[t].topRows<2>() * shape;
-      const double denominator = projected.squaredNorm();
-      if (!(denominator > 0.0)) continue;
-      const double scale =
-          (centered.W.middleRows(2 * t, 2).array() * projected.array()).sum() /
-          denominator;
-      if (scale < 0.0) {
-        (*rotations)[t] = half_turn * (*rotations)[t];
+    for (std::size_t s = 0; s + 1 < segment_start.size(); ++s) {
+      double scale_sum = 0.0;
+      for (int t = segment_start[s]; t < segment_start[s + 1]; ++t) {
+        const Eigen::Matrix2Xd projected = (*rotations)[t].topRows<2>() * shape;
+        const double denominator = projected.squaredNorm();
+        if (!(denominator > 0.0)) continue;
+        const double scale =
+            (centered.W.middleRows(2 * t, 2).array() * projected.array()).sum() /
+            denominator;
+        scale_sum += scale;
+      }
+      if (scale_sum < 0.0) {
+        for (int t = segment_start[s]; t < segment_start[s + 1]; ++t) {
+          (*rotations)[t] = half_turn * (*rotations)[t];
+        }
         ++summary->sign_flips;
       }
-      (*scales)[t] = std::abs(scale);
     }
   }
   *rigid_shape = FitRigidShape(centered.W, *rotations, *scales);

@@ -12,17 +12,30 @@
 // SolveCorrectiveTriple minimises, over G, the scale-free residuals
 //   r_t = ( (|a_1|² − |a_2|²), 2 a_1·a_2 ) / (|a_1|² + |a_2|²)
 // (each in [−1, 1]; 0 for an exact scaled rotation) with Ceres
-// Levenberg-Marquardt from several seeded random G, keeping the lowest
-// cost. The cost is invariant to G ← α G U (scale, rotation, reflection:
+// Levenberg-Marquardt from several starts, keeping the lowest cost: first
+// the Tomasi-Kanade triple (the metric upgrade of the first three columns of
+// Q̂, padded with zeros: the triple of the dominant, mean-shape-like
+// component, whose weight c_t stays away from zero), then seeded random G.
+// The cost has many local minima; on pickup (K = 12) a quarter of random
+// starts reach the lowest one, the Tomasi-Kanade start does. A triple whose
+// weight c_t passes near zero in some frames gives garbage rotations there. The cost is invariant to G ← α G U (scale, rotation, reflection:
 // the global gauges); Akhter et al. show every G with zero cost gives the
 // true rotations up to them on noise-free data, whereas Bregler's per-frame
 // rank-1 sub-blocks (solvers/factorization_start.h) do not.
 //
 // The sign of c_t is not fixed by the constraints: −Π R_t = Π R'_t with R'_t
-// R_t turned by 180° about the optical axis. RotationsFromTriple picks each
-// frame's sign by the rigid fit: with the nearest rotations, it fits one
-// rigid shape to all frames by least squares and keeps, per frame, the sign
-// whose weak-perspective fit of that shape is better, twice over.
+// R_t turned by 180° about the optical axis, and the frame's shape reversed
+// in depth. RotationsFromTriple fixes it in two steps. (1) In a time
+// sequence, consecutive rotations are close with one relative sign and far
+// apart with the other: frames are linked into segments of consistent sign
+// (a link needs the two candidates to differ clearly; the sequence counts as
+// ordered in time only when at least 90 % of consecutive pairs link, so
+// frames in random order keep one segment each). (2) With the nearest
+// rotations it fits one rigid shape to all frames by least squares and turns
+// every segment whose summed weak-perspective scale against that shape is
+// negative, twice over. Per-frame decisions alone (step 2 without step 1)
+// reverse whole stretches of a sequence where the object is far from its
+// mean shape (e.g. a person bending down).
 #ifndef NRSFM_SOLVERS_CORRECTIVE_TRIPLE_H_
 #define NRSFM_SOLVERS_CORRECTIVE_TRIPLE_H_
 
@@ -37,9 +50,14 @@
 namespace nrsfm {
 
 struct CorrectiveTripleOptions {
-  int num_starts = 8;        // random starts of G, ≥ 1
+  int num_starts = 16;       // starts of G, ≥ 1 (the first may be the rigid one)
+  // Start 0 from the Tomasi-Kanade triple (header); false = all random.
+  bool rigid_first_start = true;
   int max_iterations = 200;  // LM iterations per start, ≥ 1
   std::uint64_t seed = 1;    // of the random starts (mt19937_64, own Box-Muller)
+  // Link consecutive frames into segments of one sign when the input is a
+  // time sequence (header); false = one sign decision per frame.
+  bool temporal_signs = true;
   Status Check() const;
 };
 
@@ -47,7 +65,9 @@ struct CorrectiveTripleSummary {
   double cost = 0.0;   // ½ Σ_t |r_t|² of the kept G (0 = exact)
   double rms = 0.0;    // sqrt(2 cost / 2F): RMS of the residuals above
   int best_start = 0;  // which start was kept
-  int sign_flips = 0;  // sign reversals the rigid fit made (both rounds counted)
+  int sign_flips = 0;  // segment reversals the rigid fit made (both rounds counted)
+  bool temporal_signs = false;  // whether frames were linked in time
+  int sign_segments = 0;        // segments of one sign (F when not linked)
 };
 
 // `q_hat` is 2F × 3K (F ≥ 2, K ≥ 1). Fills `g` (3K × 3).

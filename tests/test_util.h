@@ -7,6 +7,15 @@
 namespace nrsfm {
 namespace testing_util {
 
+// True in the NRSFM_SANITIZE build (ASan + UBSan, -O1; GCC and clang define
+// __SANITIZE_ADDRESS__ under -fsanitize=address), where the slowest tests run
+// the same checks on smaller problems to stay inside CI's time.
+#if defined(__SANITIZE_ADDRESS__)
+inline constexpr bool kSanitizedBuild = true;
+#else
+inline constexpr bool kSanitizedBuild = false;
+#endif
+
 // Directory of the real datasets (`../shared/datasets`), or "" when absent.
 // NRSFM_SHARED_DIR in the environment overrides the default location.
 std::string SharedDatasetsDir();
