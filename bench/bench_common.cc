@@ -37,8 +37,9 @@ ReconstructOptions DefaultReconstructOptions(int num_bases, int threads) {
   return options;
 }
 
-bool EnableTwoCameraRigidity(ReconstructOptions* /*options*/) {
-  return false;
+bool EnableTwoCameraRigidity(ReconstructOptions* options) {
+  options->refine.rigidity_weight = kTwoCameraRigidityWeight;
+  return true;
 }
 
 Status Evaluate(const Model& model, const std::vector<Eigen::Matrix3Xd>& truth,

@@ -46,11 +46,12 @@ struct BenchConfig {
 ReconstructOptions DefaultReconstructOptions(int num_bases, int threads);
 void SetDefaultMaxIterations(int max_iterations);
 
-// The one place that decides how "second camera + rigidity" runs. The
-// multi-camera rigidity term (001 §3.4.3) is not in the library yet, so this
-// returns false and leaves `options` as they are; the shoe suite then runs
-// the two-camera reconstruction without it and labels the column so. When the
-// term lands, set its weight here and return true.
+// The one place that decides how "second camera + rigidity" runs: the
+// multi-camera rigidity term (001 §3.4.3, problems/rigidity_error.h) with
+// weight kTwoCameraRigidityWeight, the value of the CLI's two-camera shoe
+// test (tests/tools/cli_test.cc, ExtraTermFlags). Returns true (the shoe
+// table's column header says whether the term ran).
+constexpr double kTwoCameraRigidityWeight = 100.0;
 bool EnableTwoCameraRigidity(ReconstructOptions* options);
 
 // One reconstruction scored against camera-0 ground truth.

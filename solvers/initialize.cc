@@ -107,6 +107,7 @@ struct StartOutcome {
   Model model;
   double rms = -1.0;
   bool indefinite = false;
+  int sign_segments = -1;  // triple start only
 };
 
 StartOutcome RunStart(InitMethod method, const InitializeOptions& options,
@@ -129,6 +130,9 @@ StartOutcome RunStart(InitMethod method, const InitializeOptions& options,
     outcome.status = RigidStart(centered.camera0, options.num_bases,
                                 rigid_options, &camera0, &start_summary);
     outcome.indefinite = start_summary.metric_upgrade_was_indefinite;
+    if (method == InitMethod::kTriple) {
+      outcome.sign_segments = start_summary.triple.sign_segments;
+    }
   }
   if (!outcome.status.ok()) return outcome;
   const Eigen::Matrix2Xd camera0_translations = camera0.translations;
@@ -256,6 +260,13 @@ Status Initialize(const InitializeOptions& options,
   summary->used = keep_rigid ? rigid_method : InitMethod::kFactorization;
   summary->reprojection_rms = kept.rms;
   summary->metric_upgrade_was_indefinite = kept.indefinite;
+  summary->triple_sign_segments = kept.sign_segments;
+  if (kept.sign_segments > 1 && kept.sign_segments < measurements.num_frames) {
+    summary->warnings.push_back(
+        "triple start: the frames link into " + std::to_string(kept.sign_segments) +
+        " time segments whose rotation signs were chosen separately; the depth of a "
+        "segment may be reversed relative to the others (solvers/corrective_triple.h)");
+  }
   if (kept.indefinite) {
     summary->warnings.push_back(
         std::string("metric upgrade of the ") + InitMethodName(summary->used) +

@@ -74,6 +74,10 @@ struct InitializeSummary {
   double completion_rms = -1;                    // fit residual RMS of the low-rank completion on visible entries, -1 if data complete
   int completion_iterations = 0;
   bool metric_upgrade_was_indefinite = false;    // kept start: H had an eigenvalue clamped (solvers/metric_upgrade.h)
+  // Triple start: segments of frames with one rotation sign (1 = every frame
+  // linked in time; F = one decision per frame; solvers/corrective_triple.h);
+  // -1 when the kept start is not the triple. 1 < segments < F adds a warning.
+  int triple_sign_segments = -1;
   std::vector<std::string> warnings;
   double seconds = 0;                            // wall time of Initialize
 };

@@ -353,6 +353,8 @@ TEST(Initialize, TripleRecoversNoiseFreeNonRigidRotations) {
     InitializeSummary summary;
     ASSERT_TRUE(Initialize(options, sequence.measurements, &model, &summary).ok());
     EXPECT_EQ(summary.used, InitMethod::kTriple);
+    EXPECT_EQ(summary.triple_sign_segments, 1);  // smooth rotations: linked in time
+    EXPECT_TRUE(summary.warnings.empty());
     const double rotation_error = RotationErrorUpToGauge(sequence.truth, model);
     const double e3d = E3D(sequence, model);
     std::cout << "triple K = " << k << ": rotation error " << rotation_error
@@ -433,6 +435,7 @@ TEST(Initialize, TripleRotationsOfPickupWithinTwentyFiveDegrees) {
   RigidStartSummary summary;
   ASSERT_TRUE(RigidStart(measurements, 12, options, &model, &summary).ok());
   EXPECT_TRUE(summary.triple.temporal_signs);
+  EXPECT_EQ(summary.triple.sign_segments, 1);
   // RotationErrorUpToGauge is a Frobenius norm: 2√2 sin(θ/2) for angle θ.
   const double frobenius = RotationErrorUpToGauge(truth, model);
   const double degrees = 2.0 * std::asin(frobenius / (2.0 * std::sqrt(2.0))) * 180.0 / M_PI;
