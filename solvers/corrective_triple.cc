@@ -237,6 +237,9 @@ Status RotationsFromTriple(const Measurements& centered, int num_bases,
             (centered.W.middleRows(2 * t, 2).array() * projected.array()).sum() /
             denominator;
         scale_sum += scale;
+        // The frame's scale against the rigid shape (its sign is the
+        // segment's decision below).
+        (*scales)[t] = std::abs(scale);
       }
       if (scale_sum < 0.0) {
         for (int t = segment_start[s]; t < segment_start[s + 1]; ++t) {
