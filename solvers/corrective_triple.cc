@@ -3,14 +3,16 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <vector>
 
 #include <ceres/cost_function.h>
 #include <ceres/problem.h>
 #include <ceres/solver.h>
-#include <Eigen/Cholesky>
 #include <Eigen/SVD>
 #include <glog/logging.h>
 
+#include "core/model.h"
+#include "solvers/basis_weight_fit.h"
 #include "solvers/metric_upgrade.h"
 #include "solvers/normal_source.h"
 #include "solvers/pose_fit.h"
@@ -19,6 +21,7 @@ namespace nrsfm {
 namespace {
 
 constexpr int kSignRounds = 2;
+constexpr double kDamping = 1e-12;  // of the rigid-shape solve
 // Two consecutive frames are linked when Σ of the products of their first
 // two rotation rows (2 for equal rotations, −2 for a half turn about the
 // optical axis) has magnitude ≥ 1.5: rotations within about 40° (about the
@@ -74,19 +77,19 @@ class OrthonormalityError final : public ceres::CostFunction {
   const Eigen::RowVectorXd q2_;
 };
 
-// Least-squares rigid shape given every frame's s_t Π R_t.
-Eigen::Matrix3Xd FitRigidShape(const Eigen::MatrixXd& w,
+// Least-squares rigid shape given every frame's s_t Π R_t: the basis step of
+// the alternation (solvers/basis_weight_fit.h) with K = 1.
+Eigen::Matrix3Xd FitRigidShape(const Measurements& centered,
                                const std::vector<Eigen::Matrix3d>& rotations,
                                const Eigen::VectorXd& scales) {
-  Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
-  Eigen::Matrix3Xd right = Eigen::Matrix3Xd::Zero(3, w.cols());
-  for (size_t t = 0; t < rotations.size(); ++t) {
-    const Eigen::Matrix<double, 2, 3> m = scales[t] * rotations[t].topRows<2>();
-    normal += m.transpose() * m;
-    right += m.transpose() * w.middleRows<2>(2 * t);
+  Model rigid;
+  rigid.Resize(centered.num_frames, 1, centered.num_points, 1);
+  for (int t = 0; t < centered.num_frames; ++t) {
+    rigid.SetRotation(t, 0, rotations[t]);
+    rigid.weights(0, t) = scales[t];
   }
-  normal.diagonal().array() += 1e-12 * normal.trace();
-  return normal.ldlt().solve(right);
+  FitBasisGivenMotion(centered, kDamping, &rigid);
+  return rigid.BasisShape(0);
 }
 
 }  // namespace
@@ -201,21 +204,22 @@ Status RotationsFromTriple(const Measurements& centered, int num_bases,
   // closer with one relative sign than with the other, when the sequence is
   // ordered in time; then one sign per linked segment by the rigid fit.
   const Eigen::Matrix3d half_turn = Eigen::Vector3d(-1.0, -1.0, 1.0).asDiagonal();
-  std::vector<int> segment_start = {0};
+  // Σ of the products of the first two rows of frames t and t − 1; its
+  // magnitude does not change when either frame is turned.
+  const auto alignment = [rotations](int t) {
+    return ((*rotations)[t].topRows<2>().cwiseProduct((*rotations)[t - 1].topRows<2>()))
+        .sum();
+  };
   int links = 0;
-  std::vector<double> alignment(f, 0.0);
   for (int t = 1; t < f; ++t) {
-    alignment[t] = ((*rotations)[t].topRows<2>().cwiseProduct(
-                        (*rotations)[t - 1].topRows<2>())).sum();
-    if (std::abs(alignment[t]) >= kLinkAlignment) ++links;
+    if (std::abs(alignment(t)) >= kLinkAlignment) ++links;
   }
   summary->temporal_signs =
       options.temporal_signs && f >= 2 && links >= kMinLinkedFraction * (f - 1);
+  std::vector<int> segment_start = {0};
   for (int t = 1; t < f; ++t) {
-    if (summary->temporal_signs && std::abs(alignment[t]) >= kLinkAlignment) {
-      // Recompute against the (possibly turned) previous frame.
-      const double a = ((*rotations)[t].topRows<2>().cwiseProduct(
-                            (*rotations)[t - 1].topRows<2>())).sum();
+    const double a = alignment(t);  // against the (possibly turned) frame t − 1
+    if (summary->temporal_signs && std::abs(a) >= kLinkAlignment) {
       if (a < 0.0) (*rotations)[t] = half_turn * (*rotations)[t];
     } else {
       segment_start.push_back(t);
@@ -226,7 +230,7 @@ Status RotationsFromTriple(const Measurements& centered, int num_bases,
   // A segment whose summed least-squares scale against the rigid shape is
   // negative is seen turned by 180° about the optical axis.
   for (int round = 0; round < kSignRounds; ++round) {
-    const Eigen::Matrix3Xd shape = FitRigidShape(centered.W, *rotations, *scales);
+    const Eigen::Matrix3Xd shape = FitRigidShape(centered, *rotations, *scales);
     for (std::size_t s = 0; s + 1 < segment_start.size(); ++s) {
       double scale_sum = 0.0;
       for (int t = segment_start[s]; t < segment_start[s + 1]; ++t) {
@@ -249,7 +253,7 @@ Status RotationsFromTriple(const Measurements& centered, int num_bases,
       }
     }
   }
-  *rigid_shape = FitRigidShape(centered.W, *rotations, *scales);
+  *rigid_shape = FitRigidShape(centered, *rotations, *scales);
   return Status::OK();
 }
 

@@ -144,29 +144,46 @@ Eigen::Matrix3d MeanRelativeRotation(const Model& model) {
   return NearestRotation(sum);
 }
 
+// The shoe sequence of `shoe`, started with K = 4 and refined twice from the
+// same start: `off` with default options (100 iterations), `on` with `with`
+// (its other fields as off's). Fails the test when a step fails.
+struct WithoutAndWith {
+  SyntheticSequence sequence;
+  Model off, on;
+};
+void RefineShoeWithoutAndWith(const ShoeOptions& shoe, RefineOptions with,
+                              WithoutAndWith* out) {
+  ASSERT_TRUE(GenerateShoe(shoe, &out->sequence).ok());
+  InitializeOptions init;
+  init.num_bases = 4;
+  Model start;
+  InitializeSummary init_summary;
+  ASSERT_TRUE(Initialize(init, out->sequence.measurements, &start, &init_summary).ok());
+  RefineOptions without;
+  without.max_iterations = 100;
+  with.max_iterations = 100;
+  RefineSummary summary;
+  out->off = start;
+  ASSERT_TRUE(Refine(without, out->sequence.measurements, &out->off, &summary).ok());
+  ASSERT_TRUE(summary.usable) << summary.message;
+  out->on = start;
+  ASSERT_TRUE(Refine(with, out->sequence.measurements, &out->on, &summary).ok());
+  ASSERT_TRUE(summary.usable) << summary.message;
+}
+
 TEST(ExtraTerms, RigidityRecoversTheRigAndImprovesTheShapes) {
   ShoeOptions shoe;
   shoe.num_frames = 60;
   shoe.noise_stddev = 0.01;
   shoe.seed = 3;
-  SyntheticSequence s;
-  ASSERT_TRUE(GenerateShoe(shoe, &s).ok());
-  InitializeOptions init;
-  init.num_bases = 4;
-  Model start;
-  InitializeSummary init_summary;
-  ASSERT_TRUE(Initialize(init, s.measurements, &start, &init_summary).ok());
-
-  RefineOptions options;
-  options.max_iterations = 100;
-  RefineSummary summary;
-  Model off = start;
-  ASSERT_TRUE(Refine(options, s.measurements, &off, &summary).ok());
-  ASSERT_TRUE(summary.usable) << summary.message;
-  options.rigidity_weight = 100.0;
-  Model on = start;
-  ASSERT_TRUE(Refine(options, s.measurements, &on, &summary).ok());
-  ASSERT_TRUE(summary.usable) << summary.message;
+  RefineOptions with;
+  with.rigidity_weight = 100.0;
+  WithoutAndWith run;
+  RefineShoeWithoutAndWith(shoe, with, &run);
+  if (HasFatalFailure()) return;
+  const SyntheticSequence& s = run.sequence;
+  const Model& off = run.off;
+  const Model& on = run.on;
 
   const Eigen::Matrix3d rig_truth = AngleAxisToRotation(s.truth.rig_rotations.col(0));
   const double rig_on =
@@ -192,28 +209,18 @@ TEST(ExtraTerms, TemporalPriorLowersTheErrorOnSmoothNoisyData) {
   shoe.noise_stddev = 0.02;
   shoe.self_occlusion = false;
   shoe.seed = 2;
-  SyntheticSequence s;
-  ASSERT_TRUE(GenerateShoe(shoe, &s).ok());
-  InitializeOptions init;
-  init.num_bases = 4;
-  Model start;
-  InitializeSummary init_summary;
-  ASSERT_TRUE(Initialize(init, s.measurements, &start, &init_summary).ok());
-
-  RefineOptions options;
-  options.max_iterations = 100;
-  RefineSummary summary;
-  Model off = start;
-  ASSERT_TRUE(Refine(options, s.measurements, &off, &summary).ok());
-  ASSERT_TRUE(summary.usable) << summary.message;
   // The rotation prior penalises the turn between frames, so it biases
   // towards slower motion: its weight must stay far below the weights'
   // (docs/extra_terms.md).
-  options.temporal_weights_weight = 100.0;
-  options.temporal_rotations_weight = 0.3;
-  Model on = start;
-  ASSERT_TRUE(Refine(options, s.measurements, &on, &summary).ok());
-  ASSERT_TRUE(summary.usable) << summary.message;
+  RefineOptions with;
+  with.temporal_weights_weight = 100.0;
+  with.temporal_rotations_weight = 0.3;
+  WithoutAndWith run;
+  RefineShoeWithoutAndWith(shoe, with, &run);
+  if (HasFatalFailure()) return;
+  const SyntheticSequence& s = run.sequence;
+  const Model& off = run.off;
+  const Model& on = run.on;
   const std::vector<Eigen::Matrix3Xd> truth = CameraFrameShapes(s.truth, 0);
   const double e3d_off = ComputeE3D(truth, CameraFrameShapes(off, 0));
   const double e3d_on = ComputeE3D(truth, CameraFrameShapes(on, 0));
