@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -83,28 +84,52 @@ RunOutcome ReconstructAndEvaluate(const ReconstructOptions& options,
   return outcome;
 }
 
+void ParallelFor(int count, int jobs, const std::function<void(int)>& body) {
+  if (jobs <= 1 || count <= 1) {
+    for (int i = 0; i < count; ++i) body(i);
+    return;
+  }
+  std::atomic<int> next{0};
+  std::vector<std::thread> threads;
+  for (int j = 0; j < std::min(jobs, count); ++j) {
+    threads.emplace_back([&next, count, &body]() {
+      for (int i; (i = next.fetch_add(1)) < count;) body(i);
+    });
+  }
+  for (std::thread& thread : threads) thread.join();
+}
+
 SweepResult SweepK(
     const std::function<Status(std::uint64_t seed, SyntheticSequence*)>& make,
     const std::vector<int>& ks, int runs,
-    const std::function<ReconstructOptions(int num_bases)>& options) {
+    const std::function<ReconstructOptions(int num_bases)>& options, int jobs) {
   SweepResult sweep;
   std::vector<SyntheticSequence> sequences(runs);
   std::vector<Status> made(runs);
   for (int r = 0; r < runs; ++r) {
     made[r] = make(static_cast<std::uint64_t>(r + 1), &sequences[r]);
   }
-  for (int k : ks) {
+  // Outcome of K = ks[i], run r at index i * runs + r.
+  std::vector<RunOutcome> outcomes(ks.size() * runs);
+  ParallelFor(static_cast<int>(outcomes.size()), jobs, [&](int index) {
+    const int k = ks[index / runs];
+    const int r = index % runs;
+    RunOutcome& o = outcomes[index];
+    if (made[r].ok()) {
+      o = ReconstructAndEvaluate(options(k), sequences[r].measurements,
+                                 TruthShapes(sequences[r].truth));
+      o.model = Model();  // not needed here; keeps the sweep's memory small
+    } else {
+      o.message = made[r].message();
+    }
+  });
+  for (size_t i = 0; i < ks.size(); ++i) {
+    const int k = ks[i];
     SweepPoint point;
     point.num_bases = k;
     std::vector<double> e3d_pct, z_pct, e3d, seconds;
     for (int r = 0; r < runs; ++r) {
-      RunOutcome o;
-      if (made[r].ok()) {
-        o = ReconstructAndEvaluate(options(k), sequences[r].measurements,
-                                   TruthShapes(sequences[r].truth));
-      } else {
-        o.message = made[r].message();
-      }
+      const RunOutcome& o = outcomes[i * runs + r];
       Json j;
       j["num_bases"] = k;
       j["seed"] = r + 1;

@@ -28,13 +28,15 @@ using Json = nlohmann::ordered_json;
 // What every suite reads (from the gflags of bench/nrsfm_bench.cc).
 struct BenchConfig {
   bool full = false;          // the paper-sized run (e.g. R = 30) instead of the reduced default
+  bool quick = false;         // the default run of every suite (--suite=default): smaller still
   int runs = 0;               // R, random runs per setting; 0 = the suite's default
   std::string datasets_dir;   // folder with the mocap .mat files ("" = none)
   std::string output_dir;     // JSON and plots go here
   int threads = 1;            // Ceres threads
   bool plots = true;          // write plots when gnuplot is available
   std::string mocap_sequences;  // comma-separated file stems to run ("" = all)
-  double mocap_max_seconds = 0;  // wall-time cap of each mocap refinement, 0 = none
+  double max_seconds = 0;     // wall-time cap of each shoe and mocap refinement, 0 = none
+  int jobs = 1;               // reconstructions run at once (the scale suite: always 1)
   int max_iterations = 0;       // LM iterations per refinement, 0 = the library default
   std::string strategy = "triple+ts";  // mocap: plain | triple/ts/ms/c2f joined by '+' | all
 };
@@ -93,10 +95,17 @@ struct SweepResult {
   std::vector<SweepPoint> points;
   Json runs = Json::array();  // every run
 };
+// The (K, run) reconstructions run `jobs` at a time; results are collected
+// in order, so the output does not depend on `jobs` (the times do: runs
+// that share the machine take longer).
 SweepResult SweepK(
     const std::function<Status(std::uint64_t seed, SyntheticSequence*)>& make,
     const std::vector<int>& ks, int runs,
-    const std::function<ReconstructOptions(int num_bases)>& options);
+    const std::function<ReconstructOptions(int num_bases)>& options, int jobs);
+
+// Calls body(0) … body(count − 1) on min(jobs, count) threads (jobs ≤ 1: in
+// order on this thread). Each call must write only its own outputs.
+void ParallelFor(int count, int jobs, const std::function<void(int)>& body);
 
 // Camera-0 ground truth of a synthetic model (ShapeInCamera(t, 0)).
 std::vector<Eigen::Matrix3Xd> TruthShapes(const Model& truth);

@@ -1,6 +1,6 @@
 // nrsfm_bench: the benchmark suites (issue 7). With no flags it runs the
-// reduced default (a few minutes on 2 cores): paper-random with R = 1,
-// superquadric, shoe (monocular and two cameras), mocap at the published K
+// reduced default (a few minutes on 2 cores, --jobs=2): paper-random with R = 1,
+// superquadric, shoe at K = 4 (monocular and two cameras), mocap at the published K
 // when ../shared/datasets exists, and a small scale sweep.
 //
 //   --suite=default|paper-random|superquadric|shoe|mocap|scale|all
@@ -11,7 +11,9 @@
 //   --threads         Ceres threads
 //   --plots           write plots (gnuplot, SVG); skipped with a note if absent
 //   --mocap_sequences comma-separated .mat stems (default: every file)
-//   --mocap_max_seconds  wall-time cap of each mocap refinement (default 60)
+//   --max_seconds     wall-time cap of each shoe and mocap refinement (default
+//                     run: 30; one suite alone or --full: none)
+//   --jobs            reconstructions run at once (default 2)
 //   --max_iterations  LM iterations per refinement (default: the library's)
 //   --strategy        mocap: plain | triple, ts, ms, c2f joined by '+' | all
 //
@@ -20,6 +22,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -40,9 +43,13 @@ DEFINE_int32(threads, 1, "Ceres threads per reconstruction");
 DEFINE_bool(plots, true, "write plots with gnuplot (SVG)");
 DEFINE_string(mocap_sequences, "",
               "comma-separated .mat stems the mocap suite runs ('' = all)");
-DEFINE_double(mocap_max_seconds, 60.0,
-              "wall-time cap (s) of each mocap refinement so the default run "
-              "stays short; 0 = none");
+DEFINE_double(max_seconds, 30.0,
+              "wall-time cap of each shoe and mocap refinement in seconds in "
+              "the default run (0 = none); one suite alone (--suite=shoe, "
+              "mocap) or --full runs uncapped unless this flag is given");
+DEFINE_int32(jobs, 2,
+             "reconstructions run at once (paper-random, superquadric, shoe, "
+             "mocap; the scale suite always runs one at a time)");
 DEFINE_int32(max_iterations, 0,
              "LM iterations per refinement (0 = the library default)");
 DEFINE_string(strategy, "triple+ts",
@@ -90,11 +97,24 @@ int main(int argc, char** argv) {
   config.strategy = FLAGS_strategy;
   config.mocap_sequences = FLAGS_mocap_sequences;
   config.max_iterations = FLAGS_max_iterations;
-  config.mocap_max_seconds = FLAGS_mocap_max_seconds;
+  config.quick = FLAGS_suite == "default" && !FLAGS_full;
+  config.max_seconds = FLAGS_max_seconds;
+  if (!config.quick &&
+      gflags::GetCommandLineFlagInfoOrDie("max_seconds").is_default) {
+    config.max_seconds = 0.0;
+  }
+  config.jobs = FLAGS_jobs;
   nrsfm::bench::SetDefaultMaxIterations(FLAGS_max_iterations);
-  if (FLAGS_runs < 0 || FLAGS_threads < 1 || FLAGS_mocap_max_seconds < 0) {
-    std::cerr << "error: --runs and --mocap_max_seconds must be >= 0, --threads >= 1\n";
-    return 2;
+  {
+    std::ostringstream bad;
+    if (FLAGS_runs < 0) bad << "--runs must be >= 0, got " << FLAGS_runs;
+    else if (FLAGS_threads < 1) bad << "--threads must be >= 1, got " << FLAGS_threads;
+    else if (FLAGS_jobs < 1) bad << "--jobs must be >= 1, got " << FLAGS_jobs;
+    else if (!(FLAGS_max_seconds >= 0)) bad << "--max_seconds must be >= 0, got " << FLAGS_max_seconds;
+    if (!bad.str().empty()) {
+      std::cerr << "error: " << bad.str() << "\n";
+      return 2;
+    }
   }
   bool strategy_ok = FLAGS_strategy == "plain" || FLAGS_strategy == "all";
   if (!strategy_ok && !FLAGS_strategy.empty()) {

@@ -58,7 +58,7 @@ Status RunPaperRandomSuite(const BenchConfig& config, Json* out) {
     const auto options = [&config](int k) {
       return DefaultReconstructOptions(k, config.threads);
     };
-    const SweepResult sweep = SweepK(make, KValues(n, config.full), runs, options);
+    const SweepResult sweep = SweepK(make, KValues(n, config.full), runs, options, config.jobs);
     PlotSeries s3d{std::to_string(n) + " bases", {}, {}};
     PlotSeries sz = s3d;
     for (const SweepPoint& p : sweep.points) {

@@ -32,7 +32,7 @@ Status RunSuperquadricSuite(const BenchConfig& config, Json* out) {
   const auto options = [&config](int k) {
     return DefaultReconstructOptions(k, config.threads);
   };
-  const SweepResult sweep = SweepK(make, ks, runs, options);
+  const SweepResult sweep = SweepK(make, ks, runs, options, config.jobs);
   Table table({"K", "median 3D err %", "median z err %", "median e3D",
                "median s", "failed"});
   PlotSpec plot{"superquadric_error", "superquadric: median error (001 Fig. 5c)",
