@@ -16,6 +16,28 @@ Eigen::VectorXi Measurements::VisiblePerPoint() const {
   return visible.colwise().count().cast<int>().matrix().transpose();
 }
 
+double Measurements::ImageSpreadRms() const {
+  double sum = 0.0;
+  int count = 0;
+  for (int view = 0; view < NumViews(); ++view) {
+    Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+    int n = 0;
+    for (int p = 0; p < num_points; ++p) {
+      if (!visible(view, p)) continue;
+      centroid += W.block<2, 1>(2 * view, p);
+      ++n;
+    }
+    if (n == 0) continue;
+    centroid /= n;
+    for (int p = 0; p < num_points; ++p) {
+      if (!visible(view, p)) continue;
+      sum += (W.block<2, 1>(2 * view, p) - centroid).squaredNorm();
+      ++count;
+    }
+  }
+  return count > 0 ? std::sqrt(sum / count) : 0.0;
+}
+
 Status Measurements::FromMatrixWithNaN(const Eigen::MatrixXd& w,
                                        int num_cameras,
                                        const std::string& name,

@@ -46,6 +46,10 @@ struct Measurements {
   Eigen::VectorXi VisiblePerView() const;
   Eigen::VectorXi VisiblePerPoint() const;
   bool IsComplete() const { return visible.all(); }
+  // The spread of the data, the scale of reprojection errors: the RMS
+  // distance of the visible observations from the centroid of their view's
+  // visible observations, in input units (0 when nothing is visible).
+  double ImageSpreadRms() const;
 
   // Builds measurements from a (2·F·M) × P matrix where NaN marks a missing
   // entry. Both coordinates of an observation must be NaN or both finite.

@@ -5,14 +5,14 @@
 #include <iterator>
 #include <limits>
 #include <numeric>
-#include <random>
-#include <sstream>
-#include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <glog/logging.h>
+
+#include "core/option_checker.h"
+#include "core/random.h"
 
 namespace nrsfm {
 namespace {
@@ -27,46 +27,6 @@ enum Stream : std::uint64_t {
   kMotionStream = 2,
   kNoiseStream = 3,
   kMissingStream = 4,
-};
-
-// std::mt19937_64 is specified bit for bit by the standard; the conversions to
-// doubles are our own because the std distributions are implementation-defined.
-class Random {
- public:
-  Random(std::uint64_t seed, Stream stream)
-      : engine_(SplitMix64(seed + 0x9E3779B97F4A7C15ULL * stream)) {}
-
-  // Uniform in [0, 1), 53 random bits.
-  double Uniform() { return static_cast<double>(engine_() >> 11) * 0x1.0p-53; }
-  double Uniform(double lo, double hi) { return lo + (hi - lo) * Uniform(); }
-  // Standard normal (Box-Muller; both values of a pair are used).
-  double Normal() {
-    if (has_spare_) {
-      has_spare_ = false;
-      return spare_;
-    }
-    const double radius = std::sqrt(-2.0 * std::log(1.0 - Uniform()));
-    const double angle = 2.0 * kPi * Uniform();
-    spare_ = radius * std::sin(angle);
-    has_spare_ = true;
-    return radius * std::cos(angle);
-  }
-  // Uniform in {0, …, n − 1} (modulo bias below 2⁻³², irrelevant here).
-  int Index(int n) {
-    return static_cast<int>(engine_() % static_cast<std::uint64_t>(n));
-  }
-
- private:
-  static std::uint64_t SplitMix64(std::uint64_t x) {
-    x += 0x9E3779B97F4A7C15ULL;
-    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ULL;
-    x = (x ^ (x >> 27)) * 0x94D049BB133111EBULL;
-    return x ^ (x >> 31);
-  }
-
-  std::mt19937_64 engine_;
-  bool has_spare_ = false;
-  double spare_ = 0.0;
 };
 
 // A smooth signal in [−1, 1] over tau ∈ [0, 1]: two sinusoids of random phase
@@ -194,43 +154,6 @@ void FillMeasurements(const Model& truth, const VisibilityMask& visible,
     }
   }
 }
-
-// Shared checks of the option structs; `what` names the struct.
-class OptionChecker {
- public:
-  explicit OptionChecker(const char* what) : what_(what) {}
-  void AtLeast(const char* name, double value, double min) {
-    if (!(value >= min)) Fail(name, value, "must be >= " + Format(min));
-  }
-  void FiniteAtLeast(const char* name, double value, double min) {
-    if (!(std::isfinite(value) && value >= min)) {
-      Fail(name, value, "must be finite and >= " + Format(min));
-    }
-  }
-  void InRange(const char* name, double value, double lo, double hi,
-               bool hi_open) {
-    if (!(value >= lo && (hi_open ? value < hi : value <= hi))) {
-      Fail(name, value,
-           "must be in [" + Format(lo) + ", " + Format(hi) +
-               (hi_open ? ")" : "]"));
-    }
-  }
-  Status status() const { return status_; }
-
- private:
-  static std::string Format(double x) {
-    std::ostringstream s;
-    s << x;
-    return s.str();
-  }
-  void Fail(const char* name, double value, const std::string& rule) {
-    if (!status_.ok()) return;  // Report the first problem.
-    status_ = Status::Error(std::string(what_) + ": " + name + " " + rule +
-                            ", got " + Format(value));
-  }
-  const char* what_;
-  Status status_;
-};
 
 // ---- Shoe geometry (object frame: x from heel −0.5 to toe +0.5, y up, the
 // sole at y = kSoleY, z lateral (−) to medial (+); camera 0 at rest looks

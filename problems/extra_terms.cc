@@ -12,30 +12,6 @@
 
 namespace nrsfm {
 
-double ImageRadius(const Measurements& measurements) {
-  double sum = 0.0;
-  long count = 0;
-  const Measurements& m = measurements;
-  for (int view = 0; view < m.NumViews(); ++view) {
-    const int row = 2 * view;
-    Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
-    int seen = 0;
-    for (int p = 0; p < m.num_points; ++p) {
-      if (!m.visible(view, p)) continue;
-      centroid += m.W.block<2, 1>(row, p);
-      ++seen;
-    }
-    if (seen < 2) continue;
-    centroid /= seen;
-    for (int p = 0; p < m.num_points; ++p) {
-      if (!m.visible(view, p)) continue;
-      sum += (m.W.block<2, 1>(row, p) - centroid).squaredNorm();
-      ++count;
-    }
-  }
-  return count > 0 ? std::sqrt(sum / count) : 0.0;
-}
-
 Status AddExtraTerms(const ProblemOptions& options, ProblemBuilder* builder,
                      ExtraTermCounts* counts) {
   CHECK(builder != nullptr);
@@ -114,7 +90,7 @@ Status AddExtraTerms(const ProblemOptions& options, ProblemBuilder* builder,
   }
   if (options.rotation_acceleration_weight > 0.0) {
     const double scale =
-        std::sqrt(options.rotation_acceleration_weight) * ImageRadius(m);
+        std::sqrt(options.rotation_acceleration_weight) * m.ImageSpreadRms();
     for (int t = 1; t + 1 < num_frames; ++t) {
       for (int c = 0; c < num_cameras; ++c) {
         problem.AddResidualBlock(RotationAccelerationError::Create(scale), nullptr,

@@ -41,11 +41,6 @@ struct ExtraTermCounts {
   int reference_frame = -1;    // frame of the Delaunay triangulation (-1: no smoothness)
 };
 
-// σ of the angular-acceleration prior: the RMS distance of the visible
-// observations from their view's centroid, in input units (0 when no view
-// sees two points).
-double ImageRadius(const Measurements& measurements);
-
 // Adds the residual blocks of every term whose weight is non-zero to the
 // builder's problem; call after builder->AddReprojectionTerms(options).
 // Errors (adding nothing) on invalid options, on rigidity_weight > 0 with

@@ -10,10 +10,12 @@
 
 #include <ceres/ordered_groups.h>
 
+#include "core/enum_names.h"
+
 namespace nrsfm {
 namespace {
 
-const std::pair<LinearSolverChoice, const char*> kNames[] = {
+constexpr EnumName<LinearSolverChoice> kLinearSolverNames[] = {
     {LinearSolverChoice::kAuto, "auto"},
     {LinearSolverChoice::kDenseSchur, "dense_schur"},
     {LinearSolverChoice::kSparseSchur, "sparse_schur"},
@@ -39,23 +41,11 @@ std::string Gigabytes(double bytes) {
 }  // namespace
 
 Status ParseLinearSolver(const std::string& name, LinearSolverChoice* choice) {
-  std::string valid;
-  for (const auto& [value, value_name] : kNames) {
-    if (name == value_name) {
-      *choice = value;
-      return Status::OK();
-    }
-    valid += (valid.empty() ? "" : ", ") + std::string(value_name);
-  }
-  return Status::Error("linear solver: unknown value \"" + name +
-                       "\" (expected one of " + valid + ")");
+  return ParseName(kLinearSolverNames, name, "linear solver", choice);
 }
 
-std::string LinearSolverName(LinearSolverChoice choice) {
-  for (const auto& [value, value_name] : kNames) {
-    if (value == choice) return value_name;
-  }
-  return "unknown";
+const char* LinearSolverName(LinearSolverChoice choice) {
+  return NameOf(kLinearSolverNames, choice);
 }
 
 ProblemStructure DescribeProblem(ProblemBuilder* builder) {

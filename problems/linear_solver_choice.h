@@ -96,7 +96,7 @@ enum class LinearSolverChoice {
 // "auto", "dense_schur", "sparse_schur", "iterative_schur",
 // "sparse_normal_cholesky", "cgnr", "dense_qr"; an error lists them.
 Status ParseLinearSolver(const std::string& name, LinearSolverChoice* choice);
-std::string LinearSolverName(LinearSolverChoice choice);
+const char* LinearSolverName(LinearSolverChoice choice);
 
 // What the rule and the memory checks look at (free parameters only).
 struct ProblemStructure {

@@ -6,11 +6,18 @@
 
 #include <glog/logging.h>
 
+#include "core/enum_names.h"
 #include "problems/reprojection_cost_function.h"
 #include "problems/reprojection_error.h"
 
 namespace nrsfm {
 namespace {
+
+constexpr EnumName<RobustLoss> kRobustLossNames[] = {
+    {RobustLoss::kNone, "none"},
+    {RobustLoss::kHuber, "huber"},
+    {RobustLoss::kCauchy, "cauchy"},
+};
 
 template <int K>
 ceres::CostFunction* CreateFixedK(bool with_scale,
@@ -30,30 +37,10 @@ ceres::Problem::Options MakeProblemOptions() {
 }  // namespace
 
 Status ParseRobustLoss(const std::string& name, RobustLoss* loss) {
-  if (name == "none") {
-    *loss = RobustLoss::kNone;
-  } else if (name == "huber") {
-    *loss = RobustLoss::kHuber;
-  } else if (name == "cauchy") {
-    *loss = RobustLoss::kCauchy;
-  } else {
-    return Status::Error("robust loss: unknown value \"" + name +
-                         "\" (expected none, huber or cauchy)");
-  }
-  return Status::OK();
+  return ParseName(kRobustLossNames, name, "robust loss", loss);
 }
 
-std::string RobustLossName(RobustLoss loss) {
-  switch (loss) {
-    case RobustLoss::kNone:
-      return "none";
-    case RobustLoss::kHuber:
-      return "huber";
-    case RobustLoss::kCauchy:
-      return "cauchy";
-  }
-  return "unknown";
-}
+const char* RobustLossName(RobustLoss loss) { return NameOf(kRobustLossNames, loss); }
 
 Status ProblemOptions::Check() const {
   if (!(robust_scale > 0.0) || !std::isfinite(robust_scale)) {

@@ -56,7 +56,7 @@ enum class RobustLoss {
 };
 // "none", "huber", "cauchy" (lower case); an error names the bad value.
 Status ParseRobustLoss(const std::string& name, RobustLoss* loss);
-std::string RobustLossName(RobustLoss loss);
+const char* RobustLossName(RobustLoss loss);
 
 struct ProblemOptions {
   // Blocks held constant (each kind is all-or-nothing), e.g. refine the basis

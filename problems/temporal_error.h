@@ -8,7 +8,7 @@
 //              one block per point p, S_t = Σ_k l_tk S_k in the object frame
 //   angular acceleration, t = 1 … F − 2, one block per camera c:
 //              r = sqrt(λ_A) · σ · ( log(R_{t+1} R_tᵀ) − log(R_t R_{t−1}ᵀ) ),
-//              3 residuals; σ = the data's image radius (ImageRadius in
+//              3 residuals; σ = the spread of the data (Measurements::ImageSpreadRms,
 //              problems/extra_terms.h), so λ_A is dimensionless
 //
 // l_t the frame's basis weights (Model::weights.col(t), dimensionless), ω_tc

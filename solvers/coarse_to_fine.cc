@@ -7,13 +7,14 @@
 
 #include <glog/logging.h>
 
-#include "solvers/normal_source.h"
+#include "core/random.h"
+
 
 namespace nrsfm {
 namespace {
 
 // `model` with one more basis shape: S_{K+1} = 0, weights stddev · N(0, 1).
-Model AppendBasis(const Model& model, double stddev, NormalSource* normal) {
+Model AppendBasis(const Model& model, double stddev, Random* normal) {
   Model grown;
   grown.Resize(model.num_frames, model.num_cameras, model.num_points,
                model.num_bases + 1);
@@ -25,7 +26,7 @@ Model AppendBasis(const Model& model, double stddev, NormalSource* normal) {
   const int k = model.num_bases;
   grown.weights.topRows(k) = model.weights;
   for (int t = 0; t < model.num_frames; ++t) {
-    grown.weights(k, t) = stddev * normal->Next();
+    grown.weights(k, t) = stddev * normal->NormalUnpaired();
   }
   grown.basis.topRows(3 * k) = model.basis;
   grown.basis.bottomRows(3).setZero();
@@ -47,7 +48,7 @@ Status RunOneStart(const ReconstructOptions& options,
   NRSFM_RETURN_IF_ERROR(Refine(coarse.refine, measurements,
                                     &result->model, &result->refine));
   if (!grow) return Status::OK();
-  NormalSource normal(robust.seed);
+  Random normal(robust.seed);
   for (int k = robust.start_num_bases + 1; k <= target; ++k) {
     const double weight_rms =
         std::sqrt(result->model.weights.squaredNorm() /

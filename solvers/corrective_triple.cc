@@ -8,13 +8,13 @@
 #include <ceres/cost_function.h>
 #include <ceres/problem.h>
 #include <ceres/solver.h>
-#include <Eigen/SVD>
 #include <glog/logging.h>
 
 #include "core/model.h"
+#include "core/random.h"
+#include "core/svd.h"
 #include "solvers/basis_weight_fit.h"
 #include "solvers/metric_upgrade.h"
-#include "solvers/normal_source.h"
 #include "solvers/pose_fit.h"
 
 namespace nrsfm {
@@ -120,7 +120,7 @@ Status SolveCorrectiveTriple(const Eigen::MatrixXd& q_hat,
     return Status::Error(msg.str());
   }
   *summary = CorrectiveTripleSummary();
-  NormalSource normal(options.seed);
+  Random normal(options.seed);
   double best_cost = std::numeric_limits<double>::infinity();
   for (int start = 0; start < options.num_starts; ++start) {
     Eigen::MatrixXd candidate(n, 3);
@@ -132,7 +132,7 @@ Status SolveCorrectiveTriple(const Eigen::MatrixXd& q_hat,
       candidate.topRows<3>() = rigid.g;
     } else {
       for (int j = 0; j < 3; ++j) {
-        for (int i = 0; i < n; ++i) candidate(i, j) = normal.Next();
+        for (int i = 0; i < n; ++i) candidate(i, j) = normal.NormalUnpaired();
       }
     }
     ceres::Problem problem;
@@ -185,12 +185,11 @@ Status RotationsFromTriple(const Measurements& centered, int num_bases,
         << ", F = " << f << ", P = " << centered.num_points;
     return Status::Error(msg.str());
   }
-  const Eigen::BDCSVD<Eigen::MatrixXd> svd(centered.W, Eigen::ComputeThinU);
-  NRSFM_RETURN_IF_ERROR(CheckRotationObservable(svd.singularValues())
+  const ThinSvd svd = ComputeThinSvd(centered.W, SingularVectors::kLeft);
+  NRSFM_RETURN_IF_ERROR(CheckRotationObservable(svd.singular_values)
                             .WithContext("corrective triple"));
   const Eigen::MatrixXd q_hat =
-      svd.matrixU().leftCols(r) *
-      svd.singularValues().head(r).cwiseSqrt().asDiagonal();
+      svd.u.leftCols(r) * svd.singular_values.head(r).cwiseSqrt().asDiagonal();
   Eigen::MatrixX3d g;
   NRSFM_RETURN_IF_ERROR(SolveCorrectiveTriple(q_hat, options, &g, summary));
 

@@ -5,9 +5,9 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
-#include <Eigen/SVD>
 #include <glog/logging.h>
 
+#include "core/svd.h"
 #include "solvers/metric_upgrade.h"
 #include "solvers/pose_fit.h"
 
@@ -29,14 +29,12 @@ Status FactorizationStart(const Measurements& centered, int num_bases,
   }
   *summary = FactorizationStartSummary();
 
-  const Eigen::BDCSVD<Eigen::MatrixXd> svd(
-      centered.W, Eigen::ComputeThinU | Eigen::ComputeThinV);
-  NRSFM_RETURN_IF_ERROR(CheckRotationObservable(svd.singularValues())
+  const ThinSvd svd = ComputeThinSvd(centered.W, SingularVectors::kBoth);
+  NRSFM_RETURN_IF_ERROR(CheckRotationObservable(svd.singular_values)
                             .WithContext("factorisation start"));
-  const Eigen::VectorXd root = svd.singularValues().head(r).cwiseSqrt();
-  const Eigen::MatrixXd q_hat = svd.matrixU().leftCols(r) * root.asDiagonal();
-  const Eigen::MatrixXd b_hat =
-      root.asDiagonal() * svd.matrixV().leftCols(r).transpose();
+  const Eigen::VectorXd root = svd.singular_values.head(r).cwiseSqrt();
+  const Eigen::MatrixXd q_hat = svd.u.leftCols(r) * root.asDiagonal();
+  const Eigen::MatrixXd b_hat = root.asDiagonal() * svd.v.leftCols(r).transpose();
 
   // Step 2: rank-1 factorisation of every reordered block.
   Eigen::MatrixXd l_hat(k, f);
@@ -48,11 +46,10 @@ Status FactorizationStart(const Measurements& centered, int num_bases,
       reordered.block<1, 3>(b, 0) = q_hat.block<1, 3>(2 * t, 3 * b);
       reordered.block<1, 3>(b, 3) = q_hat.block<1, 3>(2 * t + 1, 3 * b);
     }
-    const Eigen::JacobiSVD<Eigen::MatrixXd> block_svd(
-        reordered, Eigen::ComputeThinU | Eigen::ComputeThinV);
-    const Eigen::VectorXd& s = block_svd.singularValues();
-    l_hat.col(t) = s(0) * block_svd.matrixU().col(0);
-    const Eigen::VectorXd v = block_svd.matrixV().col(0);
+    const ThinSvd block_svd = ComputeJacobiSvd(reordered, SingularVectors::kBoth);
+    const Eigen::VectorXd& s = block_svd.singular_values;
+    l_hat.col(t) = s(0) * block_svd.u.col(0);
+    const Eigen::VectorXd v = block_svd.v.col(0);
     blocks.row(2 * t) = v.head<3>().transpose();
     blocks.row(2 * t + 1) = v.tail<3>().transpose();
     if (s.size() > 1 && s(0) > 0.0) defect_sum += s(1) / s(0);

@@ -6,6 +6,7 @@
 
 #include <glog/logging.h>
 
+#include "core/enum_names.h"
 #include "core/metrics.h"
 #include "solvers/factorization_start.h"
 #include "solvers/low_rank_completion.h"
@@ -14,6 +15,13 @@
 
 namespace nrsfm {
 namespace {
+
+constexpr EnumName<InitMethod> kInitMethodNames[] = {
+    {InitMethod::kAuto, "auto"},
+    {InitMethod::kFactorization, "factorization"},
+    {InitMethod::kRigid, "rigid"},
+    {InitMethod::kTriple, "triple"},
+};
 
 // The data every start works on.
 struct CenteredData {
@@ -158,32 +166,11 @@ StartOutcome RunStart(InitMethod method, const InitializeOptions& options,
 
 }  // namespace
 
-const char* InitMethodName(InitMethod m) {
-  switch (m) {
-    case InitMethod::kAuto:
-      return "auto";
-    case InitMethod::kFactorization:
-      return "factorization";
-    case InitMethod::kRigid:
-      return "rigid";
-    case InitMethod::kTriple:
-      return "triple";
-  }
-  return "unknown";
-}
+const char* InitMethodName(InitMethod m) { return NameOf(kInitMethodNames, m); }
 
 Status ParseInitMethod(const std::string& s, InitMethod* m) {
   CHECK(m != nullptr);
-  for (InitMethod candidate :
-       {InitMethod::kAuto, InitMethod::kFactorization, InitMethod::kRigid,
-        InitMethod::kTriple}) {
-    if (s == InitMethodName(candidate)) {
-      *m = candidate;
-      return Status::OK();
-    }
-  }
-  return Status::Error("unknown initialisation method \"" + s +
-                       "\"; valid: auto, factorization, rigid, triple");
+  return ParseName(kInitMethodNames, s, "start", m);
 }
 
 Status InitializeOptions::Check() const {

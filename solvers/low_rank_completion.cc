@@ -7,8 +7,9 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
-#include <Eigen/SVD>
 #include <glog/logging.h>
+
+#include "core/svd.h"
 
 namespace nrsfm {
 namespace {
@@ -203,8 +204,8 @@ Status CompleteLowRankAffine(const Measurements& measurements,
   }
   const double data_rms =
       std::sqrt(filled.squaredNorm() / (measurements.NumVisible() + 1e-300));
-  const Eigen::BDCSVD<Eigen::MatrixXd> svd(filled, Eigen::ComputeThinV);
-  Eigen::MatrixXd b = svd.matrixV().leftCols(r).transpose();
+  Eigen::MatrixXd b =
+      ComputeThinSvd(filled, SingularVectors::kRight).v.leftCols(r).transpose();
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(num_rows, r);
   Eigen::VectorXd t = Eigen::VectorXd::Zero(num_rows);
   NormalizeGauge(&a, &t, &b);  // a, t are set by the first row step

@@ -4,8 +4,9 @@
 #include <sstream>
 
 #include <Eigen/Eigenvalues>
-#include <Eigen/SVD>
 #include <glog/logging.h>
+
+#include "core/svd.h"
 
 namespace nrsfm {
 namespace {
@@ -70,8 +71,8 @@ Status SolveMetricUpgrade(const Eigen::MatrixX3d& blocks, MetricUpgrade* upgrade
   }
   normalisation /= static_cast<double>(used);
 
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(equations, Eigen::ComputeThinV);
-  const Eigen::VectorXd& sigma = svd.singularValues();
+  const ThinSvd svd = ComputeJacobiSvd(equations, SingularVectors::kRight);
+  const Eigen::VectorXd& sigma = svd.singular_values;
   upgrade->conditioning = sigma(0) > 0.0 ? sigma(4) / sigma(0) : 0.0;
   if (!(upgrade->conditioning >= kMinMetricConditioning)) {
     std::ostringstream msg;
@@ -82,7 +83,7 @@ Status SolveMetricUpgrade(const Eigen::MatrixX3d& blocks, MetricUpgrade* upgrade
            "unobservable";
     return Status::Error(msg.str());
   }
-  Eigen::Matrix<double, 6, 1> h = svd.matrixV().col(5);
+  Eigen::Matrix<double, 6, 1> h = svd.v.col(5);
   const double scale = normalisation.dot(h);
   if (!(std::abs(scale) > 1e-12)) {
     return Status::Error(

@@ -5,12 +5,12 @@
 #include <vector>
 
 #include <Eigen/LU>
-#include <Eigen/SVD>
 #include <glog/logging.h>
 
+#include "core/random.h"
+#include "core/svd.h"
 #include "solvers/basis_weight_fit.h"
 #include "solvers/metric_upgrade.h"
-#include "solvers/normal_source.h"
 #include "solvers/pose_fit.h"
 
 namespace nrsfm {
@@ -95,14 +95,13 @@ Status RigidStart(const Measurements& centered, int num_bases,
                               .WithContext("rigid start"));
   } else {
     // Tomasi-Kanade with the metric upgrade.
-    const Eigen::BDCSVD<Eigen::MatrixXd> svd(
-        centered.W, Eigen::ComputeThinU | Eigen::ComputeThinV);
+    const ThinSvd svd = ComputeThinSvd(centered.W, SingularVectors::kBoth);
     NRSFM_RETURN_IF_ERROR(
-        CheckRotationObservable(svd.singularValues()).WithContext("rigid start"));
-    const Eigen::Vector3d root = svd.singularValues().head<3>().cwiseSqrt();
-    const Eigen::MatrixX3d q_hat = svd.matrixU().leftCols<3>() * root.asDiagonal();
+        CheckRotationObservable(svd.singular_values).WithContext("rigid start"));
+    const Eigen::Vector3d root = svd.singular_values.head<3>().cwiseSqrt();
+    const Eigen::MatrixX3d q_hat = svd.u.leftCols<3>() * root.asDiagonal();
     const Eigen::Matrix3Xd b_hat =
-        root.asDiagonal() * svd.matrixV().leftCols<3>().transpose();
+        root.asDiagonal() * svd.v.leftCols<3>().transpose();
     MetricUpgrade upgrade;
     NRSFM_RETURN_IF_ERROR(
         SolveMetricUpgrade(q_hat, &upgrade).WithContext("rigid start"));
@@ -119,12 +118,12 @@ Status RigidStart(const Measurements& centered, int num_bases,
 
   // Step 2: the rigid model plus small random weights for the other bases.
   model->Resize(f, 1, p, k);
-  NormalSource normal(options.seed);
+  Random normal(options.seed);
   for (int t = 0; t < f; ++t) {
     model->SetRotation(t, 0, rotations[t]);
     model->weights(0, t) = scales[t];
     for (int b = 1; b < k; ++b) {
-      model->weights(b, t) = options.initial_deformation * normal.Next();
+      model->weights(b, t) = options.initial_deformation * normal.NormalUnpaired();
     }
   }
   model->SetBasisShape(0, rigid_shape);

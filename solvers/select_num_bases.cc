@@ -15,30 +15,6 @@ double NumFreeParameters(const Measurements& m, int k) {
          (static_cast<double>(k) * k + 3.0);
 }
 
-// RMS over visible entries of the distance of w_tcp to the per-view mean of
-// the visible points: the spread of W, in input units.
-double SpreadRms(const Measurements& m) {
-  double sum = 0.0;
-  int count = 0;
-  for (int view = 0; view < m.NumViews(); ++view) {
-    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-    int n = 0;
-    for (int p = 0; p < m.num_points; ++p) {
-      if (!m.visible(view, p)) continue;
-      mean += m.W.block<2, 1>(2 * view, p);
-      ++n;
-    }
-    if (n == 0) continue;
-    mean /= n;
-    for (int p = 0; p < m.num_points; ++p) {
-      if (!m.visible(view, p)) continue;
-      sum += (m.W.block<2, 1>(2 * view, p) - mean).squaredNorm();
-      ++count;
-    }
-  }
-  return count > 0 ? std::sqrt(sum / count) : 0.0;
-}
-
 }  // namespace
 
 Status SelectNumBasesOptions::Check() const {
@@ -118,7 +94,7 @@ Status SelectNumBases(const ReconstructOptions& options,
   const double rss = n_obs * 0.5 * std::pow(out.curve[reference].reprojection_rms, 2);
   const double dof = n_obs - NumFreeParameters(measurements, reference + 1);
   out.noise_stddev = std::sqrt(rss / std::max(dof, 1.0));
-  const double floor = select_options.relative_noise_floor * SpreadRms(measurements);
+  const double floor = select_options.relative_noise_floor * measurements.ImageSpreadRms();
 
   out.num_bases = reference + 1;
   for (auto& candidate : out.curve) {

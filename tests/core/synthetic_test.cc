@@ -6,10 +6,10 @@
 #include <string>
 
 #include <Eigen/Dense>
-#include <Eigen/SVD>
 #include <gtest/gtest.h>
 
 #include "core/rotation.h"
+#include "core/svd.h"
 
 namespace nrsfm {
 namespace {
@@ -19,7 +19,7 @@ constexpr double kDegToRad = kPi / 180.0;
 
 // Singular values of W, largest first (W must be complete).
 Eigen::VectorXd SingularValues(const Eigen::MatrixXd& w) {
-  return Eigen::BDCSVD<Eigen::MatrixXd>(w).singularValues();
+  return ComputeThinSvd(w, SingularVectors::kNone).singular_values;
 }
 
 // Largest |W − truth.Project| over the visible entries; also checks that the

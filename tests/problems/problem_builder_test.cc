@@ -323,7 +323,7 @@ TEST(ProblemBuilder, ErrorsInsteadOfAborts) {
   RobustLoss loss;
   EXPECT_TRUE(ParseRobustLoss("cauchy", &loss).ok());
   EXPECT_EQ(loss, RobustLoss::kCauchy);
-  EXPECT_EQ(RobustLossName(RobustLoss::kHuber), "huber");
+  EXPECT_STREQ(RobustLossName(RobustLoss::kHuber), "huber");
   const Status bad = ParseRobustLoss("tukey", &loss);
   EXPECT_FALSE(bad.ok());
   EXPECT_NE(bad.message().find("\"tukey\""), std::string::npos);

@@ -27,29 +27,6 @@ namespace {
 
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
 
-// RMS distance of the visible 2D points from their view's centroid: the
-// spread of the data, the scale for reprojection errors.
-double Spread(const Measurements& m) {
-  double sum = 0.0;
-  int count = 0;
-  for (int v = 0; v < m.NumViews(); ++v) {
-    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-    int n = 0;
-    for (int p = 0; p < m.num_points; ++p) {
-      if (!m.visible(v, p)) continue;
-      mean += m.W.block<2, 1>(2 * v, p);
-      ++n;
-    }
-    mean /= n;
-    for (int p = 0; p < m.num_points; ++p) {
-      if (!m.visible(v, p)) continue;
-      sum += (m.W.block<2, 1>(2 * v, p) - mean).squaredNorm();
-      ++count;
-    }
-  }
-  return std::sqrt(sum / count);
-}
-
 // RMS over frames of the 2D image of the non-rigid part Π R_t Σ_{k≥2} l_tk S_k
 // of the truth: the residual of the rigid model (R_t, l_t1 S_1), which is a
 // feasible rigid fit.
@@ -144,7 +121,7 @@ TEST(Initialize, NonRigidStartsTable) {
     for (int k = 2; k <= 5; ++k) {
       SCOPED_TRACE("K = " + std::to_string(k) + ", noise " + std::to_string(noise));
       const SyntheticSequence sequence = RandomSequence(150, 40, k, noise, 0.0, 1);
-      const double spread = Spread(sequence.measurements);
+      const double spread = sequence.measurements.ImageSpreadRms();
       InitializeOptions options;
       options.num_bases = k;
       double rms[2] = {0.0, 0.0};
@@ -225,7 +202,7 @@ TEST(Initialize, ThirtyPercentMissing) {
   options.num_bases = k;
   ASSERT_TRUE(Initialize(options, sequence.measurements, &model, &summary).ok());
   ASSERT_TRUE(model.Validate().ok());
-  const double spread = Spread(sequence.measurements);
+  const double spread = sequence.measurements.ImageSpreadRms();
   std::cout << "30 % missing, K = 3: kept " << InitMethodName(summary.used)
             << ", rms/spread " << summary.reprojection_rms / spread << ", e3D "
             << E3D(sequence, model) << "\n";
@@ -265,7 +242,7 @@ TEST(Initialize, TwoCamerasRecoverTheRigRotation) {
               << error_deg << " deg (baseline " << shoe.camera_baseline_deg
               << "), rig scale " << model.rig_scales(0) << " (truth "
               << sequence.truth.rig_scales(0) << "), kept " << InitMethodName(summary.used)
-              << ", rms/spread " << summary.reprojection_rms / Spread(sequence.measurements)
+              << ", rms/spread " << summary.reprojection_rms / sequence.measurements.ImageSpreadRms()
               << "\n";
     EXPECT_LT(error_deg, 5.0);
     EXPECT_NEAR(model.rig_scales(0), sequence.truth.rig_scales(0),
@@ -359,7 +336,7 @@ TEST(Initialize, TripleRecoversNoiseFreeNonRigidRotations) {
     const double e3d = E3D(sequence, model);
     std::cout << "triple K = " << k << ": rotation error " << rotation_error
               << ", e3D " << e3d << ", rms/spread "
-              << summary.reprojection_rms / Spread(sequence.measurements) << "\n";
+              << summary.reprojection_rms / sequence.measurements.ImageSpreadRms() << "\n";
     // Measured: rotation error 1.2e-7 / 1.8e-7 / 1.2e-7 and e3D 1.6e-7 /
     // 4.2e-6 / 7.6e-7 for K = 2 / 3 / 4 (LM tolerances of the triple solve).
     EXPECT_LT(rotation_error, 1e-6);

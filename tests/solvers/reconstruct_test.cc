@@ -29,29 +29,6 @@ SyntheticSequence Sequence(double noise, double missing) {
   return sequence;
 }
 
-// Spread of the data: RMS distance of the visible observations from the
-// centroid of their view, in input units.
-double DataSpread(const Measurements& m) {
-  double sum = 0.0;
-  int count = 0;
-  for (int view = 0; view < m.NumViews(); ++view) {
-    Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
-    int n = 0;
-    for (int p = 0; p < m.num_points; ++p) {
-      if (!m.visible(view, p)) continue;
-      centroid += m.W.block<2, 1>(2 * view, p);
-      ++n;
-    }
-    centroid /= n;
-    for (int p = 0; p < m.num_points; ++p) {
-      if (!m.visible(view, p)) continue;
-      sum += (m.W.block<2, 1>(2 * view, p) - centroid).squaredNorm();
-      ++count;
-    }
-  }
-  return std::sqrt(sum / count);
-}
-
 double E3D(const Model& truth, const Model& estimate) {
   return ComputeE3D(CameraFrameShapes(truth), CameraFrameShapes(estimate));
 }
@@ -64,7 +41,7 @@ ReconstructOptions Options() {
 
 TEST(Reconstruct, NoiseFreeIsExact) {
   const SyntheticSequence s = Sequence(0.0, 0.0);
-  const double spread = DataSpread(s.measurements);
+  const double spread = s.measurements.ImageSpreadRms();
   ReconstructResult result;
   ASSERT_TRUE(Reconstruct(Options(), s.measurements, &result).ok());
   EXPECT_TRUE(result.refine.usable) << result.refine.message;
@@ -83,7 +60,7 @@ TEST(Reconstruct, NoiseFreeIsExact) {
 // least-squares optimum near the truth (refinement started from the truth)
 // up to a factor 2 in e3D.
 TEST(Reconstruct, OnePercentNoiseIsWithinTwiceTheTrueModelRefit) {
-  const double spread = DataSpread(Sequence(0.0, 0.0).measurements);
+  const double spread = Sequence(0.0, 0.0).measurements.ImageSpreadRms();
   const SyntheticSequence s = Sequence(0.01 * spread, 0.0);
   ReconstructResult result;
   ASSERT_TRUE(Reconstruct(Options(), s.measurements, &result).ok());
@@ -110,7 +87,7 @@ TEST(Reconstruct, OnePercentNoiseIsWithinTwiceTheTrueModelRefit) {
 TEST(Reconstruct, ThirtyPercentMissingStillConverges) {
   const SyntheticSequence s = Sequence(0.0, 0.3);
   ASSERT_NEAR(s.measurements.NumVisible(), 0.7 * kFrames * kPoints, 2.0);
-  const double spread = DataSpread(s.measurements);
+  const double spread = s.measurements.ImageSpreadRms();
   ReconstructResult result;
   ASSERT_TRUE(Reconstruct(Options(), s.measurements, &result).ok());
   EXPECT_TRUE(result.refine.usable) << result.refine.message;

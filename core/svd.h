@@ -1,0 +1,33 @@
+// Thin singular value decompositions of dense matrices, A = U diag(σ) Vᵀ
+// with σ in decreasing order: the one owner of Eigen's dense dynamic-size
+// SVDs in the library (each instantiation of BDCSVD<MatrixXd> costs about a
+// minute of compile time in the sanitizer build; docs/performance.md).
+#ifndef NRSFM_CORE_SVD_H_
+#define NRSFM_CORE_SVD_H_
+
+#include <Eigen/Core>
+
+namespace nrsfm {
+
+// Which singular vectors to compute.
+enum class SingularVectors { kNone, kLeft, kRight, kBoth };
+
+struct ThinSvd {
+  Eigen::VectorXd singular_values;  // min(m, n) values, decreasing, ≥ 0
+  Eigen::MatrixXd u;  // m × min(m, n) with kLeft / kBoth, else empty
+  Eigen::MatrixXd v;  // n × min(m, n) with kRight / kBoth, else empty
+};
+
+// Divide and conquer (Eigen::BDCSVD), for large matrices (e.g. the 2F × P
+// tracks). Eigen itself uses one-sided Jacobi when A has fewer than 16
+// columns.
+ThinSvd ComputeThinSvd(const Eigen::MatrixXd& a, SingularVectors vectors);
+
+// Two-sided Jacobi (Eigen::JacobiSVD with column-pivoting QR
+// preconditioning), for small matrices (e.g. the metric upgrade's 2N × 6
+// equations): accurate to the last bits for any size, slow for large ones.
+ThinSvd ComputeJacobiSvd(const Eigen::MatrixXd& a, SingularVectors vectors);
+
+}  // namespace nrsfm
+
+#endif  // NRSFM_CORE_SVD_H_
