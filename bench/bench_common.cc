@@ -32,14 +32,14 @@ void SetDefaultMaxIterations(int max_iterations) {
 
 ReconstructOptions DefaultReconstructOptions(int num_bases, int threads) {
   ReconstructOptions options;
-  if (g_max_iterations > 0) options.refine.max_iterations = g_max_iterations;
-  options.init.num_bases = num_bases;
-  options.refine.num_threads = std::max(1, threads);
+  if (g_max_iterations > 0) options.solver.max_iterations = g_max_iterations;
+  options.start.num_bases = num_bases;
+  options.solver.num_threads = std::max(1, threads);
   return options;
 }
 
 bool EnableTwoCameraRigidity(ReconstructOptions* options) {
-  options->refine.rigidity_weight = kTwoCameraRigidityWeight;
+  options->problem.term_weights["rigidity"] = kTwoCameraRigidityWeight;
   return true;
 }
 
@@ -58,8 +58,8 @@ RunOutcome ReconstructAndEvaluate(const ReconstructOptions& options,
     outcome.message = status.message();
     return outcome;
   }
-  outcome.start = InitMethodName(result.init.used);
-  outcome.init_seconds = result.init.seconds;
+  outcome.start = StartMethodName(result.start.used);
+  outcome.init_seconds = result.start.seconds;
   outcome.refine_seconds = result.refine.seconds;
   outcome.total_seconds = result.total_seconds;
   outcome.iterations = result.refine.iterations;
@@ -69,7 +69,7 @@ RunOutcome ReconstructAndEvaluate(const ReconstructOptions& options,
           : 0.0;
   outcome.reprojection_rms = result.refine.usable
                                  ? result.refine.reprojection_rms
-                                 : result.init.reprojection_rms;
+                                 : result.start.reprojection_rms;
   outcome.linear_solver = result.refine.linear_solver;
   if (!result.refine.usable) {
     outcome.message = "refinement not usable: " + result.refine.message;

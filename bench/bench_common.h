@@ -61,7 +61,7 @@ struct RunOutcome {
   bool ok = false;              // Reconstruct() succeeded and the refinement is usable
   std::string message;          // why not
   ShapeErrors errors;           // core/metrics.h
-  std::string start;            // InitMethodName of the start kept
+  std::string start;            // StartMethodName of the start kept
   double init_seconds = 0;
   double refine_seconds = 0;
   double total_seconds = 0;

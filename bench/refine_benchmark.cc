@@ -93,13 +93,13 @@ double E3D(const SyntheticSequence& sequence, const Model& model) {
 void SolveOnce(const SyntheticSequence& sequence, const Model& start,
                LinearSolverChoice choice) {
   Model model = start;
-  RefineOptions options;
+  SolverOptions options;
   options.linear_solver = choice;
   options.max_iterations = FLAGS_max_iterations;
   options.max_seconds = FLAGS_max_seconds;
   options.num_threads = FLAGS_threads;
   RefineSummary summary;
-  const Status status = Refine(options, sequence.measurements, &model, &summary);
+  const Status status = Refine(ProblemOptions(), options, sequence.measurements, &model, &summary);
   const std::string name =
       LinearSolverName(choice) +
       (choice == LinearSolverChoice::kAuto ? "->" + summary.linear_solver
@@ -134,10 +134,10 @@ void SolverTable() {
     const int frames = std::stoi(fpk[0]), points = std::stoi(fpk[1]),
               bases = std::stoi(fpk[2]);
     const SyntheticSequence sequence = MakeSequence(frames, points, bases);
-    InitializeOptions init_options;
+    StartOptions init_options;
     init_options.num_bases = bases;
     Model start;
-    InitializeSummary init_summary;
+    StartSummary init_summary;
     const Clock::time_point init_start = Clock::now();
     const Status status =
         Initialize(init_options, sequence.measurements, &start, &init_summary);
@@ -146,7 +146,7 @@ void SolverTable() {
         "(F, P, K) = (%d, %d, %d), %d observations, noise %g; start %s in "
         "%.3f s: rms %.3e, e3D %.4f\n",
         frames, points, bases, sequence.measurements.NumVisible(), FLAGS_noise,
-        InitMethodName(init_summary.used), SecondsSince(init_start),
+        StartMethodName(init_summary.used), SecondsSince(init_start),
         ReprojectionRms(sequence.measurements, start), E3D(sequence, start));
     std::fflush(stdout);
     for (LinearSolverChoice choice : solvers) SolveOnce(sequence, start, choice);
@@ -187,8 +187,8 @@ void PrintReconstruct(const std::string& label, const Measurements& measurements
       "  refine time: build %.3f, preprocess %.3f, residuals %.3f, jacobians "
       "%.3f, linear solver %.3f, minimizer %.3f s\n  %s\n",
       label.c_str(), measurements.NumVisible(), result.total_seconds,
-      result.init.seconds, InitMethodName(result.init.used),
-      result.init.reprojection_rms, r.seconds, r.linear_solver.c_str(),
+      result.start.seconds, StartMethodName(result.start.used),
+      result.start.reprojection_rms, r.seconds, r.linear_solver.c_str(),
       r.iterations, r.iterations > 0 ? r.minimizer_seconds / r.iterations : 0.0,
       r.usable, r.initial_reprojection_rms, r.reprojection_rms, r.initial_cost,
       r.final_cost, r.build_seconds, r.preprocessor_seconds, r.residual_seconds,
@@ -201,9 +201,9 @@ void DrinkTiming() {
   const int bases = FLAGS_drink_bases;
   const SyntheticSequence sequence = MakeSequence(1102, 41, bases);
   ReconstructOptions options;
-  options.init.num_bases = bases;
-  options.refine.num_threads = FLAGS_threads;
-  options.refine.max_iterations = FLAGS_max_iterations;
+  options.start.num_bases = bases;
+  options.solver.num_threads = FLAGS_threads;
+  options.solver.max_iterations = FLAGS_max_iterations;
   ReconstructResult result;
   Status status = Reconstruct(options, sequence.measurements, &result);
   if (!status.ok()) Die(status);
@@ -226,8 +226,8 @@ void DrinkTiming() {
   GroundTruth truth;
   if (ReadGroundTruth(FLAGS_drink, "", &truth).ok()) {
     Model start;
-    InitializeSummary init_summary;
-    status = Initialize(options.init, drink, &start, &init_summary);
+    StartSummary init_summary;
+    status = Initialize(options.start, drink, &start, &init_summary);
     if (!status.ok()) Die(status);
     std::printf("  e3D vs the file's truth (%s): start %.4f, refined %.4f\n",
                 truth.source.c_str(),

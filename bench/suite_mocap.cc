@@ -71,9 +71,9 @@ RunOutcome RunStrategy(const std::string& strategy, int num_bases,
                        const BenchConfig& config, const Sequence& sequence) {
   ReconstructOptions options =
       DefaultReconstructOptions(num_bases, config.threads);
-  options.refine.max_seconds = config.max_seconds;
-  if (HasPart(strategy, "triple")) options.init.method = InitMethod::kTriple;
-  if (HasPart(strategy, "ts")) options.refine.temporal_shape_weight = kTemporalShapeWeight;
+  options.solver.max_seconds = config.max_seconds;
+  if (HasPart(strategy, "triple")) options.start.method = StartMethod::kTriple;
+  if (HasPart(strategy, "ts")) options.problem.term_weights["temporal_shape"] = kTemporalShapeWeight;
   if (!HasPart(strategy, "ms") && !HasPart(strategy, "c2f")) {
     return ReconstructAndEvaluate(options, sequence.measurements,
                                   sequence.truth);
@@ -91,9 +91,9 @@ RunOutcome RunStrategy(const std::string& strategy, int num_bases,
     outcome.message = status.message();
     return outcome;
   }
-  outcome.start = InitMethodName(result.init.used);
-  outcome.init_seconds = result.init.seconds;
-  outcome.refine_seconds = outcome.total_seconds - result.init.seconds;
+  outcome.start = StartMethodName(result.start.used);
+  outcome.init_seconds = result.start.seconds;
+  outcome.refine_seconds = outcome.total_seconds - result.start.seconds;
   outcome.iterations = result.refine.iterations;
   outcome.reprojection_rms = result.refine.reprojection_rms;
   outcome.linear_solver = result.refine.linear_solver;

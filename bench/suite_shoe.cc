@@ -55,8 +55,8 @@ Status RunShoeSuite(const BenchConfig& config, Json* out) {
     };
     const auto options = [&config, cameras](int k) {
       ReconstructOptions o = DefaultReconstructOptions(k, config.threads);
-      o.refine.smoothness_weight = kShoeSmoothnessWeight;
-      o.refine.max_seconds = config.max_seconds;
+      o.problem.term_weights["smoothness"] = kShoeSmoothnessWeight;
+      o.solver.max_seconds = config.max_seconds;
       if (cameras == 2) EnableTwoCameraRigidity(&o);
       return o;
     };

@@ -11,117 +11,170 @@
 #include "problems/temporal_error.h"
 
 namespace nrsfm {
+namespace {
+
+// One function per term: adds its residual blocks with weight λ > 0
+// (docs/problem.md has each residual).
+
+Status AddSmoothness(double weight, const ProblemOptions& options,
+                     ProblemBuilder* builder, int* num_blocks) {
+  std::vector<NeighbourEdge> edges;
+  NRSFM_RETURN_IF_ERROR(
+      ComputeDelaunayEdges(builder->measurements(), options.smoothness_edges, &edges));
+  const int num_bases = builder->model()->num_bases;
+  const double sqrt_weight = std::sqrt(weight);
+  for (const NeighbourEdge& edge : edges) {
+    builder->problem()->AddResidualBlock(
+        SmoothnessError::Create(num_bases, sqrt_weight, edge.alpha), nullptr,
+        builder->BasisBlock(edge.i), builder->BasisBlock(edge.j));
+    ++*num_blocks;
+  }
+  return Status::OK();
+}
+
+Status AddRigidity(double weight, const ProblemOptions&, ProblemBuilder* builder,
+                   int* num_blocks) {
+  const Model& model = *builder->model();
+  const double sqrt_weight = std::sqrt(weight);
+  for (int t = 0; t < model.num_frames; ++t) {
+    for (int c = 1; c < model.num_cameras; ++c) {
+      builder->problem()->AddResidualBlock(
+          RigidityError::Create(sqrt_weight), nullptr,
+          {builder->RotationBlock(t, c), builder->RotationBlock(t, 0),
+           builder->RigRotationBlock(c), builder->ScaleBlock(t, c),
+           builder->RigScaleBlock(c)});
+      ++*num_blocks;
+    }
+  }
+  return Status::OK();
+}
+
+Status AddTemporalWeights(double weight, const ProblemOptions&,
+                          ProblemBuilder* builder, int* num_blocks) {
+  const Model& model = *builder->model();
+  const double sqrt_weight = std::sqrt(weight);
+  for (int t = 1; t < model.num_frames; ++t) {
+    builder->problem()->AddResidualBlock(
+        WeightsTemporalError::Create(model.num_bases, sqrt_weight), nullptr,
+        builder->WeightsBlock(t), builder->WeightsBlock(t - 1));
+    ++*num_blocks;
+  }
+  return Status::OK();
+}
+
+Status AddTemporalRotations(double weight, const ProblemOptions&,
+                            ProblemBuilder* builder, int* num_blocks) {
+  const Model& model = *builder->model();
+  const double sqrt_weight = std::sqrt(weight);
+  for (int t = 1; t < model.num_frames; ++t) {
+    for (int c = 0; c < model.num_cameras; ++c) {
+      builder->problem()->AddResidualBlock(
+          RotationTemporalError::Create(sqrt_weight), nullptr,
+          builder->RotationBlock(t, c), builder->RotationBlock(t - 1, c));
+      ++*num_blocks;
+    }
+  }
+  return Status::OK();
+}
+
+Status AddTemporalShape(double weight, const ProblemOptions&,
+                        ProblemBuilder* builder, int* num_blocks) {
+  const Model& model = *builder->model();
+  const double sqrt_weight = std::sqrt(weight);
+  for (int t = 1; t < model.num_frames; ++t) {
+    for (int p = 0; p < model.num_points; ++p) {
+      builder->problem()->AddResidualBlock(
+          new ShapeTemporalError(model.num_bases, sqrt_weight), nullptr,
+          {builder->WeightsBlock(t), builder->WeightsBlock(t - 1),
+           builder->BasisBlock(p)});
+      ++*num_blocks;
+    }
+  }
+  return Status::OK();
+}
+
+Status AddRotationAcceleration(double weight, const ProblemOptions&,
+                               ProblemBuilder* builder, int* num_blocks) {
+  const Model& model = *builder->model();
+  const double scale =
+      std::sqrt(weight) * builder->measurements().ImageSpreadRms();
+  for (int t = 1; t + 1 < model.num_frames; ++t) {
+    for (int c = 0; c < model.num_cameras; ++c) {
+      builder->problem()->AddResidualBlock(
+          RotationAccelerationError::Create(scale), nullptr,
+          {builder->RotationBlock(t + 1, c), builder->RotationBlock(t, c),
+           builder->RotationBlock(t - 1, c)});
+      ++*num_blocks;
+    }
+  }
+  return Status::OK();
+}
+
+}  // namespace
+
+const std::vector<ExtraTerm>& ExtraTerms() {
+  // name, flag, units of λ, meaning, min_cameras, add.
+  static const std::vector<ExtraTerm> terms = {
+      {"smoothness", "smoothness", "dimensionless",
+       "Delaunay-neighbour smoothness of the basis, alpha_ij (b_i - b_j) per "
+       "edge: points seen in few frames (problems/smoothness_error.h)",
+       1, AddSmoothness},
+      {"rigidity", "rigidity", "(input units / rad)^2",
+       "multi-camera rigidity, log(R_tc R_t0^T R_rig,c^T) and s_tc - s_rig,c: "
+       "synchronised cameras on a rigid rig (problems/rigidity_error.h)",
+       2, AddRigidity},
+      {"temporal_weights", "temporal", "(input units)^2",
+       "temporal smoothness of the weights, l_t - l_(t-1): video-like input "
+       "(problems/temporal_error.h)",
+       1, AddTemporalWeights},
+      {"temporal_rotations", "temporal_rotations", "(input units / rad)^2",
+       "temporal smoothness of the rotations, log(R_t R_(t-1)^T); keep it far "
+       "below --temporal, it trades real rotation for deformation "
+       "(problems/temporal_error.h)",
+       1, AddTemporalRotations},
+      {"temporal_shape", "temporal_shape", "dimensionless",
+       "temporal smoothness of the 3D shape in the object frame, S_t - S_(t-1) "
+       "per point: video / motion capture with K near P/3 "
+       "(problems/temporal_error.h)",
+       1, AddTemporalShape},
+      {"rotation_acceleration", "rotation_acceleration", "dimensionless",
+       "constant angular velocity, log(R_(t+1) R_t^T) - log(R_t R_(t-1)^T), "
+       "scaled by the data's spread (problems/temporal_error.h)",
+       1, AddRotationAcceleration},
+  };
+  return terms;
+}
+
+const ExtraTerm* FindExtraTerm(const std::string& name) {
+  for (const ExtraTerm& term : ExtraTerms()) {
+    if (name == term.name) return &term;
+  }
+  return nullptr;
+}
 
 Status AddExtraTerms(const ProblemOptions& options, ProblemBuilder* builder,
-                     ExtraTermCounts* counts) {
+                     std::vector<int>* num_blocks) {
   CHECK(builder != nullptr);
-  CHECK(counts != nullptr);
-  *counts = ExtraTermCounts();
   NRSFM_RETURN_IF_ERROR(options.Check().WithContext("problem options"));
-  const Measurements& m = builder->measurements();
-  Model& model = *builder->model();
-  const int num_frames = model.num_frames;
-  const int num_cameras = model.num_cameras;
-  if (options.rigidity_weight > 0.0 && num_cameras < 2) {
-    return Status::Error(
-        "rigidity_weight > 0 needs multi-camera data (M >= 2), got M = " +
-        std::to_string(num_cameras));
-  }
-  std::vector<NeighbourEdge> edges;
-  if (options.smoothness_weight > 0.0) {
-    NRSFM_RETURN_IF_ERROR(
-        ComputeDelaunayEdges(m, options.smoothness_edges, &edges,
-                             &counts->reference_frame)
-            .WithContext("smoothness term"));
-  }
-  ceres::Problem& problem = *builder->problem();
-
-  const double sqrt_smoothness = std::sqrt(options.smoothness_weight);
-  for (const NeighbourEdge& edge : edges) {
-    problem.AddResidualBlock(
-        SmoothnessError::Create(model.num_bases, sqrt_smoothness, edge.alpha),
-        nullptr, builder->BasisBlock(edge.i), builder->BasisBlock(edge.j));
-    ++counts->smoothness;
-  }
-  if (options.rigidity_weight > 0.0) {
-    const double sqrt_weight = std::sqrt(options.rigidity_weight);
-    for (int t = 0; t < num_frames; ++t) {
-      for (int c = 1; c < num_cameras; ++c) {
-        problem.AddResidualBlock(
-            RigidityError::Create(sqrt_weight), nullptr,
-            {builder->RotationBlock(t, c), builder->RotationBlock(t, 0),
-             builder->RigRotationBlock(c), builder->ScaleBlock(t, c),
-             builder->RigScaleBlock(c)});
-        ++counts->rigidity;
-      }
+  const std::vector<ExtraTerm>& terms = ExtraTerms();
+  std::vector<int> counts(terms.size(), 0);
+  const int num_cameras = builder->model()->num_cameras;
+  for (const ExtraTerm& term : terms) {
+    if (options.TermWeight(term.name) > 0.0 && num_cameras < term.min_cameras) {
+      return Status::Error(std::string(term.name) + " term: needs data from M >= " +
+                           std::to_string(term.min_cameras) +
+                           " synchronised cameras, got M = " +
+                           std::to_string(num_cameras));
     }
   }
-  if (options.temporal_weights_weight > 0.0) {
-    const double sqrt_weight = std::sqrt(options.temporal_weights_weight);
-    for (int t = 1; t < num_frames; ++t) {
-      problem.AddResidualBlock(
-          WeightsTemporalError::Create(model.num_bases, sqrt_weight), nullptr,
-          builder->WeightsBlock(t), builder->WeightsBlock(t - 1));
-      ++counts->temporal_weights;
-    }
+  for (std::size_t i = 0; i < terms.size(); ++i) {
+    const double weight = options.TermWeight(terms[i].name);
+    if (weight == 0.0) continue;
+    NRSFM_RETURN_IF_ERROR(terms[i].add(weight, options, builder, &counts[i])
+                              .WithContext(std::string(terms[i].name) + " term"));
   }
-  if (options.temporal_rotations_weight > 0.0) {
-    const double sqrt_weight = std::sqrt(options.temporal_rotations_weight);
-    for (int t = 1; t < num_frames; ++t) {
-      for (int c = 0; c < num_cameras; ++c) {
-        problem.AddResidualBlock(RotationTemporalError::Create(sqrt_weight),
-                                 nullptr, builder->RotationBlock(t, c),
-                                 builder->RotationBlock(t - 1, c));
-        ++counts->temporal_rotations;
-      }
-    }
-  }
-  if (options.temporal_shape_weight > 0.0) {
-    const double sqrt_weight = std::sqrt(options.temporal_shape_weight);
-    for (int t = 1; t < num_frames; ++t) {
-      for (int p = 0; p < model.num_points; ++p) {
-        problem.AddResidualBlock(
-            new ShapeTemporalError(model.num_bases, sqrt_weight), nullptr,
-            {builder->WeightsBlock(t), builder->WeightsBlock(t - 1),
-             builder->BasisBlock(p)});
-        ++counts->temporal_shape;
-      }
-    }
-  }
-  if (options.rotation_acceleration_weight > 0.0) {
-    const double scale =
-        std::sqrt(options.rotation_acceleration_weight) * m.ImageSpreadRms();
-    for (int t = 1; t + 1 < num_frames; ++t) {
-      for (int c = 0; c < num_cameras; ++c) {
-        problem.AddResidualBlock(RotationAccelerationError::Create(scale), nullptr,
-                                 {builder->RotationBlock(t + 1, c),
-                                  builder->RotationBlock(t, c),
-                                  builder->RotationBlock(t - 1, c)});
-        ++counts->rotation_acceleration;
-      }
-    }
-  }
-
-  // The constant flags, also on the blocks only these terms use.
-  auto set_constant = [&problem](double* block) {
-    if (problem.HasParameterBlock(block)) problem.SetParameterBlockConstant(block);
-  };
-  for (int t = 0; t < num_frames; ++t) {
-    for (int c = 0; c < num_cameras; ++c) {
-      if (options.constant_rotations) set_constant(builder->RotationBlock(t, c));
-      if (options.constant_scales && c > 0) set_constant(builder->ScaleBlock(t, c));
-    }
-    if (options.constant_weights) set_constant(builder->WeightsBlock(t));
-  }
-  for (int p = 0; p < model.num_points; ++p) {
-    if (options.constant_basis) set_constant(builder->BasisBlock(p));
-  }
-  for (int c = 1; c < num_cameras; ++c) {
-    if (options.constant_rig) {
-      set_constant(builder->RigRotationBlock(c));
-      set_constant(builder->RigScaleBlock(c));
-    }
-  }
+  builder->SetConstantBlocks(options);
+  if (num_blocks != nullptr) *num_blocks = std::move(counts);
   return Status::OK();
 }
 

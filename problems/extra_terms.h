@@ -1,52 +1,53 @@
-// The residual blocks beyond the data term (DESIGN.md §2), each with its own
-// weight in ProblemOptions (0 = off, the default):
-//
-//   smoothness_weight λ_s          Delaunay-neighbour smoothness of the basis,
-//                                  problems/smoothness_error.h with the edges
-//                                  of problems/delaunay_edges.h
-//   rigidity_weight λ_r            multi-camera rigidity (M ≥ 2),
-//                                  problems/rigidity_error.h
-//   temporal_weights_weight λ_l    l_t − l_{t−1}, problems/temporal_error.h
-//   temporal_rotations_weight λ_R  log(R_tc R_{t−1,c}ᵀ), problems/temporal_error.h
-//   temporal_shape_weight λ_S      S_t[:, p] − S_{t−1}[:, p], problems/temporal_error.h
-//   rotation_acceleration_weight λ_A  change of log(R_tc R_{t−1,c}ᵀ), same file
-//
-// Each term's cost is λ times its unweighted cost (the functors apply √λ);
-// units are in the functors' headers. Constant flags of ProblemOptions apply
-// to the blocks these terms add too; the rig blocks (ω_rig_c, s_rig_c, one
-// per camera c ≥ 1, Model::rig_rotations / rig_scales) are free unless
-// constant_rig.
-//
-// Structure (problems/linear_solver_choice.h): smoothness residuals couple
-// two point blocks, so with λ_s > 0 the points are no longer an independent
-// set; the temporal and rigidity residuals couple only non-point blocks
-// (consecutive frames, the views of one frame and the rig) or, for the
-// shape prior, one point with two frames' weights, which keeps the points
-// eliminable.
+// The residual terms beyond the data term, described once: the table of
+// ExtraTerms() (problems/extra_terms.cc) is what ProblemOptions::Check(), the
+// problem builder (AddExtraTerms), the nrsfm tool's flags and result.json
+// read. Each term has a weight λ ≥ 0 in ProblemOptions::term_weights (0, the
+// default, leaves it out); λ multiplies the term's cost, so its functor
+// applies √λ. The terms, their equations and their units are in
+// docs/problem.md, which also says how to add one (a functor header and one
+// row of the table).
 #ifndef NRSFM_PROBLEMS_EXTRA_TERMS_H_
 #define NRSFM_PROBLEMS_EXTRA_TERMS_H_
 
+#include <string>
+#include <vector>
+
 #include "core/status.h"
 #include "problems/problem_builder.h"
+#include "problems/problem_options.h"
 
 namespace nrsfm {
 
-struct ExtraTermCounts {
-  int smoothness = 0;          // residual blocks: neighbour edges
-  int rigidity = 0;            // (t, c ≥ 1) pairs
-  int temporal_weights = 0;    // t = 1 … F − 1
-  int temporal_rotations = 0;  // (t ≥ 1, c) pairs
-  int temporal_shape = 0;      // (t ≥ 1, p) pairs
-  int rotation_acceleration = 0;  // (1 ≤ t ≤ F − 2, c) pairs
-  int reference_frame = -1;    // frame of the Delaunay triangulation (-1: no smoothness)
+struct ExtraTerm {
+  // Adds the residual blocks of the term with weight `weight` > 0 to the
+  // builder's problem and returns how many; errors (e.g. data the term cannot
+  // use) name the reason.
+  using AddFunction = Status (*)(double weight, const ProblemOptions& options,
+                                 ProblemBuilder* builder, int* num_blocks);
+
+  const char* name;     // key of ProblemOptions::term_weights
+  const char* flag;     // the nrsfm tool's flag (--flag λ) and result.json key
+  const char* units;    // of λ
+  const char* meaning;  // one line: the residual and when to use the term
+  int min_cameras;      // the term needs M ≥ min_cameras
+  AddFunction add;
 };
 
-// Adds the residual blocks of every term whose weight is non-zero to the
-// builder's problem; call after builder->AddReprojectionTerms(options).
-// Errors (adding nothing) on invalid options, on rigidity_weight > 0 with
-// fewer than 2 cameras, or on a reference view that cannot be triangulated.
+// Every extra term, in the order AddExtraTerms adds them.
+const std::vector<ExtraTerm>& ExtraTerms();
+// The term called `name`, or null.
+const ExtraTerm* FindExtraTerm(const std::string& name);
+
+// Adds the residual blocks of every term with a non-zero weight, in table
+// order, after builder->AddReprojectionTerms(options), and applies the
+// constant flags of `options` to the blocks they added (the rig blocks are
+// free unless constant_rig). `num_blocks` (optional) receives the residual
+// blocks added per term, aligned with ExtraTerms(). Errors on invalid
+// options, on a term whose min_cameras exceeds M, and when a term cannot be
+// added (e.g. a smoothness reference view that cannot be triangulated); the
+// problem is then incomplete and must not be solved.
 Status AddExtraTerms(const ProblemOptions& options, ProblemBuilder* builder,
-                     ExtraTermCounts* counts);
+                     std::vector<int>* num_blocks = nullptr);
 
 }  // namespace nrsfm
 

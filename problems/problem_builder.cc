@@ -6,18 +6,11 @@
 
 #include <glog/logging.h>
 
-#include "core/enum_names.h"
 #include "problems/reprojection_cost_function.h"
 #include "problems/reprojection_error.h"
 
 namespace nrsfm {
 namespace {
-
-constexpr EnumName<RobustLoss> kRobustLossNames[] = {
-    {RobustLoss::kNone, "none"},
-    {RobustLoss::kHuber, "huber"},
-    {RobustLoss::kCauchy, "cauchy"},
-};
 
 template <int K>
 ceres::CostFunction* CreateFixedK(bool with_scale,
@@ -35,40 +28,6 @@ ceres::Problem::Options MakeProblemOptions() {
 }
 
 }  // namespace
-
-Status ParseRobustLoss(const std::string& name, RobustLoss* loss) {
-  return ParseName(kRobustLossNames, name, "robust loss", loss);
-}
-
-const char* RobustLossName(RobustLoss loss) { return NameOf(kRobustLossNames, loss); }
-
-Status ProblemOptions::Check() const {
-  if (!(robust_scale > 0.0) || !std::isfinite(robust_scale)) {
-    std::ostringstream msg;
-    msg << "robust_scale must be positive and finite, got " << robust_scale;
-    return Status::Error(msg.str());
-  }
-  if (observation_weights.size() > 0 &&
-      (!observation_weights.allFinite() || (observation_weights < 0.0).any())) {
-    return Status::Error(
-        "observation_weights must be finite and non-negative");
-  }
-  const std::pair<const char*, double> weights[] = {
-      {"smoothness_weight", smoothness_weight},
-      {"rigidity_weight", rigidity_weight},
-      {"temporal_weights_weight", temporal_weights_weight},
-      {"temporal_rotations_weight", temporal_rotations_weight},
-      {"temporal_shape_weight", temporal_shape_weight},
-      {"rotation_acceleration_weight", rotation_acceleration_weight}};
-  for (const auto& [name, value] : weights) {
-    if (!(value >= 0.0) || !std::isfinite(value)) {
-      std::ostringstream msg;
-      msg << name << " must be finite and >= 0, got " << value;
-      return Status::Error(msg.str());
-    }
-  }
-  return smoothness_edges.Check();
-}
 
 ceres::CostFunction* CreateReprojectionCostFunction(
     int num_bases, bool with_scale, bool autodiff,
@@ -213,11 +172,17 @@ Status ProblemBuilder::AddReprojectionTerms(const ProblemOptions& options) {
     }
   }
 
+  SetConstantBlocks(options);
+  return Status::OK();
+}
+
+void ProblemBuilder::SetConstantBlocks(const ProblemOptions& options) {
   auto set_constant = [this](double* block) {
     if (problem_.HasParameterBlock(block)) problem_.SetParameterBlockConstant(block);
   };
-  for (int t = 0; t < m.num_frames; ++t) {
-    for (int c = 0; c < m.num_cameras; ++c) {
+  const Model& model = *model_;
+  for (int t = 0; t < model.num_frames; ++t) {
+    for (int c = 0; c < model.num_cameras; ++c) {
       if (options.constant_rotations) set_constant(RotationBlock(t, c));
       if (options.constant_translations) set_constant(TranslationBlock(t, c));
       if (options.constant_scales && c > 0) set_constant(ScaleBlock(t, c));
@@ -225,9 +190,14 @@ Status ProblemBuilder::AddReprojectionTerms(const ProblemOptions& options) {
     if (options.constant_weights) set_constant(WeightsBlock(t));
   }
   if (options.constant_basis) {
-    for (int p = 0; p < m.num_points; ++p) set_constant(BasisBlock(p));
+    for (int p = 0; p < model.num_points; ++p) set_constant(BasisBlock(p));
   }
-  return Status::OK();
+  if (options.constant_rig) {
+    for (int c = 1; c < model.num_cameras; ++c) {
+      set_constant(RigRotationBlock(c));
+      set_constant(RigScaleBlock(c));
+    }
+  }
 }
 
 std::vector<double*> ProblemBuilder::PointBlocks() {

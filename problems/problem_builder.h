@@ -44,60 +44,9 @@
 #include "core/measurements.h"
 #include "core/model.h"
 #include "core/status.h"
-#include "problems/delaunay_edges.h"
+#include "problems/problem_options.h"
 
 namespace nrsfm {
-
-// Robust loss on the data (reprojection) term only.
-enum class RobustLoss {
-  kNone,    // ρ(s) = s, least squares
-  kHuber,   // ρ(s) = s for s ≤ a², 2a√s − a² beyond
-  kCauchy,  // ρ(s) = a² log(1 + s / a²)
-};
-// "none", "huber", "cauchy" (lower case); an error names the bad value.
-Status ParseRobustLoss(const std::string& name, RobustLoss* loss);
-const char* RobustLossName(RobustLoss loss);
-
-struct ProblemOptions {
-  // Blocks held constant (each kind is all-or-nothing), e.g. refine the basis
-  // only by setting every other flag.
-  bool constant_rotations = false;    // every ω_tc
-  bool constant_translations = false; // every T_tc
-  bool constant_weights = false;      // every l_t
-  bool constant_basis = false;        // every b_p
-  bool constant_scales = false;       // every s_tc (c ≥ 1; no effect for M = 1)
-
-  // Robust loss of each observation's squared distance, with its scale a in
-  // input units (the residual distance where the loss stops being quadratic).
-  RobustLoss robust_loss = RobustLoss::kNone;
-  double robust_scale = 1.0;  // a > 0, input units
-
-  // Per-observation weights w_obs ≥ 0, (F·M) × P like Measurements::visible;
-  // empty = every weight is 1. An observation's cost is w_obs · ρ(||e||²)
-  // (e in input units), so robust_scale keeps its meaning under any weight.
-  // Entries of invisible observations are ignored; a visible observation with
-  // w_obs = 0 gets no residual.
-  Eigen::ArrayXXd observation_weights;
-
-  // Differentiate the reprojection error automatically (the run-time-K
-  // functor of problems/reprojection_error.h) instead of using the
-  // hand-written Jacobian: same residuals and Jacobians to rounding, 4-7×
-  // slower Jacobians for K = 12. For cross-checks and benchmarks.
-  bool autodiff = false;
-
-  // Extra terms (problems/extra_terms.h, added by AddExtraTerms), each
-  // weight ≥ 0 and 0 = off. λ multiplies the term's cost.
-  double smoothness_weight = 0.0;          // λ_s, dimensionless (problems/smoothness_error.h)
-  DelaunayEdgesOptions smoothness_edges;   // reference frame of its neighbour edges
-  double rigidity_weight = 0.0;            // λ_r, (input units / rad)², M ≥ 2 only
-  double temporal_weights_weight = 0.0;    // λ_l, (input units)² per unit of weight change
-  double temporal_rotations_weight = 0.0;  // λ_R, (input units / rad)²
-  double temporal_shape_weight = 0.0;      // λ_S, dimensionless (3D move vs image error)
-  double rotation_acceleration_weight = 0.0;  // λ_A, dimensionless (scaled by the image radius)
-  bool constant_rig = false;               // hold the rig blocks (rigidity term)
-
-  Status Check() const;
-};
 
 // The reprojection cost function for K bases. Hand-written Jacobian
 // (problems/reprojection_cost_function.h): K = 1…kMaxStaticBases dispatch to
@@ -122,6 +71,10 @@ class ProblemBuilder {
   // of model and measurements that differ, on a camera-0 scale other than 1,
   // or on an observation_weights matrix of the wrong size. Call once.
   Status AddReprojectionTerms(const ProblemOptions& options);
+
+  // Holds constant, of the blocks the problem has, every kind that
+  // `options` marks constant (problems/problem_options.h).
+  void SetConstantBlocks(const ProblemOptions& options);
 
   ceres::Problem* problem() { return &problem_; }
   const Measurements& measurements() const { return *measurements_; }

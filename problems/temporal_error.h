@@ -23,9 +23,9 @@
 // velocity rather than a slow one, so unlike the first-order rotation prior
 // it does not pull a steadily turning camera towards rest (and towards the
 // depth-reversed reading of the sequence that a turn slowed to zero allows).
-// Shapes: λ_S in (input units)² per input unit of 3D displacement, so λ_S = 1
-// weighs a point's 3D move between consecutive frames like a reprojection
-// error of the same length.
+// Shapes: λ_S is dimensionless (the residual is a 3D displacement in input
+// units, like a reprojection error): λ_S = 1 weighs a point's 3D move
+// between consecutive frames like a reprojection error of the same length.
 // The rotation and shape priors are invariant to every gauge of the model
 // (global rotation, K × K mixing of weights and basis, their relative
 // scale); the weights prior is not invariant to the scale gauge (it favours

@@ -36,17 +36,17 @@ Model AppendBasis(const Model& model, double stddev, Random* normal) {
 Status RunOneStart(const ReconstructOptions& options,
                    const RobustReconstructOptions& robust,
                    const Measurements& measurements, ReconstructResult* result) {
-  const int target = options.init.num_bases;
+  const int target = options.start.num_bases;
   const bool grow = robust.coarse_to_fine && robust.start_num_bases < target;
   ReconstructOptions coarse = options;
   if (grow) {
-    coarse.init.num_bases = robust.start_num_bases;
-    coarse.refine.max_iterations = robust.intermediate_max_iterations;
+    coarse.start.num_bases = robust.start_num_bases;
+    coarse.solver.max_iterations = robust.intermediate_max_iterations;
   }
-  NRSFM_RETURN_IF_ERROR(Initialize(coarse.init, measurements, &result->model,
-                                   &result->init));
-  NRSFM_RETURN_IF_ERROR(Refine(coarse.refine, measurements,
-                                    &result->model, &result->refine));
+  NRSFM_RETURN_IF_ERROR(Initialize(coarse.start, measurements, &result->model,
+                                   &result->start));
+  NRSFM_RETURN_IF_ERROR(Refine(coarse.problem, coarse.solver, measurements,
+                               &result->model, &result->refine));
   if (!grow) return Status::OK();
   Random normal(robust.seed);
   for (int k = robust.start_num_bases + 1; k <= target; ++k) {
@@ -55,11 +55,10 @@ Status RunOneStart(const ReconstructOptions& options,
                   std::max<double>(1.0, result->model.weights.size()));
     Model grown =
         AppendBasis(result->model, robust.new_weight_stddev * weight_rms, &normal);
-    const RefineOptions& refine =
-        k == target ? options.refine : coarse.refine;
+    const SolverOptions& solver = k == target ? options.solver : coarse.solver;
     RefineSummary summary;
     NRSFM_RETURN_IF_ERROR(
-        Refine(refine, measurements, &grown, &summary));
+        Refine(options.problem, solver, measurements, &grown, &summary));
     VLOG(1) << "coarse-to-fine: K = " << k << " cost " << summary.final_cost
             << " rms " << summary.reprojection_rms;
     result->model = std::move(grown);
@@ -108,8 +107,8 @@ Status RobustReconstruct(const ReconstructOptions& options,
   for (int i = 0; i < robust.num_starts; ++i) {
     ReconstructOptions start_options = options;
     if (i > 0) {
-      start_options.init.method = InitMethod::kRigid;
-      start_options.init.seed = options.init.seed + static_cast<std::uint64_t>(i);
+      start_options.start.method = StartMethod::kRigid;
+      start_options.start.seed = options.start.seed + static_cast<std::uint64_t>(i);
     }
     ReconstructResult candidate;
     const Status status = RunOneStart(start_options, robust, measurements, &candidate);

@@ -11,8 +11,8 @@
 // rotations, the mostly rigid part the coarse model already fixed.
 //
 // Several starts. num_starts > 1 runs the pipeline (plain or coarse-to-fine)
-// from num_starts closed-form starts: start 0 with options.init as given, the
-// others with the rigid start (001 §3.4.2) and seeds options.init.seed + i
+// from num_starts closed-form starts: start 0 with options.start as given, the
+// others with the rigid start (001 §3.4.2) and seeds options.start.seed + i
 // (different random initial weights). The result with the lowest final Ceres
 // cost is kept; every start's cost is in the summary.
 //
@@ -47,8 +47,8 @@ struct RobustReconstructSummary {
   int best_start = 0;                     // index of the kept start
 };
 
-// Reconstructs with options.init.num_bases = K bases by the strategy above.
-// `result->init` is the kept start's closed-form summary (at K =
+// Reconstructs with options.start.num_bases = K bases by the strategy above.
+// `result->start` is the kept start's closed-form summary (at K =
 // start_num_bases when coarse-to-fine), `result->refine` the last refinement,
 // result->total_seconds the wall time of the whole call. Errors as
 // Reconstruct(); a start that fails is skipped (error only if all fail).

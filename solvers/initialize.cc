@@ -8,6 +8,7 @@
 
 #include "core/enum_names.h"
 #include "core/metrics.h"
+#include "core/option_checker.h"
 #include "solvers/factorization_start.h"
 #include "solvers/low_rank_completion.h"
 #include "solvers/multi_camera_start.h"
@@ -16,11 +17,11 @@
 namespace nrsfm {
 namespace {
 
-constexpr EnumName<InitMethod> kInitMethodNames[] = {
-    {InitMethod::kAuto, "auto"},
-    {InitMethod::kFactorization, "factorization"},
-    {InitMethod::kRigid, "rigid"},
-    {InitMethod::kTriple, "triple"},
+constexpr EnumName<StartMethod> kStartMethodNames[] = {
+    {StartMethod::kAuto, "auto"},
+    {StartMethod::kFactorization, "factorization"},
+    {StartMethod::kRigid, "rigid"},
+    {StartMethod::kTriple, "triple"},
 };
 
 // The data every start works on.
@@ -30,7 +31,7 @@ struct CenteredData {
   Eigen::Matrix2Xd translations;  // 2 × FM
 };
 
-Status CheckData(const InitializeOptions& options, const Measurements& data) {
+Status CheckData(const StartOptions& options, const Measurements& data) {
   const int f = data.num_frames;
   const int p = data.num_points;
   const int needed = 3 * options.num_bases + 1;
@@ -62,8 +63,8 @@ Status CheckData(const InitializeOptions& options, const Measurements& data) {
   return Status::OK();
 }
 
-Status CenterData(const InitializeOptions& options, const Measurements& data,
-                  CenteredData* centered, InitializeSummary* summary) {
+Status CenterData(const StartOptions& options, const Measurements& data,
+                  CenteredData* centered, StartSummary* summary) {
   const int m = data.num_cameras;
   Eigen::MatrixXd filled;
   Eigen::VectorXd row_translations;
@@ -118,11 +119,11 @@ struct StartOutcome {
   int sign_segments = -1;  // triple start only
 };
 
-StartOutcome RunStart(InitMethod method, const InitializeOptions& options,
+StartOutcome RunStart(StartMethod method, const StartOptions& options,
                       const Measurements& data, const CenteredData& centered) {
   StartOutcome outcome;
   Model camera0;
-  if (method == InitMethod::kFactorization) {
+  if (method == StartMethod::kFactorization) {
     FactorizationStartSummary start_summary;
     outcome.status = FactorizationStart(centered.camera0, options.num_bases,
                                         &camera0, &start_summary);
@@ -132,13 +133,13 @@ StartOutcome RunStart(InitMethod method, const InitializeOptions& options,
     rigid_options.refine_iterations = options.rigid_refine_iterations;
     rigid_options.initial_deformation = options.rigid_initial_deformation;
     rigid_options.seed = options.seed;
-    rigid_options.rotations_from_triple = method == InitMethod::kTriple;
+    rigid_options.rotations_from_triple = method == StartMethod::kTriple;
     rigid_options.triple.seed = options.seed;
     RigidStartSummary start_summary;
     outcome.status = RigidStart(centered.camera0, options.num_bases,
                                 rigid_options, &camera0, &start_summary);
     outcome.indefinite = start_summary.metric_upgrade_was_indefinite;
-    if (method == InitMethod::kTriple) {
+    if (method == StartMethod::kTriple) {
       outcome.sign_segments = start_summary.triple.sign_segments;
     }
   }
@@ -166,44 +167,31 @@ StartOutcome RunStart(InitMethod method, const InitializeOptions& options,
 
 }  // namespace
 
-const char* InitMethodName(InitMethod m) { return NameOf(kInitMethodNames, m); }
+const char* StartMethodName(StartMethod m) { return NameOf(kStartMethodNames, m); }
 
-Status ParseInitMethod(const std::string& s, InitMethod* m) {
+Status ParseStartMethod(const std::string& s, StartMethod* m) {
   CHECK(m != nullptr);
-  return ParseName(kInitMethodNames, s, "start", m);
+  return ParseName(kStartMethodNames, s, "start", m);
 }
 
-Status InitializeOptions::Check() const {
-  std::ostringstream msg;
-  msg << "initialize options: ";
-  if (method != InitMethod::kAuto && method != InitMethod::kFactorization &&
-      method != InitMethod::kRigid && method != InitMethod::kTriple) {
-    msg << "invalid method " << static_cast<int>(method);
-  } else if (num_bases < 1) {
-    msg << "num_bases (K) must be >= 1, got " << num_bases;
-  } else if (completion_max_iterations < 1) {
-    msg << "completion_max_iterations must be >= 1, got "
-        << completion_max_iterations;
-  } else if (!(completion_tolerance >= 0.0)) {
-    msg << "completion_tolerance must be >= 0, got " << completion_tolerance;
-  } else if (rigid_refine_iterations < 0) {
-    msg << "rigid_refine_iterations must be >= 0, got " << rigid_refine_iterations;
-  } else if (!(rigid_initial_deformation >= 0.0) ||
-             !std::isfinite(rigid_initial_deformation)) {
-    msg << "rigid_initial_deformation must be finite and >= 0, got "
-        << rigid_initial_deformation;
-  } else {
-    return Status::OK();
-  }
-  return Status::Error(msg.str());
+Status StartOptions::Check() const {
+  OptionChecker check("start options");
+  check.Require(NameOf(kStartMethodNames, method) != std::string("unknown"),
+                "invalid method " + std::to_string(static_cast<int>(method)));
+  check.AtLeast("num_bases", num_bases, 1);
+  check.AtLeast("completion_max_iterations", completion_max_iterations, 1);
+  check.AtLeast("completion_tolerance", completion_tolerance, 0.0);
+  check.AtLeast("rigid_refine_iterations", rigid_refine_iterations, 0);
+  check.FiniteAtLeast("rigid_initial_deformation", rigid_initial_deformation, 0.0);
+  return check.status();
 }
 
-Status Initialize(const InitializeOptions& options,
+Status Initialize(const StartOptions& options,
                   const Measurements& measurements, Model* model,
-                  InitializeSummary* summary) {
+                  StartSummary* summary) {
   CHECK(model != nullptr && summary != nullptr);
   const auto start_time = std::chrono::steady_clock::now();
-  *summary = InitializeSummary();
+  *summary = StartSummary();
   NRSFM_RETURN_IF_ERROR(options.Check());
   NRSFM_RETURN_IF_ERROR(measurements.Validate().WithContext("initialize"));
   NRSFM_RETURN_IF_ERROR(CheckData(options, measurements));
@@ -211,15 +199,15 @@ Status Initialize(const InitializeOptions& options,
   CenteredData centered;
   NRSFM_RETURN_IF_ERROR(CenterData(options, measurements, &centered, summary));
 
-  const bool run_factorization = options.method == InitMethod::kAuto ||
-                                 options.method == InitMethod::kFactorization;
-  const bool run_rigid = options.method != InitMethod::kFactorization;
-  const InitMethod rigid_method =
-      options.method == InitMethod::kTriple ? InitMethod::kTriple : InitMethod::kRigid;
+  const bool run_factorization = options.method == StartMethod::kAuto ||
+                                 options.method == StartMethod::kFactorization;
+  const bool run_rigid = options.method != StartMethod::kFactorization;
+  const StartMethod rigid_method =
+      options.method == StartMethod::kTriple ? StartMethod::kTriple : StartMethod::kRigid;
   StartOutcome factorization, rigid;
   if (run_factorization) {
     factorization =
-        RunStart(InitMethod::kFactorization, options, measurements, centered);
+        RunStart(StartMethod::kFactorization, options, measurements, centered);
     if (factorization.status.ok()) summary->factorization_rms = factorization.rms;
   }
   if (run_rigid) {
@@ -232,7 +220,7 @@ Status Initialize(const InitializeOptions& options,
     return (run_factorization ? factorization.status : rigid.status)
         .WithContext("initialize");
   }
-  if (options.method == InitMethod::kAuto) {
+  if (options.method == StartMethod::kAuto) {
     if (!factorization_ok) {
       summary->warnings.push_back("factorization start failed: " +
                                   factorization.status.message());
@@ -244,7 +232,7 @@ Status Initialize(const InitializeOptions& options,
   const bool keep_rigid =
       rigid_ok && (!factorization_ok || rigid.rms < factorization.rms);
   StartOutcome& kept = keep_rigid ? rigid : factorization;
-  summary->used = keep_rigid ? rigid_method : InitMethod::kFactorization;
+  summary->used = keep_rigid ? rigid_method : StartMethod::kFactorization;
   summary->reprojection_rms = kept.rms;
   summary->metric_upgrade_was_indefinite = kept.indefinite;
   summary->triple_sign_segments = kept.sign_segments;
@@ -256,7 +244,7 @@ Status Initialize(const InitializeOptions& options,
   }
   if (kept.indefinite) {
     summary->warnings.push_back(
-        std::string("metric upgrade of the ") + InitMethodName(summary->used) +
+        std::string("metric upgrade of the ") + StartMethodName(summary->used) +
         " start: H was (nearly) indefinite and was clamped to positive "
         "definite; the depth of the start is unreliable");
   }
@@ -264,7 +252,7 @@ Status Initialize(const InitializeOptions& options,
   summary->seconds = std::chrono::duration<double>(
                          std::chrono::steady_clock::now() - start_time)
                          .count();
-  VLOG(1) << "initialize: kept the " << InitMethodName(summary->used)
+  VLOG(1) << "initialize: kept the " << StartMethodName(summary->used)
           << " start, reprojection RMS " << summary->reprojection_rms;
   return Status::OK();
 }

@@ -48,15 +48,15 @@
 
 namespace nrsfm {
 
-enum class InitMethod { kAuto, kFactorization, kRigid, kTriple };
+enum class StartMethod { kAuto, kFactorization, kRigid, kTriple };
 
 // "auto" | "factorization" | "rigid" | "triple".
-const char* InitMethodName(InitMethod m);
+const char* StartMethodName(StartMethod m);
 // Parses one of the names above; the error lists the valid names.
-Status ParseInitMethod(const std::string& s, InitMethod* m);
+Status ParseStartMethod(const std::string& s, StartMethod* m);
 
-struct InitializeOptions {
-  InitMethod method = InitMethod::kAuto;
+struct StartOptions {
+  StartMethod method = StartMethod::kAuto;
   int num_bases = 1;                    // K ≥ 1
   int completion_max_iterations = 500;  // alternations of the low-rank completion, ≥ 1
   double completion_tolerance = 1e-12;  // relative change of the fit residual to stop, ≥ 0
@@ -67,8 +67,8 @@ struct InitializeOptions {
   Status Check() const;
 };
 
-struct InitializeSummary {
-  InitMethod used = InitMethod::kFactorization;  // the start that was kept
+struct StartSummary {
+  StartMethod used = StartMethod::kFactorization;  // the start that was kept
   double reprojection_rms = 0;                   // of the kept start (RMS 2-D distance over visible entries, input units)
   double factorization_rms = -1, rigid_rms = -1; // -1 = not run (or failed)
   double completion_rms = -1;                    // fit residual RMS of the low-rank completion on visible entries, -1 if data complete
@@ -91,9 +91,9 @@ struct InitializeSummary {
 // ⌈3K / 2⌉ views when entries are missing, tracks with no rotation (rank < 3,
 // or orthonormality equations that do not determine the metric), and when
 // every selected start fails.
-Status Initialize(const InitializeOptions& options,
+Status Initialize(const StartOptions& options,
                   const Measurements& measurements, Model* model,
-                  InitializeSummary* summary);
+                  StartSummary* summary);
 
 }  // namespace nrsfm
 

@@ -7,21 +7,23 @@
 namespace nrsfm {
 
 Status ReconstructOptions::Check() const {
-  NRSFM_RETURN_IF_ERROR(init.Check().WithContext("reconstruct: init"));
-  NRSFM_RETURN_IF_ERROR(refine.Check().WithContext("reconstruct: refine"));
+  NRSFM_RETURN_IF_ERROR(start.Check().WithContext("reconstruct"));
+  NRSFM_RETURN_IF_ERROR(problem.Check().WithContext("reconstruct"));
+  NRSFM_RETURN_IF_ERROR(solver.Check().WithContext("reconstruct"));
   return Status::OK();
 }
 
 namespace {
 
 // One start followed by its refinement.
-Status StartAndRefine(const ReconstructOptions& options, InitMethod method,
+Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
                       const Measurements& measurements, ReconstructResult* result) {
-  InitializeOptions init = options.init;
-  init.method = method;
+  StartOptions start = options.start;
+  start.method = method;
   NRSFM_RETURN_IF_ERROR(
-      Initialize(init, measurements, &result->model, &result->init));
-  return Refine(options.refine, measurements, &result->model, &result->refine);
+      Initialize(start, measurements, &result->model, &result->start));
+  return Refine(options.problem, options.solver, measurements, &result->model,
+                &result->refine);
 }
 
 // Whether refined result `a` is better than `b`: a usable solution beats an
@@ -39,9 +41,9 @@ Status Reconstruct(const ReconstructOptions& options,
   const auto start = std::chrono::steady_clock::now();
   *result = ReconstructResult();
   NRSFM_RETURN_IF_ERROR(options.Check());
-  if (options.init.method != InitMethod::kAuto) {
+  if (options.start.method != StartMethod::kAuto) {
     NRSFM_RETURN_IF_ERROR(
-        StartAndRefine(options, options.init.method, measurements, result));
+        StartAndRefine(options, options.start.method, measurements, result));
   } else {
     // Both starts are refined and the lower refined cost is kept: a start's
     // own reprojection error does not tell which basin it is in (the rigid
@@ -49,9 +51,9 @@ Status Reconstruct(const ReconstructOptions& options,
     // converge to a depth-degenerate solution).
     ReconstructResult factorization, rigid;
     const Status factorization_status = StartAndRefine(
-        options, InitMethod::kFactorization, measurements, &factorization);
+        options, StartMethod::kFactorization, measurements, &factorization);
     const Status rigid_status =
-        StartAndRefine(options, InitMethod::kRigid, measurements, &rigid);
+        StartAndRefine(options, StartMethod::kRigid, measurements, &rigid);
     if (!factorization_status.ok() && !rigid_status.ok()) {
       return Status::Error("both starts failed: factorization: " +
                            factorization_status.message() +
@@ -63,13 +65,10 @@ Status Reconstruct(const ReconstructOptions& options,
     *result = keep_rigid ? std::move(rigid) : std::move(factorization);
     const Status& other = keep_rigid ? factorization_status : rigid_status;
     if (!other.ok()) {
-      result->init.warnings.push_back(
+      result->start.warnings.push_back(
           std::string(keep_rigid ? "factorization" : "rigid") +
           " start failed: " + other.message());
     }
-    result->factorization_refined_cost =
-        factorization_status.ok() ? factorization.refine.final_cost : -1.0;
-    result->rigid_refined_cost = rigid_status.ok() ? rigid.refine.final_cost : -1.0;
   }
   result->total_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)

@@ -60,7 +60,7 @@ Status SelectNumBases(const ReconstructOptions& options,
   std::vector<ReconstructResult> reconstructions;
   for (int k = 1; k <= k_max; ++k) {
     ReconstructOptions k_options = options;
-    k_options.init.num_bases = k;
+    k_options.start.num_bases = k;
     NumBasesCandidate candidate;
     candidate.num_bases = k;
     ReconstructResult reconstruction;

@@ -52,7 +52,7 @@ struct SelectNumBasesResult {
   ReconstructResult reconstruction;      // of the chosen K
 };
 
-// Runs the rule. `options.init.num_bases` is ignored (set per K). Errors on
+// Runs the rule. `options.start.num_bases` is ignored (set per K). Errors on
 // invalid options or measurements, or when no K reconstructs at all. K values
 // that the data cannot support (3K + 1 > P or > 2F) are not tried.
 Status SelectNumBases(const ReconstructOptions& options,

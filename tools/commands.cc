@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
+#include <map>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -72,12 +73,12 @@ std::string FormatDouble(double value) {
 
 Status BuildReconstructOptions(const CommandFlags& flags,
                                ReconstructOptions* options) {
-  NRSFM_RETURN_IF_ERROR(ParseInitMethod(flags.init, &options->init.method)
+  NRSFM_RETURN_IF_ERROR(ParseStartMethod(flags.init, &options->start.method)
                             .WithContext("--init"));
-  NRSFM_RETURN_IF_ERROR(ParseRobustLoss(flags.robust, &options->refine.robust_loss)
+  NRSFM_RETURN_IF_ERROR(ParseRobustLoss(flags.robust, &options->problem.robust_loss)
                             .WithContext("--robust"));
   NRSFM_RETURN_IF_ERROR(
-      ParseLinearSolver(flags.linear_solver, &options->refine.linear_solver)
+      ParseLinearSolver(flags.linear_solver, &options->solver.linear_solver)
           .WithContext("--linear_solver"));
   NRSFM_RETURN_IF_ERROR(CheckFinite("robust_scale", flags.robust_scale));
   NRSFM_RETURN_IF_ERROR(CheckFinite("smoothness", flags.smoothness));
@@ -98,16 +99,17 @@ Status BuildReconstructOptions(const CommandFlags& flags,
     return Status::Error("--rigidity needs synchronised cameras: --cameras must be "
                          ">= 2, got " + std::to_string(flags.cameras));
   }
-  options->refine.smoothness_weight = flags.smoothness;
-  options->refine.temporal_weights_weight = flags.temporal;
-  options->refine.temporal_rotations_weight = flags.temporal_rotations;
-  options->refine.temporal_shape_weight = flags.temporal_shape;
-  options->refine.rotation_acceleration_weight = flags.rotation_acceleration;
-  options->refine.rigidity_weight = flags.rigidity;
-  options->init.seed = flags.seed;
-  options->refine.robust_scale = flags.robust_scale;
-  options->refine.max_iterations = flags.max_iterations;
-  options->refine.num_threads = flags.threads;
+  std::map<std::string, double>& weights = options->problem.term_weights;
+  weights["smoothness"] = flags.smoothness;
+  weights["temporal_weights"] = flags.temporal;
+  weights["temporal_rotations"] = flags.temporal_rotations;
+  weights["temporal_shape"] = flags.temporal_shape;
+  weights["rotation_acceleration"] = flags.rotation_acceleration;
+  weights["rigidity"] = flags.rigidity;
+  options->start.seed = flags.seed;
+  options->problem.robust_scale = flags.robust_scale;
+  options->solver.max_iterations = flags.max_iterations;
+  options->solver.num_threads = flags.threads;
   return options->Check();
 }
 
@@ -194,7 +196,7 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
       << measurements.NumViews() * measurements.num_points << "\n";
 
   if (!flags.quiet) {
-    options.refine.progress = [&progress](const IterationReport& report) {
+    options.solver.progress = [&progress](const IterationReport& report) {
       progress << "  iteration " << std::setw(4) << report.iteration << "  cost "
                << std::setprecision(6) << std::scientific << report.cost
                << std::defaultfloat << "  " << std::fixed << std::setprecision(2)
@@ -228,7 +230,7 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
     num_bases = selection.num_bases;
     result = std::move(selection.reconstruction);
   } else {
-    options.init.num_bases = num_bases;
+    options.start.num_bases = num_bases;
     NRSFM_RETURN_IF_ERROR(
         Reconstruct(options, measurements, &result).WithContext(flags.input));
   }
@@ -236,16 +238,16 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
   ReconstructionReport report;
   report.input = flags.input;
   report.options = OptionList(flags, num_bases);
-  report.start_used = InitMethodName(result.init.used);
-  report.start_reprojection_rms = result.init.reprojection_rms;
-  report.stages.push_back({"initialize", 0.0, 0.0, 0, result.init.seconds});
+  report.start_used = StartMethodName(result.start.used);
+  report.start_reprojection_rms = result.start.reprojection_rms;
+  report.stages.push_back({"initialize", 0.0, 0.0, 0, result.start.seconds});
   report.stages.push_back({"refine", result.refine.initial_cost,
                            result.refine.final_cost, result.refine.iterations,
                            result.refine.seconds});
   report.reprojection_rms = result.refine.usable ? result.refine.reprojection_rms
-                                                 : result.init.reprojection_rms;
+                                                 : result.start.reprojection_rms;
   report.solution_usable = result.refine.usable;
-  report.warnings = result.init.warnings;
+  report.warnings = result.start.warnings;
   if (!result.refine.usable) {
     report.warnings.push_back("refinement not usable: " + result.refine.message);
   }
@@ -269,7 +271,7 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
       WriteReconstruction(flags.output, measurements, result.model, report, write_options));
 
   out << "K = " << num_bases << ", start: " << report.start_used
-      << " (reprojection RMS " << std::setprecision(6) << result.init.reprojection_rms
+      << " (reprojection RMS " << std::setprecision(6) << result.start.reprojection_rms
       << ")\n";
   out << "refine: cost " << result.refine.initial_cost << " -> "
       << result.refine.final_cost << " in " << result.refine.iterations

@@ -14,7 +14,7 @@ int main() {
   nrsfm::SyntheticSequence sequence;
   if (!nrsfm::GenerateRandomBasis(options, &sequence).ok()) return 1;
   nrsfm::ReconstructOptions reconstruct_options;
-  reconstruct_options.init.num_bases = 1;
+  reconstruct_options.start.num_bases = 1;
   nrsfm::ReconstructResult result;
   const nrsfm::Status status =
       nrsfm::Reconstruct(reconstruct_options, sequence.measurements, &result);

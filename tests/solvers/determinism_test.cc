@@ -46,11 +46,11 @@ SyntheticSequence Sequence() {
 
 ReconstructOptions Options(int num_threads) {
   ReconstructOptions options;
-  options.init.num_bases = 2;
-  options.init.method = InitMethod::kAuto;  // runs both starts (rigid uses the seed)
-  options.init.seed = 3;
-  options.refine.num_threads = num_threads;
-  options.refine.max_iterations = 30;
+  options.start.num_bases = 2;
+  options.start.method = StartMethod::kAuto;  // runs both starts (rigid uses the seed)
+  options.start.seed = 3;
+  options.solver.num_threads = num_threads;
+  options.solver.max_iterations = 30;
   return options;
 }
 
@@ -92,14 +92,14 @@ std::string ReadFile(const fs::path& path) {
 std::string Write(const Measurements& measurements, const ReconstructResult& result) {
   ReconstructionReport report;
   report.input = "synthetic";
-  report.start_used = InitMethodName(result.init.used);
-  report.start_reprojection_rms = result.init.reprojection_rms;
-  report.stages.push_back({"initialize", 0.0, 0.0, 0, result.init.seconds});
+  report.start_used = StartMethodName(result.start.used);
+  report.start_reprojection_rms = result.start.reprojection_rms;
+  report.stages.push_back({"initialize", 0.0, 0.0, 0, result.start.seconds});
   report.stages.push_back({"refine", result.refine.initial_cost, result.refine.final_cost,
                            result.refine.iterations, result.refine.seconds});
   report.reprojection_rms = result.refine.reprojection_rms;
   report.solution_usable = result.refine.usable;
-  report.warnings = result.init.warnings;
+  report.warnings = result.start.warnings;
   const std::string dir = testing_util::MakeTempDir("nrsfm_determinism") + "/out";
   WriteOptions options;
   options.write_ply = true;
@@ -162,19 +162,19 @@ TEST(Determinism, TwoThreadsAreBitIdentical) { CheckRunsAgree(2); }
 TEST(Determinism, EveryLinearSolverIsBitIdentical) {
   const SyntheticSequence s = Sequence();
   Model start;
-  InitializeSummary init;
-  ASSERT_TRUE(Initialize(Options(1).init, s.measurements, &start, &init).ok());
+  StartSummary init;
+  ASSERT_TRUE(Initialize(Options(1).start, s.measurements, &start, &init).ok());
   for (int threads : {1, 2}) {
     for (LinearSolverChoice choice :
          {LinearSolverChoice::kDenseSchur, LinearSolverChoice::kSparseSchur,
           LinearSolverChoice::kIterativeSchur,
           LinearSolverChoice::kSparseNormalCholesky}) {
-      RefineOptions options = Options(threads).refine;
+      SolverOptions options = Options(threads).solver;
       options.linear_solver = choice;
       Model first = start, second = start;
       RefineSummary first_summary, second_summary;
-      ASSERT_TRUE(Refine(options, s.measurements, &first, &first_summary).ok());
-      ASSERT_TRUE(Refine(options, s.measurements, &second, &second_summary).ok());
+      ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &first, &first_summary).ok());
+      ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &second, &second_summary).ok());
       SCOPED_TRACE(first_summary.linear_solver + ", threads " + std::to_string(threads));
       EXPECT_TRUE(first_summary.usable) << first_summary.message;
       EXPECT_LT(first_summary.final_cost, 0.5 * first_summary.initial_cost);

@@ -97,15 +97,16 @@ TEST(ExtraTerms, SmoothnessPullsAPoorlySeenPointToItsNeighbours) {
   ASSERT_LT((a * null_direction).norm(), 1e-12);
 
   const double start_error = MeanPointError(s.truth, start, q);
-  RefineOptions options;
-  options.max_iterations = 50;
+  SolverOptions solver;
+  solver.max_iterations = 50;
+  ProblemOptions problem;
   Model off = start;
   RefineSummary summary;
-  ASSERT_TRUE(Refine(options, s.measurements, &off, &summary).ok());
+  ASSERT_TRUE(Refine(problem, solver, s.measurements, &off, &summary).ok());
   ASSERT_TRUE(summary.usable);
-  options.smoothness_weight = 0.01;
+  problem.term_weights["smoothness"] = 0.01;
   Model on = start;
-  ASSERT_TRUE(Refine(options, s.measurements, &on, &summary).ok());
+  ASSERT_TRUE(Refine(problem, solver, s.measurements, &on, &summary).ok());
   ASSERT_TRUE(summary.usable) << summary.message;
   const double off_error = MeanPointError(s.truth, off, q);
   const double on_error = MeanPointError(s.truth, on, q);
@@ -145,29 +146,29 @@ Eigen::Matrix3d MeanRelativeRotation(const Model& model) {
 }
 
 // The shoe sequence of `shoe`, started with K = 4 and refined twice from the
-// same start: `off` with default options (100 iterations), `on` with `with`
-// (its other fields as off's). Fails the test when a step fails.
+// same start (100 iterations): `off` with default problem options, `on` with
+// `with`. Fails the test when a step fails.
 struct WithoutAndWith {
   SyntheticSequence sequence;
   Model off, on;
 };
-void RefineShoeWithoutAndWith(const ShoeOptions& shoe, RefineOptions with,
+void RefineShoeWithoutAndWith(const ShoeOptions& shoe, const ProblemOptions& with,
                               WithoutAndWith* out) {
   ASSERT_TRUE(GenerateShoe(shoe, &out->sequence).ok());
-  InitializeOptions init;
+  StartOptions init;
   init.num_bases = 4;
   Model start;
-  InitializeSummary init_summary;
+  StartSummary init_summary;
   ASSERT_TRUE(Initialize(init, out->sequence.measurements, &start, &init_summary).ok());
-  RefineOptions without;
-  without.max_iterations = 100;
-  with.max_iterations = 100;
+  SolverOptions solver;
+  solver.max_iterations = 100;
   RefineSummary summary;
   out->off = start;
-  ASSERT_TRUE(Refine(without, out->sequence.measurements, &out->off, &summary).ok());
+  ASSERT_TRUE(Refine(ProblemOptions(), solver, out->sequence.measurements, &out->off,
+                     &summary).ok());
   ASSERT_TRUE(summary.usable) << summary.message;
   out->on = start;
-  ASSERT_TRUE(Refine(with, out->sequence.measurements, &out->on, &summary).ok());
+  ASSERT_TRUE(Refine(with, solver, out->sequence.measurements, &out->on, &summary).ok());
   ASSERT_TRUE(summary.usable) << summary.message;
 }
 
@@ -176,8 +177,8 @@ TEST(ExtraTerms, RigidityRecoversTheRigAndImprovesTheShapes) {
   shoe.num_frames = 60;
   shoe.noise_stddev = 0.01;
   shoe.seed = 3;
-  RefineOptions with;
-  with.rigidity_weight = 100.0;
+  ProblemOptions with;
+  with.term_weights["rigidity"] = 100.0;
   WithoutAndWith run;
   RefineShoeWithoutAndWith(shoe, with, &run);
   if (HasFatalFailure()) return;
@@ -212,9 +213,9 @@ TEST(ExtraTerms, TemporalPriorLowersTheErrorOnSmoothNoisyData) {
   // The rotation prior penalises the turn between frames, so it biases
   // towards slower motion: its weight must stay far below the weights'
   // (docs/extra_terms.md).
-  RefineOptions with;
-  with.temporal_weights_weight = 100.0;
-  with.temporal_rotations_weight = 0.3;
+  ProblemOptions with;
+  with.term_weights["temporal_weights"] = 100.0;
+  with.term_weights["temporal_rotations"] = 0.3;
   WithoutAndWith run;
   RefineShoeWithoutAndWith(shoe, with, &run);
   if (HasFatalFailure()) return;

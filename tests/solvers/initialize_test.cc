@@ -85,13 +85,13 @@ SyntheticSequence RandomSequence(int num_frames, int num_points, int num_bases,
 
 TEST(Initialize, RigidNoiseFreeIsExactForEveryStart) {
   const SyntheticSequence sequence = RandomSequence(100, 30, 1, 0.0, 0.0, 1);
-  for (InitMethod method : {InitMethod::kAuto, InitMethod::kFactorization,
-                            InitMethod::kRigid, InitMethod::kTriple}) {
-    SCOPED_TRACE(InitMethodName(method));
-    InitializeOptions options;
+  for (StartMethod method : {StartMethod::kAuto, StartMethod::kFactorization,
+                            StartMethod::kRigid, StartMethod::kTriple}) {
+    SCOPED_TRACE(StartMethodName(method));
+    StartOptions options;
     options.method = method;
     Model model;
-    InitializeSummary summary;
+    StartSummary summary;
     ASSERT_TRUE(Initialize(options, sequence.measurements, &model, &summary).ok());
     ASSERT_TRUE(model.Validate().ok());
     EXPECT_LT(RotationErrorUpToGauge(sequence.truth, model), 1e-8);
@@ -99,7 +99,7 @@ TEST(Initialize, RigidNoiseFreeIsExactForEveryStart) {
     EXPECT_LT(summary.reprojection_rms, 1e-9);
     EXPECT_EQ(summary.completion_rms, -1.0);
     EXPECT_FALSE(summary.metric_upgrade_was_indefinite);
-    if (method != InitMethod::kAuto) {
+    if (method != StartMethod::kAuto) {
       EXPECT_EQ(summary.used, method);
     }
   }
@@ -122,31 +122,31 @@ TEST(Initialize, NonRigidStartsTable) {
       SCOPED_TRACE("K = " + std::to_string(k) + ", noise " + std::to_string(noise));
       const SyntheticSequence sequence = RandomSequence(150, 40, k, noise, 0.0, 1);
       const double spread = sequence.measurements.ImageSpreadRms();
-      InitializeOptions options;
+      StartOptions options;
       options.num_bases = k;
       double rms[2] = {0.0, 0.0};
       int i = 0;
-      for (InitMethod method : {InitMethod::kFactorization, InitMethod::kRigid}) {
+      for (StartMethod method : {StartMethod::kFactorization, StartMethod::kRigid}) {
         options.method = method;
         Model model;
-        InitializeSummary summary;
+        StartSummary summary;
         ASSERT_TRUE(Initialize(options, sequence.measurements, &model, &summary).ok());
         ASSERT_TRUE(model.Validate().ok());
         rms[i++] = summary.reprojection_rms;
         std::cout << std::setw(4) << k << std::setw(7) << noise << "  "
-                  << std::setw(14) << std::left << InitMethodName(method) << std::right
+                  << std::setw(14) << std::left << StartMethodName(method) << std::right
                   << std::setw(10) << std::setprecision(3) << summary.reprojection_rms / spread
                   << "  " << std::setw(8) << E3D(sequence, model) << "\n";
       }
-      options.method = InitMethod::kAuto;
+      options.method = StartMethod::kAuto;
       Model model;
-      InitializeSummary summary;
+      StartSummary summary;
       ASSERT_TRUE(Initialize(options, sequence.measurements, &model, &summary).ok());
       EXPECT_DOUBLE_EQ(summary.factorization_rms, rms[0]);
       EXPECT_DOUBLE_EQ(summary.rigid_rms, rms[1]);
       EXPECT_DOUBLE_EQ(summary.reprojection_rms, std::min(rms[0], rms[1]));
-      EXPECT_EQ(summary.used, rms[1] < rms[0] ? InitMethod::kRigid
-                                              : InitMethod::kFactorization);
+      EXPECT_EQ(summary.used, rms[1] < rms[0] ? StartMethod::kRigid
+                                              : StartMethod::kFactorization);
 
       // Monotone alternation: rigid start ≤ its rigid Tomasi-Kanade model.
       Measurements centered = sequence.measurements;
@@ -168,9 +168,9 @@ TEST(Initialize, ThirtyPercentMissing) {
   // Rigid, noise-free: the completion is exact up to its ridge bias and the
   // start is exact to the same level.
   const SyntheticSequence rigid = RandomSequence(100, 30, 1, 0.0, 0.3, 2);
-  InitializeOptions options;
+  StartOptions options;
   Model model;
-  InitializeSummary summary;
+  StartSummary summary;
   ASSERT_TRUE(Initialize(options, rigid.measurements, &model, &summary).ok());
   EXPECT_GT(summary.completion_rms, 0.0);
   EXPECT_LT(summary.completion_rms, 1e-6);
@@ -203,7 +203,7 @@ TEST(Initialize, ThirtyPercentMissing) {
   ASSERT_TRUE(Initialize(options, sequence.measurements, &model, &summary).ok());
   ASSERT_TRUE(model.Validate().ok());
   const double spread = sequence.measurements.ImageSpreadRms();
-  std::cout << "30 % missing, K = 3: kept " << InitMethodName(summary.used)
+  std::cout << "30 % missing, K = 3: kept " << StartMethodName(summary.used)
             << ", rms/spread " << summary.reprojection_rms / spread << ", e3D "
             << E3D(sequence, model) << "\n";
   EXPECT_LT(summary.reprojection_rms, NonRigidRms(sequence.truth));
@@ -219,10 +219,10 @@ TEST(Initialize, TwoCamerasRecoverTheRigRotation) {
     shoe.self_occlusion = occlusion;
     SyntheticSequence sequence;
     ASSERT_TRUE(GenerateShoe(shoe, &sequence).ok());
-    InitializeOptions options;
+    StartOptions options;
     options.num_bases = 2;
     Model model;
-    InitializeSummary summary;
+    StartSummary summary;
     ASSERT_TRUE(Initialize(options, sequence.measurements, &model, &summary).ok());
     ASSERT_TRUE(model.Validate().ok());
     ASSERT_EQ(model.num_cameras, 2);
@@ -241,7 +241,7 @@ TEST(Initialize, TwoCamerasRecoverTheRigRotation) {
     std::cout << "shoe, 2 cameras, " << 100.0 * missing << " % missing: rig rotation error "
               << error_deg << " deg (baseline " << shoe.camera_baseline_deg
               << "), rig scale " << model.rig_scales(0) << " (truth "
-              << sequence.truth.rig_scales(0) << "), kept " << InitMethodName(summary.used)
+              << sequence.truth.rig_scales(0) << "), kept " << StartMethodName(summary.used)
               << ", rms/spread " << summary.reprojection_rms / sequence.measurements.ImageSpreadRms()
               << "\n";
     EXPECT_LT(error_deg, 5.0);
@@ -251,10 +251,10 @@ TEST(Initialize, TwoCamerasRecoverTheRigRotation) {
 }
 
 // Expects Initialize to fail with a message containing `needle`.
-void ExpectError(const InitializeOptions& options, const Measurements& m,
+void ExpectError(const StartOptions& options, const Measurements& m,
                  const std::string& needle) {
   Model model;
-  InitializeSummary summary;
+  StartSummary summary;
   const Status status = Initialize(options, m, &model, &summary);
   ASSERT_FALSE(status.ok()) << "expected an error containing \"" << needle << "\"";
   EXPECT_NE(status.message().find(needle), std::string::npos) << status.message();
@@ -263,7 +263,7 @@ void ExpectError(const InitializeOptions& options, const Measurements& m,
 
 TEST(Initialize, DegenerateDataGivesClearErrors) {
   const SyntheticSequence sequence = RandomSequence(30, 20, 2, 0.0, 0.0, 3);
-  InitializeOptions options;
+  StartOptions options;
   options.num_bases = 2;
 
   Measurements one_frame = sequence.measurements;
@@ -292,9 +292,9 @@ TEST(Initialize, DegenerateDataGivesClearErrors) {
   sparse_frame.visible.row(4).head(5).setConstant(true);  // 5 < 3K + 1 = 7
   ExpectError(options, sparse_frame, "frame 4 sees 5 points");
 
-  InitializeOptions no_bases = options;
+  StartOptions no_bases = options;
   no_bases.num_bases = 0;
-  ExpectError(no_bases, sequence.measurements, "num_bases (K) must be >= 1");
+  ExpectError(no_bases, sequence.measurements, "num_bases must be >= 1, got 0");
 
   // No rotation: rigid (rank-2 tracks) and non-rigid without deformation.
   for (int k : {1, 2}) {
@@ -306,10 +306,10 @@ TEST(Initialize, DegenerateDataGivesClearErrors) {
     still.max_rotation_deg = 0.0;
     SyntheticSequence static_sequence;
     ASSERT_TRUE(GenerateRandomBasis(still, &static_sequence).ok());
-    InitializeOptions static_options;
+    StartOptions static_options;
     static_options.num_bases = k;
-    for (InitMethod method :
-         {InitMethod::kAuto, InitMethod::kFactorization, InitMethod::kRigid}) {
+    for (StartMethod method :
+         {StartMethod::kAuto, StartMethod::kFactorization, StartMethod::kRigid}) {
       static_options.method = method;
       ExpectError(static_options, static_sequence.measurements, "no rotation");
     }
@@ -323,13 +323,13 @@ TEST(Initialize, TripleRecoversNoiseFreeNonRigidRotations) {
   for (int k = 2; k <= 4; ++k) {
     SCOPED_TRACE("K = " + std::to_string(k));
     const SyntheticSequence sequence = RandomSequence(150, 40, k, 0.0, 0.0, 1);
-    InitializeOptions options;
+    StartOptions options;
     options.num_bases = k;
-    options.method = InitMethod::kTriple;
+    options.method = StartMethod::kTriple;
     Model model;
-    InitializeSummary summary;
+    StartSummary summary;
     ASSERT_TRUE(Initialize(options, sequence.measurements, &model, &summary).ok());
-    EXPECT_EQ(summary.used, InitMethod::kTriple);
+    EXPECT_EQ(summary.used, StartMethod::kTriple);
     EXPECT_EQ(summary.triple_sign_segments, 1);  // smooth rotations: linked in time
     EXPECT_TRUE(summary.warnings.empty());
     const double rotation_error = RotationErrorUpToGauge(sequence.truth, model);
@@ -421,28 +421,28 @@ TEST(Initialize, TripleRotationsOfPickupWithinTwentyFiveDegrees) {
 }
 
 TEST(Initialize, MethodNamesAndOptions) {
-  InitMethod method = InitMethod::kAuto;
-  ASSERT_TRUE(ParseInitMethod("rigid", &method).ok());
-  EXPECT_EQ(method, InitMethod::kRigid);
-  ASSERT_TRUE(ParseInitMethod("factorization", &method).ok());
-  EXPECT_EQ(method, InitMethod::kFactorization);
-  ASSERT_TRUE(ParseInitMethod("auto", &method).ok());
-  EXPECT_EQ(method, InitMethod::kAuto);
-  ASSERT_TRUE(ParseInitMethod("triple", &method).ok());
-  EXPECT_EQ(method, InitMethod::kTriple);
-  const Status status = ParseInitMethod("svd", &method);
+  StartMethod method = StartMethod::kAuto;
+  ASSERT_TRUE(ParseStartMethod("rigid", &method).ok());
+  EXPECT_EQ(method, StartMethod::kRigid);
+  ASSERT_TRUE(ParseStartMethod("factorization", &method).ok());
+  EXPECT_EQ(method, StartMethod::kFactorization);
+  ASSERT_TRUE(ParseStartMethod("auto", &method).ok());
+  EXPECT_EQ(method, StartMethod::kAuto);
+  ASSERT_TRUE(ParseStartMethod("triple", &method).ok());
+  EXPECT_EQ(method, StartMethod::kTriple);
+  const Status status = ParseStartMethod("svd", &method);
   ASSERT_FALSE(status.ok());
   EXPECT_NE(status.message().find("auto, factorization, rigid, triple"), std::string::npos);
-  EXPECT_STREQ(InitMethodName(InitMethod::kFactorization), "factorization");
+  EXPECT_STREQ(StartMethodName(StartMethod::kFactorization), "factorization");
 
-  InitializeOptions options;
+  StartOptions options;
   EXPECT_TRUE(options.Check().ok());
   options.completion_max_iterations = 0;
   EXPECT_FALSE(options.Check().ok());
-  options = InitializeOptions();
+  options = StartOptions();
   options.rigid_initial_deformation = -1.0;
   EXPECT_FALSE(options.Check().ok());
-  options = InitializeOptions();
+  options = StartOptions();
   options.rigid_refine_iterations = -1;
   EXPECT_FALSE(options.Check().ok());
 }

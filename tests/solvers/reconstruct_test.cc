@@ -35,7 +35,7 @@ double E3D(const Model& truth, const Model& estimate) {
 
 ReconstructOptions Options() {
   ReconstructOptions options;
-  options.init.num_bases = kBases;
+  options.start.num_bases = kBases;
   return options;
 }
 
@@ -47,13 +47,13 @@ TEST(Reconstruct, NoiseFreeIsExact) {
   EXPECT_TRUE(result.refine.usable) << result.refine.message;
   const double e3d = E3D(s.truth, result.model);
   std::printf("noise-free: start %s rms %.3e, refined rms %.3e (spread %.3f), e3D %.2e\n",
-              InitMethodName(result.init.used), result.init.reprojection_rms,
+              StartMethodName(result.start.used), result.start.reprojection_rms,
               result.refine.reprojection_rms, spread, e3d);
   EXPECT_LT(result.refine.reprojection_rms, 1e-6 * spread);
   EXPECT_LT(e3d, 1e-3);
   EXPECT_EQ(result.refine.reprojection_rms,
             ReprojectionRms(s.measurements, result.model));
-  EXPECT_GE(result.total_seconds, result.init.seconds + result.refine.seconds);
+  EXPECT_GE(result.total_seconds, result.start.seconds + result.refine.seconds);
 }
 
 // Noise of 1 % of the data spread: the reconstruction is as good as the
@@ -68,7 +68,7 @@ TEST(Reconstruct, OnePercentNoiseIsWithinTwiceTheTrueModelRefit) {
 
   Model refit = s.truth;
   RefineSummary refit_summary;
-  ASSERT_TRUE(Refine(RefineOptions(), s.measurements, &refit, &refit_summary).ok());
+  ASSERT_TRUE(Refine(ProblemOptions(), SolverOptions(), s.measurements, &refit, &refit_summary).ok());
   ASSERT_TRUE(refit_summary.usable);
 
   const double e3d = E3D(s.truth, result.model);
@@ -95,7 +95,7 @@ TEST(Reconstruct, ThirtyPercentMissingStillConverges) {
       << result.refine.message;
   const double e3d = E3D(s.truth, result.model);
   std::printf("30%% missing: start rms %.3e, refined rms %.3e, e3D %.2e, %d iterations\n",
-              result.init.reprojection_rms, result.refine.reprojection_rms, e3d,
+              result.start.reprojection_rms, result.refine.reprojection_rms, e3d,
               result.refine.iterations);
   EXPECT_LT(result.refine.reprojection_rms, 1e-6 * spread);
   EXPECT_LT(e3d, 1e-3);
@@ -104,18 +104,18 @@ TEST(Reconstruct, ThirtyPercentMissingStillConverges) {
 TEST(Reconstruct, OptionsAreCheckedFirst) {
   const SyntheticSequence s = Sequence(0.0, 0.0);
   ReconstructOptions options = Options();
-  options.refine.num_threads = 0;
+  options.solver.num_threads = 0;
   ReconstructResult result;
   Status status = Reconstruct(options, s.measurements, &result);
   EXPECT_FALSE(status.ok());
-  EXPECT_NE(status.message().find("reconstruct: refine: refine options: num_threads"),
+  EXPECT_NE(status.message().find("reconstruct: solver options: num_threads"),
             std::string::npos)
       << status.message();
   options = Options();
-  options.init.num_bases = 0;
+  options.start.num_bases = 0;
   status = Reconstruct(options, s.measurements, &result);
   EXPECT_FALSE(status.ok());
-  EXPECT_NE(status.message().find("reconstruct: init"), std::string::npos)
+  EXPECT_NE(status.message().find("reconstruct: start options: num_bases"), std::string::npos)
       << status.message();
 }
 

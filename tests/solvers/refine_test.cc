@@ -77,35 +77,56 @@ double MaxAbsDifference(const Model& a, const Model& b) {
                    (a.basis - b.basis).cwiseAbs().maxCoeff()});
 }
 
-TEST(RefineOptions, CheckNamesTheBadField) {
-  EXPECT_TRUE(RefineOptions().Check().ok());
-  auto expect_error = [](RefineOptions options, const std::string& text) {
+TEST(SolverOptions, CheckNamesTheBadField) {
+  EXPECT_TRUE(SolverOptions().Check().ok());
+  auto expect_error = [](SolverOptions options, const std::string& text) {
     const Status status = options.Check();
     EXPECT_FALSE(status.ok()) << text;
     EXPECT_NE(status.message().find(text), std::string::npos) << status.message();
   };
-  RefineOptions o;
+  SolverOptions o;
   o.max_iterations = -1;
-  expect_error(o, "max_iterations must be >= 0, got -1");
-  o = RefineOptions();
+  expect_error(o, "solver options: max_iterations must be >= 0, got -1");
+  o = SolverOptions();
   o.gradient_tolerance = -1e-3;
-  expect_error(o, "tolerances must be >= 0");
-  o = RefineOptions();
+  expect_error(o, "gradient_tolerance must be >= 0");
+  o = SolverOptions();
   o.function_tolerance = std::nan("");
-  expect_error(o, "tolerances must be >= 0");
-  o = RefineOptions();
+  expect_error(o, "function_tolerance must be >= 0");
+  o = SolverOptions();
   o.num_threads = 0;
   expect_error(o, "num_threads must be >= 1, got 0");
-  o = RefineOptions();
-  o.robust_scale = -2.0;
-  expect_error(o, "robust_scale must be positive");
-  o = RefineOptions();
+  o = SolverOptions();
   o.max_seconds = -1.0;
   expect_error(o, "max_seconds");
-  o = RefineOptions();
-  o.refine_rotations = o.refine_translations = o.refine_weights =
-      o.refine_basis = o.refine_scales = false;
+  o = SolverOptions();
+  o.initial_trust_region_radius = 0.0;
+  expect_error(o, "initial_trust_region_radius must be positive");
+}
+
+TEST(ProblemOptions, CheckNamesTheBadField) {
+  EXPECT_TRUE(ProblemOptions().Check().ok());
+  auto expect_error = [](ProblemOptions options, const std::string& text) {
+    const Status status = options.Check();
+    EXPECT_FALSE(status.ok()) << text;
+    EXPECT_NE(status.message().find(text), std::string::npos) << status.message();
+  };
+  ProblemOptions o;
+  o.robust_scale = -2.0;
+  expect_error(o, "problem options: robust_scale must be positive");
+  o = ProblemOptions();
+  o.constant_rotations = o.constant_translations = o.constant_weights =
+      o.constant_basis = o.constant_scales = true;
   expect_error(o, "nothing to refine");
+  o = ProblemOptions();
+  o.term_weights["temporal_shape"] = -1.0;
+  expect_error(o, "term weight temporal_shape must be finite and >= 0, got -1");
+  o = ProblemOptions();
+  o.term_weights["temporal_shape"] = std::nan("");
+  expect_error(o, "term weight temporal_shape must be finite");
+  o = ProblemOptions();
+  o.term_weights["temporal_shap"] = 1.0;
+  expect_error(o, "no term \"temporal_shap\"");
 }
 
 TEST(Refine, BadInputIsAnErrorAndLeavesTheModel) {
@@ -114,16 +135,16 @@ TEST(Refine, BadInputIsAnErrorAndLeavesTheModel) {
   model.Resize(10, 1, 11, 2);
   const Model before = model;
   RefineSummary summary;
-  const Status status = Refine(RefineOptions(), s.measurements, &model, &summary);
+  const Status status = Refine(ProblemOptions(), SolverOptions(), s.measurements, &model, &summary);
   EXPECT_FALSE(status.ok());
   EXPECT_NE(status.message().find("does not match the measurements"), std::string::npos)
       << status.message();
   EXPECT_EQ(MaxAbsDifference(model, before), 0.0);
-  RefineOptions huge;
+  SolverOptions huge;
   huge.linear_solver = LinearSolverChoice::kDenseQr;
   SyntheticSequence big = Sequence(300, 110, 5, 0.0);
   Model truth = big.truth;
-  const Status refused = Refine(huge, big.measurements, &truth, &summary);
+  const Status refused = Refine(ProblemOptions(), huge, big.measurements, &truth, &summary);
   EXPECT_FALSE(refused.ok());
   EXPECT_NE(refused.message().find("dense Jacobian would take"), std::string::npos);
 }
@@ -133,7 +154,7 @@ TEST(Refine, ModelAtTheOptimumDoesNotMove) {
   SyntheticSequence exact = Sequence(40, 20, 3, 0.0);
   Model model = exact.truth;
   RefineSummary summary;
-  ASSERT_TRUE(Refine(RefineOptions(), exact.measurements, &model, &summary).ok());
+  ASSERT_TRUE(Refine(ProblemOptions(), SolverOptions(), exact.measurements, &model, &summary).ok());
   EXPECT_TRUE(summary.usable) << summary.message;
   EXPECT_LT(summary.initial_cost, 1e-28);
   EXPECT_LT(MaxAbsDifference(model, exact.truth), 1e-12);
@@ -141,11 +162,11 @@ TEST(Refine, ModelAtTheOptimumDoesNotMove) {
   // Noisy: refine once to the optimum, then again from there.
   SyntheticSequence noisy = Sequence(40, 20, 3, 0.01);
   Model optimum = noisy.truth;
-  ASSERT_TRUE(Refine(RefineOptions(), noisy.measurements, &optimum, &summary).ok());
+  ASSERT_TRUE(Refine(ProblemOptions(), SolverOptions(), noisy.measurements, &optimum, &summary).ok());
   ASSERT_TRUE(summary.usable);
   const double cost = summary.final_cost;
   Model again = optimum;
-  ASSERT_TRUE(Refine(RefineOptions(), noisy.measurements, &again, &summary).ok());
+  ASSERT_TRUE(Refine(ProblemOptions(), SolverOptions(), noisy.measurements, &again, &summary).ok());
   EXPECT_TRUE(summary.usable);
   EXPECT_NEAR(summary.initial_cost, cost, 1e-14 * cost);
   EXPECT_LE(summary.final_cost, cost);
@@ -166,11 +187,11 @@ TEST(Refine, GaugeFreedomsDoNotStopConvergenceWithAnySolver) {
         LinearSolverChoice::kSparseNormalCholesky, LinearSolverChoice::kCgnr,
         LinearSolverChoice::kDenseQr}) {
     Model model = start;
-    RefineOptions options;
+    SolverOptions options;
     options.linear_solver = choice;
     options.max_iterations = 200;
     RefineSummary summary;
-    ASSERT_TRUE(Refine(options, s.measurements, &model, &summary).ok());
+    ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &model, &summary).ok());
     EXPECT_TRUE(summary.usable) << LinearSolverName(choice) << ": " << summary.message;
     EXPECT_LT(summary.reprojection_rms, 1e-8 * spread)
         << LinearSolverName(choice) << ": " << summary.message;
@@ -192,11 +213,11 @@ TEST(Refine, ConstantBlocksStayPut) {
     Model model = start;
     model.rotations = s.truth.rotations;
     model.weights = s.truth.weights;
-    RefineOptions options;
-    options.refine_rotations = options.refine_translations =
-        options.refine_weights = false;
+    ProblemOptions options;
+    options.constant_rotations = options.constant_translations =
+        options.constant_weights = true;
     RefineSummary summary;
-    ASSERT_TRUE(Refine(options, s.measurements, &model, &summary).ok());
+    ASSERT_TRUE(Refine(options, SolverOptions(), s.measurements, &model, &summary).ok());
     EXPECT_EQ(model.rotations, s.truth.rotations);
     EXPECT_EQ(model.weights, s.truth.weights);
     EXPECT_EQ(model.translations, start.translations);
@@ -209,10 +230,10 @@ TEST(Refine, ConstantBlocksStayPut) {
     Model model = start;
     model.basis = s.truth.basis;
     model.weights = s.truth.weights;
-    RefineOptions options;
-    options.refine_weights = options.refine_basis = false;
+    ProblemOptions options;
+    options.constant_weights = options.constant_basis = true;
     RefineSummary summary;
-    ASSERT_TRUE(Refine(options, s.measurements, &model, &summary).ok());
+    ASSERT_TRUE(Refine(options, SolverOptions(), s.measurements, &model, &summary).ok());
     EXPECT_EQ(model.basis, s.truth.basis);
     EXPECT_EQ(model.weights, s.truth.weights);
     EXPECT_EQ(summary.linear_solver, "sparse_normal_cholesky");
@@ -224,11 +245,11 @@ TEST(Refine, SummaryAndProgressCallback) {
   SyntheticSequence s = Sequence(30, 15, 3, 0.01);
   Model model = Perturbed(s.truth, 0.02, 3);
   std::vector<IterationReport> reports;
-  RefineOptions options;
+  SolverOptions options;
   options.verbosity = 1;
   options.progress = [&reports](const IterationReport& r) { reports.push_back(r); };
   RefineSummary summary;
-  ASSERT_TRUE(Refine(options, s.measurements, &model, &summary).ok());
+  ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &model, &summary).ok());
   EXPECT_TRUE(summary.usable);
   EXPECT_NE(summary.message.find("tolerance"), std::string::npos) << summary.message;
   ASSERT_EQ(static_cast<int>(reports.size()), summary.iterations + 1);
@@ -267,13 +288,13 @@ TEST(Refine, RobustLossResistsGrossOutliers) {
   double e3d[2];
   for (const bool robust : {false, true}) {
     Model model = start;
-    RefineOptions options;
+    ProblemOptions options;
     if (robust) {
       options.robust_loss = RobustLoss::kCauchy;
       options.robust_scale = 0.01;
     }
     RefineSummary summary;
-    ASSERT_TRUE(Refine(options, s.measurements, &model, &summary).ok());
+    ASSERT_TRUE(Refine(options, SolverOptions(), s.measurements, &model, &summary).ok());
     EXPECT_TRUE(summary.usable);
     e3d[robust] = ComputeE3D(CameraFrameShapes(s.truth), CameraFrameShapes(model));
   }
@@ -285,10 +306,10 @@ TEST(Refine, RunTimeKAboveTheStaticRange) {
   // K = 17: the dynamic cost function.
   SyntheticSequence s = Sequence(60, 55, 17, 0.0);
   Model model = Perturbed(s.truth, 0.005, 6);
-  RefineOptions options;
+  SolverOptions options;
   options.max_iterations = 200;
   RefineSummary summary;
-  ASSERT_TRUE(Refine(options, s.measurements, &model, &summary).ok());
+  ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &model, &summary).ok());
   EXPECT_TRUE(summary.usable) << summary.message;
   EXPECT_LT(summary.reprojection_rms, 1e-8);
 }
@@ -299,11 +320,11 @@ TEST(Refine, SolveProblemRunsACallerBuiltProblem) {
   // Reprojection terms only: the same result as Refine(), bit for bit.
   Model by_refine = start, by_solve = start;
   RefineSummary refine_summary, solve_summary;
-  ASSERT_TRUE(Refine(RefineOptions(), s.measurements, &by_refine, &refine_summary).ok());
+  ASSERT_TRUE(Refine(ProblemOptions(), SolverOptions(), s.measurements, &by_refine, &refine_summary).ok());
   {
     ProblemBuilder builder(&s.measurements, &by_solve);
     ASSERT_TRUE(builder.AddReprojectionTerms(ProblemOptions()).ok());
-    ASSERT_TRUE(SolveProblem(RefineOptions(), &builder, &solve_summary).ok());
+    ASSERT_TRUE(SolveProblem(SolverOptions(), &builder, &solve_summary).ok());
   }
   EXPECT_EQ(MaxAbsDifference(by_refine, by_solve), 0.0);
   EXPECT_EQ(refine_summary.final_cost, solve_summary.final_cost);
@@ -323,7 +344,7 @@ TEST(Refine, SolveProblemRunsACallerBuiltProblem) {
       new ceres::NormalPrior(100.0 * Eigen::Matrix2d::Identity(), Eigen::Vector2d(5, 5)),
       nullptr, builder.TranslationBlock(0, 0));
   RefineSummary summary;
-  ASSERT_TRUE(SolveProblem(RefineOptions(), &builder, &summary).ok());
+  ASSERT_TRUE(SolveProblem(SolverOptions(), &builder, &summary).ok());
   EXPECT_TRUE(summary.usable);
   double cost = 0.0;
   ASSERT_TRUE(builder.problem()->Evaluate(ceres::Problem::EvaluateOptions(), &cost,
@@ -342,12 +363,12 @@ TEST(Refine, OneThreadIsBitwiseDeterministicTwoThreadsAgreeClosely) {
   SyntheticSequence s = Sequence(40, 20, 3, 0.01);
   const Model start = Perturbed(s.truth, 0.02, 8);
   for (const int threads : {1, 2}) {
-    RefineOptions options;
+    SolverOptions options;
     options.num_threads = threads;
     Model first = start, second = start;
     RefineSummary summary;
-    ASSERT_TRUE(Refine(options, s.measurements, &first, &summary).ok());
-    ASSERT_TRUE(Refine(options, s.measurements, &second, &summary).ok());
+    ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &first, &summary).ok());
+    ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &second, &summary).ok());
     if (threads == 1) {
       EXPECT_EQ(MaxAbsDifference(first, second), 0.0);
     } else {

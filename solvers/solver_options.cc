@@ -1,0 +1,36 @@
+#include "solvers/solver_options.h"
+
+#include "core/option_checker.h"
+
+namespace nrsfm {
+
+Status SolverOptions::Check() const {
+  OptionChecker check("solver options");
+  check.AtLeast("max_iterations", max_iterations, 0);
+  check.AtLeast("function_tolerance", function_tolerance, 0.0);
+  check.AtLeast("gradient_tolerance", gradient_tolerance, 0.0);
+  check.AtLeast("parameter_tolerance", parameter_tolerance, 0.0);
+  check.AtLeast("max_seconds", max_seconds, 0.0);
+  check.AtLeast("num_threads", num_threads, 1);
+  check.FinitePositive("initial_trust_region_radius", initial_trust_region_radius);
+  check.AtLeast("verbosity", verbosity, 0);
+  return check.status();
+}
+
+ceres::Solver::Options ToCeresOptions(const SolverOptions& options) {
+  ceres::Solver::Options ceres_options;
+  ceres_options.max_num_iterations = options.max_iterations;
+  ceres_options.function_tolerance = options.function_tolerance;
+  ceres_options.gradient_tolerance = options.gradient_tolerance;
+  ceres_options.parameter_tolerance = options.parameter_tolerance;
+  if (options.max_seconds > 0.0) {
+    ceres_options.max_solver_time_in_seconds = options.max_seconds;
+  }
+  ceres_options.num_threads = options.num_threads;
+  ceres_options.initial_trust_region_radius = options.initial_trust_region_radius;
+  ceres_options.logging_type = ceres::SILENT;
+  ceres_options.minimizer_progress_to_stdout = false;
+  return ceres_options;
+}
+
+}  // namespace nrsfm

@@ -1,0 +1,55 @@
+// How the one Ceres problem is solved: Levenberg–Marquardt with a linear
+// solver chosen from the problem's structure (problems/linear_solver_choice.h).
+// Refine() (solvers/refine.h) and the corrective triple's small solves
+// (solvers/corrective_triple.cc) both run Ceres through ToCeresOptions().
+#ifndef NRSFM_SOLVERS_SOLVER_OPTIONS_H_
+#define NRSFM_SOLVERS_SOLVER_OPTIONS_H_
+
+#include <functional>
+
+#include <ceres/solver.h>
+
+#include "core/status.h"
+#include "problems/linear_solver_choice.h"
+
+namespace nrsfm {
+
+// Progress callback payload, once per LM iteration (iteration 0 = the start).
+struct IterationReport {
+  int iteration = 0;     // 0, 1, 2, …
+  double cost = 0.0;     // Ceres cost ½ Σ ρ(‖r‖²) after the iteration
+  double seconds = 0.0;  // wall time since the solve started
+};
+
+struct SolverOptions {
+  int max_iterations = 100;            // LM iterations, ≥ 0
+  double function_tolerance = 1e-10;   // stop when |Δcost| / cost < this, ≥ 0
+  double gradient_tolerance = 1e-12;   // stop when max|projected gradient| < this, ≥ 0
+  double parameter_tolerance = 1e-10;  // stop when |Δx| < this · (|x| + this), ≥ 0
+  double max_seconds = 0.0;            // wall-time limit of the solve, 0 = none, ≥ 0
+  // Ceres threads, ≥ 1. 1 is bitwise deterministic; with more, Ceres 2.1 sums
+  // per-thread partial costs in scheduling order and runs agree only to
+  // ~1e-13 (tests/solvers/refine_test.cc).
+  int num_threads = 1;
+  LinearSolverChoice linear_solver = LinearSolverChoice::kAuto;
+  // LM's first trust-region radius, > 0. Ceres' default is 1e4; the gauge
+  // freedoms make its first, nearly undamped steps huge and rejected, so
+  // refinements start at 1e2 (docs/performance.md).
+  double initial_trust_region_radius = 1e2;
+  int verbosity = 0;  // 0 silent, ≥ 1 one VLOG(1) line per iteration
+  std::function<void(const IterationReport&)> progress;  // optional, per iteration
+
+  // Errors on a negative count, tolerance or time, num_threads < 1 and an
+  // initial_trust_region_radius that is not positive and finite.
+  Status Check() const;
+};
+
+// The Ceres options of `options` (iterations, tolerances, time limit,
+// threads, first radius; silent). The linear solver is left at Ceres'
+// default: set it with ConfigureLinearSolver (problems/
+// linear_solver_choice.h) or directly; progress and verbosity are Refine()'s.
+ceres::Solver::Options ToCeresOptions(const SolverOptions& options);
+
+}  // namespace nrsfm
+
+#endif  // NRSFM_SOLVERS_SOLVER_OPTIONS_H_
