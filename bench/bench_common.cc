@@ -58,7 +58,7 @@ RunOutcome ReconstructAndEvaluate(const ReconstructOptions& options,
     outcome.message = status.message();
     return outcome;
   }
-  outcome.start = StartMethodName(result.start.used);
+  outcome.start = StartMethodName(result.start.method);
   outcome.init_seconds = result.start.seconds;
   outcome.refine_seconds = result.refine.seconds;
   outcome.total_seconds = result.total_seconds;

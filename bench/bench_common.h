@@ -38,7 +38,7 @@ struct BenchConfig {
   double max_seconds = 0;     // wall-time cap of each shoe and mocap refinement, 0 = none
   int jobs = 1;               // reconstructions run at once (the scale suite: always 1)
   int max_iterations = 0;       // LM iterations per refinement, 0 = the library default
-  std::string strategy = "triple+ts";  // mocap: plain | triple/ts/ms/c2f joined by '+' | all
+  std::string strategy = "triple+ts";  // mocap: plain | triple, ts joined by '+' | all
 };
 
 // The options every suite uses unless it says otherwise: Reconstruct()'s

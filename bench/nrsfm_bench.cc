@@ -15,7 +15,7 @@
 //                     run: 30; one suite alone or --full: none)
 //   --jobs            reconstructions run at once (default 2)
 //   --max_iterations  LM iterations per refinement (default: the library's)
-//   --strategy        mocap: plain | triple, ts, ms, c2f joined by '+' | all
+//   --strategy        mocap: plain | triple, ts joined by '+' | all
 //
 // Output: tables on stdout; <output_dir>/results.json with a "context" block
 // (date, machine, threads, versions, BLAS) and one object per suite.
@@ -54,8 +54,8 @@ DEFINE_int32(max_iterations, 0,
              "LM iterations per refinement (0 = the library default)");
 DEFINE_string(strategy, "triple+ts",
               "mocap strategy: plain (default options), or '+'-joined triple "
-              "(corrective-triple start), ts (temporal shape prior), ms (4 starts), "
-              "c2f (coarse-to-fine K), or all (the ablation)");
+              "(corrective-triple start) and ts (temporal shape prior), or all "
+              "(the ablation)");
 
 namespace {
 
@@ -122,7 +122,7 @@ int main(int argc, char** argv) {
     std::string rest = FLAGS_strategy + "+";
     for (size_t pos; (pos = rest.find('+')) != std::string::npos;) {
       const std::string part = rest.substr(0, pos);
-      strategy_ok &= part == "ms" || part == "c2f" || part == "triple" || part == "ts";
+      strategy_ok &= part == "triple" || part == "ts";
       rest.erase(0, pos + 1);
     }
   }

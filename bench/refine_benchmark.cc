@@ -31,7 +31,6 @@
 #include "core/synthetic.h"
 #include "problems/linear_solver_choice.h"
 #include "problems/problem_builder.h"
-#include "solvers/initialize.h"
 #include "solvers/reconstruct.h"
 
 DEFINE_string(mode, "all", "table | drink | all");
@@ -120,6 +119,18 @@ void SolveOnce(const SyntheticSequence& sequence, const Model& start,
   std::fflush(stdout);
 }
 
+// The start Reconstruct()'s `auto` rule keeps without refining it (0 LM
+// iterations: the lower initial cost, i.e. the lower start RMS).
+Model StartKeptByAuto(int num_bases, const Measurements& measurements) {
+  ReconstructOptions options;
+  options.start.num_bases = num_bases;
+  options.solver.max_iterations = 0;
+  ReconstructResult result;
+  const Status status = Reconstruct(options, measurements, &result);
+  if (!status.ok()) Die(status);
+  return result.model;
+}
+
 void SolverTable() {
   std::vector<LinearSolverChoice> solvers;
   for (const std::string& name : Split(FLAGS_solvers, ',')) {
@@ -134,20 +145,14 @@ void SolverTable() {
     const int frames = std::stoi(fpk[0]), points = std::stoi(fpk[1]),
               bases = std::stoi(fpk[2]);
     const SyntheticSequence sequence = MakeSequence(frames, points, bases);
-    StartOptions init_options;
-    init_options.num_bases = bases;
-    Model start;
-    StartSummary init_summary;
     const Clock::time_point init_start = Clock::now();
-    const Status status =
-        Initialize(init_options, sequence.measurements, &start, &init_summary);
-    if (!status.ok()) Die(status);
+    const Model start = StartKeptByAuto(bases, sequence.measurements);
     std::printf(
-        "(F, P, K) = (%d, %d, %d), %d observations, noise %g; start %s in "
+        "(F, P, K) = (%d, %d, %d), %d observations, noise %g; start in "
         "%.3f s: rms %.3e, e3D %.4f\n",
         frames, points, bases, sequence.measurements.NumVisible(), FLAGS_noise,
-        StartMethodName(init_summary.used), SecondsSince(init_start),
-        ReprojectionRms(sequence.measurements, start), E3D(sequence, start));
+        SecondsSince(init_start), ReprojectionRms(sequence.measurements, start),
+        E3D(sequence, start));
     std::fflush(stdout);
     for (LinearSolverChoice choice : solvers) SolveOnce(sequence, start, choice);
   }
@@ -187,7 +192,7 @@ void PrintReconstruct(const std::string& label, const Measurements& measurements
       "  refine time: build %.3f, preprocess %.3f, residuals %.3f, jacobians "
       "%.3f, linear solver %.3f, minimizer %.3f s\n  %s\n",
       label.c_str(), measurements.NumVisible(), result.total_seconds,
-      result.start.seconds, StartMethodName(result.start.used),
+      result.start.seconds, StartMethodName(result.start.method),
       result.start.reprojection_rms, r.seconds, r.linear_solver.c_str(),
       r.iterations, r.iterations > 0 ? r.minimizer_seconds / r.iterations : 0.0,
       r.usable, r.initial_reprojection_rms, r.reprojection_rms, r.initial_cost,
@@ -225,10 +230,7 @@ void DrinkTiming() {
                    result);
   GroundTruth truth;
   if (ReadGroundTruth(FLAGS_drink, "", &truth).ok()) {
-    Model start;
-    StartSummary init_summary;
-    status = Initialize(options.start, drink, &start, &init_summary);
-    if (!status.ok()) Die(status);
+    const Model start = StartKeptByAuto(bases, drink);
     std::printf("  e3D vs the file's truth (%s): start %.4f, refined %.4f\n",
                 truth.source.c_str(),
                 ComputeE3D(truth.points_in_camera, CameraFrameShapes(start)),

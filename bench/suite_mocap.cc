@@ -16,7 +16,6 @@
 #include "bench/suites.h"
 #include "core/ground_truth.h"
 #include "core/read_measurements.h"
-#include "solvers/coarse_to_fine.h"
 
 namespace nrsfm {
 namespace bench {
@@ -45,19 +44,17 @@ struct Sequence {
 };
 
 // Strategies: "plain" (Reconstruct() with default options), or '+'-joined
-// parts: "triple" (the corrective-triple start, solvers/corrective_triple.h),
+// parts: "triple" (the corrective-triple start, solvers/triple_start.h) and
 // "ts" (the object-frame temporal shape prior, λ_S = kTemporalShapeWeight,
-// problems/temporal_error.h), "ms" (kNumStarts starts) and "c2f"
-// (coarse-to-fine K from 1), the last two from solvers/coarse_to_fine.h.
-// "all" runs the ablation list below. One set of options for every
-// sequence, chosen before the final runs: λ_S = 1 weighs a 3D move between
-// frames like a reprojection error of the same length.
+// problems/temporal_error.h). "all" runs the ablation list below. One set
+// of options for every sequence, chosen before the final runs: λ_S = 1
+// weighs a 3D move between frames like a reprojection error of the same
+// length.
 constexpr double kTemporalShapeWeight = 1.0;
-constexpr int kNumStarts = 4;
 
 std::vector<std::string> Strategies(const BenchConfig& config) {
   if (config.strategy == "all") {
-    return {"plain", "triple", "ts", "triple+ts", "c2f+ts"};
+    return {"plain", "triple", "ts", "triple+ts"};
   }
   return {config.strategy};
 }
@@ -74,36 +71,7 @@ RunOutcome RunStrategy(const std::string& strategy, int num_bases,
   options.solver.max_seconds = config.max_seconds;
   if (HasPart(strategy, "triple")) options.start.method = StartMethod::kTriple;
   if (HasPart(strategy, "ts")) options.problem.term_weights["temporal_shape"] = kTemporalShapeWeight;
-  if (!HasPart(strategy, "ms") && !HasPart(strategy, "c2f")) {
-    return ReconstructAndEvaluate(options, sequence.measurements,
-                                  sequence.truth);
-  }
-  RobustReconstructOptions robust;
-  robust.coarse_to_fine = HasPart(strategy, "c2f");
-  robust.num_starts = HasPart(strategy, "ms") ? kNumStarts : 1;
-  RunOutcome outcome;
-  ReconstructResult result;
-  const double start = NowSeconds();
-  const Status status =
-      RobustReconstruct(options, robust, sequence.measurements, &result);
-  outcome.total_seconds = NowSeconds() - start;
-  if (!status.ok()) {
-    outcome.message = status.message();
-    return outcome;
-  }
-  outcome.start = StartMethodName(result.start.used);
-  outcome.init_seconds = result.start.seconds;
-  outcome.refine_seconds = outcome.total_seconds - result.start.seconds;
-  outcome.iterations = result.refine.iterations;
-  outcome.reprojection_rms = result.refine.reprojection_rms;
-  outcome.linear_solver = result.refine.linear_solver;
-  const Status eval = Evaluate(result.model, sequence.truth, &outcome.errors);
-  if (!eval.ok()) {
-    outcome.message = eval.message();
-    return outcome;
-  }
-  outcome.ok = result.refine.usable;
-  return outcome;
+  return ReconstructAndEvaluate(options, sequence.measurements, sequence.truth);
 }
 
 Json OutcomeJson(const RunOutcome& o) {

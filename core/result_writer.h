@@ -46,7 +46,7 @@ struct ReconstructionReport {
   std::string input;  // input path
   std::vector<std::pair<std::string, std::string>>
       options;                        // options used, key/value
-  std::string start_used;             // "factorization" | "rigid"
+  std::string start_used;             // the start kept: "factorization" | "rigid" | "triple"
   double start_reprojection_rms = 0;  // of the start, input units
   std::vector<StageReport> stages;
   double reprojection_rms = 0;  // final, input units

@@ -3,9 +3,9 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <string>
 #include <vector>
 
-#include <ceres/cost_function.h>
 #include <ceres/problem.h>
 #include <ceres/solver.h>
 #include <glog/logging.h>
@@ -15,7 +15,9 @@
 #include "core/svd.h"
 #include "solvers/basis_weight_fit.h"
 #include "solvers/metric_upgrade.h"
+#include "problems/orthonormality_error.h"
 #include "solvers/pose_fit.h"
+#include "solvers/solver_options.h"
 
 namespace nrsfm {
 namespace {
@@ -33,49 +35,21 @@ constexpr double kLinkAlignment = 1.5;
 // rotations) link far less often and keep one sign decision per frame.
 constexpr double kMinLinkedFraction = 0.9;
 
-// r_t of the header for one frame; one parameter block, G column-major.
-class OrthonormalityError final : public ceres::CostFunction {
- public:
-  OrthonormalityError(const Eigen::RowVectorXd& q1, const Eigen::RowVectorXd& q2)
-      : q1_(q1), q2_(q2) {
-    set_num_residuals(2);
-    mutable_parameter_block_sizes()->push_back(3 * static_cast<int>(q1.size()));
-  }
-
-  bool Evaluate(double const* const* parameters, double* residuals,
-                double** jacobians) const override {
-    const int n = static_cast<int>(q1_.size());
-    const Eigen::Map<const Eigen::MatrixXd> g(parameters[0], n, 3);
-    const Eigen::RowVector3d a1 = q1_ * g;
-    const Eigen::RowVector3d a2 = q2_ * g;
-    const double p = a1.squaredNorm();
-    const double q = a2.squaredNorm();
-    const double c = a1.dot(a2);
-    const double norm = p + q;
-    if (!(norm > 0.0)) return false;
-    residuals[0] = (p - q) / norm;
-    residuals[1] = 2.0 * c / norm;
-    if (jacobians == nullptr || jacobians[0] == nullptr) return true;
-    // d/dG (n × 3, column-major like the block) of p, q, c.
-    const Eigen::MatrixXd dp = 2.0 * q1_.transpose() * a1;
-    const Eigen::MatrixXd dq = 2.0 * q2_.transpose() * a2;
-    const Eigen::MatrixXd dc = q1_.transpose() * a2 + q2_.transpose() * a1;
-    const Eigen::MatrixXd dnorm = dp + dq;
-    const Eigen::MatrixXd d0 = (dp - dq) / norm - (p - q) / (norm * norm) * dnorm;
-    const Eigen::MatrixXd d1 = 2.0 * dc / norm - 2.0 * c / (norm * norm) * dnorm;
-    // Row-major 2 × 3n Jacobian; column j of it is entry j of the
-    // column-major G.
-    Eigen::Map<Eigen::Matrix<double, 2, Eigen::Dynamic, Eigen::RowMajor>> j(
-        jacobians[0], 2, 3 * n);
-    j.row(0) = Eigen::Map<const Eigen::RowVectorXd>(d0.data(), 3 * n);
-    j.row(1) = Eigen::Map<const Eigen::RowVectorXd>(d1.data(), 3 * n);
-    return true;
-  }
-
- private:
-  const Eigen::RowVectorXd q1_;
-  const Eigen::RowVectorXd q2_;
-};
+// The LM solve of one start of G: Ceres' defaults (first radius 1e4) with
+// tight tolerances and a dense QR of the 2F × 3K·3 Jacobian.
+ceres::Solver::Options TripleSolverOptions() {
+  SolverOptions options;
+  options.max_iterations = kTripleMaxIterations;
+  options.function_tolerance = 1e-14;
+  options.gradient_tolerance = 1e-16;
+  options.parameter_tolerance = 1e-14;
+  options.initial_trust_region_radius = 1e4;
+  ceres::Solver::Options ceres_options = ToCeresOptions(options);
+  ceres_options.linear_solver_type = ceres::DENSE_QR;
+  std::string invalid;
+  CHECK(ceres_options.IsValid(&invalid)) << invalid;  // fixed options
+  return ceres_options;
+}
 
 // Least-squares rigid shape given every frame's s_t Π R_t: the basis step of
 // the alternation (solvers/basis_weight_fit.h) with K = 1.
@@ -94,23 +68,9 @@ Eigen::Matrix3Xd FitRigidShape(const Measurements& centered,
 
 }  // namespace
 
-Status CorrectiveTripleOptions::Check() const {
-  std::ostringstream msg;
-  if (num_starts < 1) {
-    msg << "corrective triple: num_starts must be >= 1, got " << num_starts;
-  } else if (max_iterations < 1) {
-    msg << "corrective triple: max_iterations must be >= 1, got " << max_iterations;
-  } else {
-    return Status::OK();
-  }
-  return Status::Error(msg.str());
-}
-
-Status SolveCorrectiveTriple(const Eigen::MatrixXd& q_hat,
-                             const CorrectiveTripleOptions& options,
-                             Eigen::MatrixX3d* g, CorrectiveTripleSummary* summary) {
-  CHECK(g != nullptr && summary != nullptr);
-  NRSFM_RETURN_IF_ERROR(options.Check());
+Status SolveCorrectiveTriple(const Eigen::MatrixXd& q_hat, std::uint64_t seed,
+                             Eigen::MatrixX3d* g) {
+  CHECK(g != nullptr);
   const int num_frames = static_cast<int>(q_hat.rows() / 2);
   const int n = static_cast<int>(q_hat.cols());
   if (q_hat.rows() % 2 != 0 || num_frames < 2 || n < 3 || n % 3 != 0) {
@@ -119,37 +79,28 @@ Status SolveCorrectiveTriple(const Eigen::MatrixXd& q_hat,
         << q_hat.rows() << " x " << q_hat.cols();
     return Status::Error(msg.str());
   }
-  *summary = CorrectiveTripleSummary();
-  Random normal(options.seed);
+  const ceres::Solver::Options solver_options = TripleSolverOptions();
+  Random random(seed);
   double best_cost = std::numeric_limits<double>::infinity();
-  for (int start = 0; start < options.num_starts; ++start) {
+  int best_start = -1;
+  for (int start = 0; start < kTripleStarts; ++start) {
     Eigen::MatrixXd candidate(n, 3);
     MetricUpgrade rigid;
-    if (start == 0 && options.rigid_first_start &&
-        SolveMetricUpgrade(q_hat.leftCols<3>(), &rigid).ok()) {
+    if (start == 0 && SolveMetricUpgrade(q_hat.leftCols<3>(), &rigid).ok()) {
       // The Tomasi-Kanade triple of the dominant rank-3 part (header).
       candidate.setZero();
       candidate.topRows<3>() = rigid.g;
     } else {
       for (int j = 0; j < 3; ++j) {
-        for (int i = 0; i < n; ++i) candidate(i, j) = normal.NormalUnpaired();
+        for (int i = 0; i < n; ++i) candidate(i, j) = random.NormalUnpaired();
       }
     }
     ceres::Problem problem;
     for (int t = 0; t < num_frames; ++t) {
       problem.AddResidualBlock(
-          new OrthonormalityError(q_hat.row(2 * t), q_hat.row(2 * t + 1)), nullptr,
-          candidate.data());
+          OrthonormalityError::Create(q_hat.row(2 * t), q_hat.row(2 * t + 1)),
+          nullptr, candidate.data());
     }
-    ceres::Solver::Options solver_options;
-    solver_options.linear_solver_type = ceres::DENSE_QR;
-    solver_options.max_num_iterations = options.max_iterations;
-    solver_options.function_tolerance = 1e-14;
-    solver_options.gradient_tolerance = 1e-16;
-    solver_options.parameter_tolerance = 1e-14;
-    solver_options.logging_type = ceres::SILENT;
-    std::string invalid;
-    CHECK(solver_options.IsValid(&invalid)) << invalid;  // fixed options
     ceres::Solver::Summary solver_summary;
     ceres::Solve(solver_options, &problem, &solver_summary);
     VLOG(2) << "corrective triple start " << start << ": cost "
@@ -157,20 +108,19 @@ Status SolveCorrectiveTriple(const Eigen::MatrixXd& q_hat,
     if (solver_summary.IsSolutionUsable() && candidate.allFinite() &&
         solver_summary.final_cost < best_cost) {
       best_cost = solver_summary.final_cost;
+      best_start = start;
       *g = candidate;
-      summary->best_start = start;
     }
   }
-  if (!std::isfinite(best_cost)) {
+  if (best_start < 0) {
     return Status::Error("corrective triple: no start converged to a finite solution");
   }
-  summary->cost = best_cost;
-  summary->rms = std::sqrt(best_cost / num_frames);
+  VLOG(1) << "corrective triple: kept start " << best_start << ", cost " << best_cost;
   return Status::OK();
 }
 
 Status RotationsFromTriple(const Measurements& centered, int num_bases,
-                           const CorrectiveTripleOptions& options,
+                           std::uint64_t seed,
                            std::vector<Eigen::Matrix3d>* rotations,
                            Eigen::VectorXd* scales, Eigen::Matrix3Xd* rigid_shape,
                            CorrectiveTripleSummary* summary) {
@@ -190,8 +140,9 @@ Status RotationsFromTriple(const Measurements& centered, int num_bases,
                             .WithContext("corrective triple"));
   const Eigen::MatrixXd q_hat =
       svd.u.leftCols(r) * svd.singular_values.head(r).cwiseSqrt().asDiagonal();
+  *summary = CorrectiveTripleSummary();
   Eigen::MatrixX3d g;
-  NRSFM_RETURN_IF_ERROR(SolveCorrectiveTriple(q_hat, options, &g, summary));
+  NRSFM_RETURN_IF_ERROR(SolveCorrectiveTriple(q_hat, seed, &g));
 
   rotations->assign(f, Eigen::Matrix3d::Identity());
   scales->resize(f);
@@ -213,8 +164,7 @@ Status RotationsFromTriple(const Measurements& centered, int num_bases,
   for (int t = 1; t < f; ++t) {
     if (std::abs(alignment(t)) >= kLinkAlignment) ++links;
   }
-  summary->temporal_signs =
-      options.temporal_signs && f >= 2 && links >= kMinLinkedFraction * (f - 1);
+  summary->temporal_signs = f >= 2 && links >= kMinLinkedFraction * (f - 1);
   std::vector<int> segment_start = {0};
   for (int t = 1; t < f; ++t) {
     const double a = alignment(t);  // against the (possibly turned) frame t − 1
@@ -248,7 +198,6 @@ Status RotationsFromTriple(const Measurements& centered, int num_bases,
         for (int t = segment_start[s]; t < segment_start[s + 1]; ++t) {
           (*rotations)[t] = half_turn * (*rotations)[t];
         }
-        ++summary->sign_flips;
       }
     }
   }

@@ -49,31 +49,22 @@
 
 namespace nrsfm {
 
-struct CorrectiveTripleOptions {
-  int num_starts = 16;       // starts of G, ≥ 1 (the first may be the rigid one)
-  // Start 0 from the Tomasi-Kanade triple (header); false = all random.
-  bool rigid_first_start = true;
-  int max_iterations = 200;  // LM iterations per start, ≥ 1
-  std::uint64_t seed = 1;    // of the random starts (mt19937_64, own Box-Muller)
-  // Link consecutive frames into segments of one sign when the input is a
-  // time sequence (header); false = one sign decision per frame.
-  bool temporal_signs = true;
-  Status Check() const;
-};
+// Starts of G tried by SolveCorrectiveTriple: the Tomasi-Kanade triple, then
+// random ones (a quarter of random starts reach the lowest cost on pickup).
+inline constexpr int kTripleStarts = 16;
+// Levenberg-Marquardt iterations per start.
+inline constexpr int kTripleMaxIterations = 200;
 
 struct CorrectiveTripleSummary {
-  double cost = 0.0;   // ½ Σ_t |r_t|² of the kept G (0 = exact)
-  double rms = 0.0;    // sqrt(2 cost / 2F): RMS of the residuals above
-  int best_start = 0;  // which start was kept
-  int sign_flips = 0;  // segment reversals the rigid fit made (both rounds counted)
   bool temporal_signs = false;  // whether frames were linked in time
   int sign_segments = 0;        // segments of one sign (F when not linked)
 };
 
-// `q_hat` is 2F × 3K (F ≥ 2, K ≥ 1). Fills `g` (3K × 3).
-Status SolveCorrectiveTriple(const Eigen::MatrixXd& q_hat,
-                             const CorrectiveTripleOptions& options,
-                             Eigen::MatrixX3d* g, CorrectiveTripleSummary* summary);
+// `q_hat` is 2F × 3K (F ≥ 2, K ≥ 1). Fills `g` (3K × 3) with the start of
+// lowest cost; `seed` seeds the random starts (core/random.h). Errors on a
+// matrix of the wrong shape and when no start converges.
+Status SolveCorrectiveTriple(const Eigen::MatrixXd& q_hat, std::uint64_t seed,
+                             Eigen::MatrixX3d* g);
 
 // The rotations and scales of every frame of `centered` (one camera, every
 // entry filled, translation removed): rank-3K SVD, SolveCorrectiveTriple,
@@ -81,7 +72,7 @@ Status SolveCorrectiveTriple(const Eigen::MatrixXd& q_hat,
 // the least-squares rigid shape for those rotations and scales (3 × P).
 // Errors when 3K exceeds 2F or P, or the tracks have rank < 3.
 Status RotationsFromTriple(const Measurements& centered, int num_bases,
-                           const CorrectiveTripleOptions& options,
+                           std::uint64_t seed,
                            std::vector<Eigen::Matrix3d>* rotations,
                            Eigen::VectorXd* scales, Eigen::Matrix3Xd* rigid_shape,
                            CorrectiveTripleSummary* summary);

@@ -13,6 +13,7 @@
 #include "solvers/low_rank_completion.h"
 #include "solvers/multi_camera_start.h"
 #include "solvers/rigid_start.h"
+#include "solvers/triple_start.h"
 
 namespace nrsfm {
 namespace {
@@ -72,16 +73,11 @@ Status CenterData(const StartOptions& options, const Measurements& data,
     filled = data.W;
     row_translations = data.W.rowwise().mean();
   } else {
-    LowRankCompletionOptions completion_options;
-    completion_options.rank = 3 * options.num_bases;
-    completion_options.max_iterations = options.completion_max_iterations;
-    completion_options.tolerance = options.completion_tolerance;
     LowRankCompletion completion;
-    NRSFM_RETURN_IF_ERROR(CompleteLowRankAffine(data, completion_options,
-                                                &completion)
+    NRSFM_RETURN_IF_ERROR(CompleteLowRankAffine(data, 3 * options.num_bases,
+                                                options.completion, &completion)
                               .WithContext("initialize"));
     summary->completion_rms = completion.residual_rms;
-    summary->completion_iterations = completion.iterations;
     if (!completion.converged) {
       std::ostringstream msg;
       msg << "low-rank completion stopped at the iteration limit ("
@@ -111,58 +107,42 @@ Status CenterData(const StartOptions& options, const Measurements& data,
   return Status::OK();
 }
 
-struct StartOutcome {
-  Status status;
+// The start on camera 0 (step 3 of the header) for a named method.
+struct CameraZeroStart {
   Model model;
-  double rms = -1.0;
   bool indefinite = false;
   int sign_segments = -1;  // triple start only
 };
 
-StartOutcome RunStart(StartMethod method, const StartOptions& options,
-                      const Measurements& data, const CenteredData& centered) {
-  StartOutcome outcome;
-  Model camera0;
-  if (method == StartMethod::kFactorization) {
-    FactorizationStartSummary start_summary;
-    outcome.status = FactorizationStart(centered.camera0, options.num_bases,
-                                        &camera0, &start_summary);
-    outcome.indefinite = start_summary.metric_upgrade_was_indefinite;
-  } else {
-    RigidStartOptions rigid_options;
-    rigid_options.refine_iterations = options.rigid_refine_iterations;
-    rigid_options.initial_deformation = options.rigid_initial_deformation;
-    rigid_options.seed = options.seed;
-    rigid_options.rotations_from_triple = method == StartMethod::kTriple;
-    rigid_options.triple.seed = options.seed;
-    RigidStartSummary start_summary;
-    outcome.status = RigidStart(centered.camera0, options.num_bases,
-                                rigid_options, &camera0, &start_summary);
-    outcome.indefinite = start_summary.metric_upgrade_was_indefinite;
-    if (method == StartMethod::kTriple) {
-      outcome.sign_segments = start_summary.triple.sign_segments;
+Status StartOnCameraZero(const StartOptions& options, const Measurements& camera0,
+                         CameraZeroStart* start) {
+  switch (options.method) {
+    case StartMethod::kFactorization: {
+      FactorizationStartSummary summary;
+      NRSFM_RETURN_IF_ERROR(
+          FactorizationStart(camera0, options.num_bases, &start->model, &summary));
+      start->indefinite = summary.metric_upgrade_was_indefinite;
+      return Status::OK();
     }
+    case StartMethod::kRigid: {
+      RigidStartSummary summary;
+      NRSFM_RETURN_IF_ERROR(RigidStart(camera0, options.num_bases, options.alternation,
+                                       options.seed, &start->model, &summary));
+      start->indefinite = summary.metric_upgrade_was_indefinite;
+      return Status::OK();
+    }
+    case StartMethod::kTriple: {
+      TripleStartSummary summary;
+      NRSFM_RETURN_IF_ERROR(TripleStart(camera0, options.num_bases, options.alternation,
+                                        options.seed, &start->model, &summary));
+      start->sign_segments = summary.triple.sign_segments;
+      return Status::OK();
+    }
+    case StartMethod::kAuto:
+      break;
   }
-  if (!outcome.status.ok()) return outcome;
-  const Eigen::Matrix2Xd camera0_translations = camera0.translations;
-  if (data.num_cameras > 1) {
-    MultiCameraStartSummary camera_summary;
-    outcome.status = ExtendToCameras(centered.all_cameras, camera0,
-                                     &outcome.model, &camera_summary);
-    if (!outcome.status.ok()) return outcome;
-  } else {
-    outcome.model = std::move(camera0);
-  }
-  // A start's translations correct the centring of camera 0 (the rigid
-  // start's δT; zero for the factorisation start).
-  outcome.model.translations = centered.translations;
-  for (int t = 0; t < data.num_frames; ++t) {
-    outcome.model.translations.col(data.View(t, 0)) +=
-        camera0_translations.col(t);
-  }
-  outcome.status = outcome.model.Validate();
-  if (outcome.status.ok()) outcome.rms = ReprojectionRms(data, outcome.model);
-  return outcome;
+  LOG(FATAL) << "not a start: " << StartMethodName(options.method);
+  return Status::OK();
 }
 
 }  // namespace
@@ -179,80 +159,67 @@ Status StartOptions::Check() const {
   check.Require(NameOf(kStartMethodNames, method) != std::string("unknown"),
                 "invalid method " + std::to_string(static_cast<int>(method)));
   check.AtLeast("num_bases", num_bases, 1);
-  check.AtLeast("completion_max_iterations", completion_max_iterations, 1);
-  check.AtLeast("completion_tolerance", completion_tolerance, 0.0);
-  check.AtLeast("rigid_refine_iterations", rigid_refine_iterations, 0);
-  check.FiniteAtLeast("rigid_initial_deformation", rigid_initial_deformation, 0.0);
+  check.Nested(completion.Check());
+  check.Nested(alternation.Check());
   return check.status();
 }
 
-Status Initialize(const StartOptions& options,
-                  const Measurements& measurements, Model* model,
-                  StartSummary* summary) {
+Status Initialize(const StartOptions& options, const Measurements& measurements,
+                  Model* model, StartSummary* summary) {
   CHECK(model != nullptr && summary != nullptr);
   const auto start_time = std::chrono::steady_clock::now();
   *summary = StartSummary();
   NRSFM_RETURN_IF_ERROR(options.Check());
+  if (options.method == StartMethod::kAuto) {
+    return Status::Error(
+        "initialize: the start must be named (factorization, rigid or triple); "
+        "auto is Reconstruct()'s choice between starts");
+  }
   NRSFM_RETURN_IF_ERROR(measurements.Validate().WithContext("initialize"));
   NRSFM_RETURN_IF_ERROR(CheckData(options, measurements));
 
   CenteredData centered;
   NRSFM_RETURN_IF_ERROR(CenterData(options, measurements, &centered, summary));
+  CameraZeroStart start;
+  NRSFM_RETURN_IF_ERROR(
+      StartOnCameraZero(options, centered.camera0, &start).WithContext("initialize"));
+  Model& result = start.model;
+  const Eigen::Matrix2Xd camera0_translations = result.translations;
+  if (measurements.num_cameras > 1) {
+    Model cameras;
+    NRSFM_RETURN_IF_ERROR(ExtendToCameras(centered.all_cameras, result, &cameras)
+                              .WithContext("initialize"));
+    result = std::move(cameras);
+  }
+  // The start's translations correct the centring of camera 0 (the
+  // alternation's δT; zero for the factorisation start).
+  result.translations = centered.translations;
+  for (int t = 0; t < measurements.num_frames; ++t) {
+    result.translations.col(measurements.View(t, 0)) += camera0_translations.col(t);
+  }
+  NRSFM_RETURN_IF_ERROR(result.Validate().WithContext("initialize"));
 
-  const bool run_factorization = options.method == StartMethod::kAuto ||
-                                 options.method == StartMethod::kFactorization;
-  const bool run_rigid = options.method != StartMethod::kFactorization;
-  const StartMethod rigid_method =
-      options.method == StartMethod::kTriple ? StartMethod::kTriple : StartMethod::kRigid;
-  StartOutcome factorization, rigid;
-  if (run_factorization) {
-    factorization =
-        RunStart(StartMethod::kFactorization, options, measurements, centered);
-    if (factorization.status.ok()) summary->factorization_rms = factorization.rms;
-  }
-  if (run_rigid) {
-    rigid = RunStart(rigid_method, options, measurements, centered);
-    if (rigid.status.ok()) summary->rigid_rms = rigid.rms;
-  }
-  const bool factorization_ok = run_factorization && factorization.status.ok();
-  const bool rigid_ok = run_rigid && rigid.status.ok();
-  if (!factorization_ok && !rigid_ok) {
-    return (run_factorization ? factorization.status : rigid.status)
-        .WithContext("initialize");
-  }
-  if (options.method == StartMethod::kAuto) {
-    if (!factorization_ok) {
-      summary->warnings.push_back("factorization start failed: " +
-                                  factorization.status.message());
-    }
-    if (!rigid_ok) {
-      summary->warnings.push_back("rigid start failed: " + rigid.status.message());
-    }
-  }
-  const bool keep_rigid =
-      rigid_ok && (!factorization_ok || rigid.rms < factorization.rms);
-  StartOutcome& kept = keep_rigid ? rigid : factorization;
-  summary->used = keep_rigid ? rigid_method : StartMethod::kFactorization;
-  summary->reprojection_rms = kept.rms;
-  summary->metric_upgrade_was_indefinite = kept.indefinite;
-  summary->triple_sign_segments = kept.sign_segments;
-  if (kept.sign_segments > 1 && kept.sign_segments < measurements.num_frames) {
+  summary->method = options.method;
+  summary->reprojection_rms = ReprojectionRms(measurements, result);
+  summary->metric_upgrade_was_indefinite = start.indefinite;
+  summary->triple_sign_segments = start.sign_segments;
+  if (start.sign_segments > 1 && start.sign_segments < measurements.num_frames) {
     summary->warnings.push_back(
-        "triple start: the frames link into " + std::to_string(kept.sign_segments) +
+        "triple start: the frames link into " + std::to_string(start.sign_segments) +
         " time segments whose rotation signs were chosen separately; the depth of a "
         "segment may be reversed relative to the others (solvers/corrective_triple.h)");
   }
-  if (kept.indefinite) {
+  if (start.indefinite) {
     summary->warnings.push_back(
-        std::string("metric upgrade of the ") + StartMethodName(summary->used) +
+        std::string("metric upgrade of the ") + StartMethodName(options.method) +
         " start: H was (nearly) indefinite and was clamped to positive "
         "definite; the depth of the start is unreliable");
   }
-  *model = std::move(kept.model);
+  *model = std::move(result);
   summary->seconds = std::chrono::duration<double>(
                          std::chrono::steady_clock::now() - start_time)
                          .count();
-  VLOG(1) << "initialize: kept the " << StartMethodName(summary->used)
+  VLOG(1) << "initialize: " << StartMethodName(options.method)
           << " start, reprojection RMS " << summary->reprojection_rms;
   return Status::OK();
 }

@@ -9,6 +9,7 @@
 #include <Eigen/QR>
 #include <glog/logging.h>
 
+#include "core/option_checker.h"
 #include "core/svd.h"
 
 namespace nrsfm {
@@ -130,33 +131,25 @@ double ResidualRms(const Eigen::MatrixXd& w, const VisibleIndex& index,
 }  // namespace
 
 Status LowRankCompletionOptions::Check() const {
-  std::ostringstream msg;
-  if (rank < 1) {
-    msg << "low-rank completion: rank must be >= 1, got " << rank;
-  } else if (max_iterations < 1) {
-    msg << "low-rank completion: max_iterations must be >= 1, got "
-        << max_iterations;
-  } else if (!(tolerance >= 0.0)) {
-    msg << "low-rank completion: tolerance must be >= 0, got " << tolerance;
-  } else if (!(ridge_floor >= 0.0) || !std::isfinite(ridge_floor)) {
-    msg << "low-rank completion: ridge_floor must be finite and >= 0, got "
-        << ridge_floor;
-  } else if (!(damping >= 0.0) || !std::isfinite(damping)) {
-    msg << "low-rank completion: damping must be finite and >= 0, got "
-        << damping;
-  } else {
-    return Status::OK();
-  }
-  return Status::Error(msg.str());
+  OptionChecker check("low-rank completion options");
+  check.AtLeast("max_iterations", max_iterations, 1);
+  check.AtLeast("tolerance", tolerance, 0.0);
+  check.FiniteAtLeast("ridge_floor", ridge_floor, 0.0);
+  check.FiniteAtLeast("damping", damping, 0.0);
+  return check.status();
 }
 
-Status CompleteLowRankAffine(const Measurements& measurements,
+Status CompleteLowRankAffine(const Measurements& measurements, int rank,
                              const LowRankCompletionOptions& options,
                              LowRankCompletion* completion) {
   CHECK(completion != nullptr);
   NRSFM_RETURN_IF_ERROR(options.Check());
+  if (rank < 1) {
+    return Status::Error("low-rank completion: rank must be >= 1, got " +
+                         std::to_string(rank));
+  }
   NRSFM_RETURN_IF_ERROR(measurements.Validate());
-  const int r = options.rank;
+  const int r = rank;
   const int num_rows = 2 * measurements.NumViews();
   const int num_points = measurements.num_points;
   const int num_cameras = measurements.num_cameras;

@@ -55,7 +55,6 @@
 namespace nrsfm {
 
 struct LowRankCompletionOptions {
-  int rank = 3;                 // r (3K for K basis shapes); the fit is rank r + 1 affine
   int max_iterations = 500;     // ALS rounds (steps 1-3 above)
   double tolerance = 1e-12;     // relative change of the residual RMS to stop
   double ridge_floor = 5e-4;    // floor of the ridge's noise RMS, relative to the data RMS, ≥ 0
@@ -79,10 +78,12 @@ struct LowRankCompletion {
   bool converged = false;          // stopped by a tolerance, not the limit
 };
 
-// Completes `measurements.W`. Errors (naming the row or point) when a view
-// sees fewer than r + 1 points or a point is seen in fewer than r rows
-// (⌈r/2⌉ views): its factor would be undetermined.
-Status CompleteLowRankAffine(const Measurements& measurements,
+// Completes `measurements.W` with a rank-`rank` (r ≥ 1; 3K for K basis
+// shapes) plus translation fit. Errors on invalid options or r < 1, and
+// (naming the row or point) when a view sees fewer than r + 1 points or a
+// point is seen in fewer than r rows (⌈r/2⌉ views): its factor would be
+// undetermined.
+Status CompleteLowRankAffine(const Measurements& measurements, int rank,
                              const LowRankCompletionOptions& options,
                              LowRankCompletion* completion);
 

@@ -46,12 +46,12 @@ void FitExtraCameras(const Measurements& centered, const Model& camera0,
 }  // namespace
 
 Status ExtendToCameras(const Measurements& centered, const Model& camera0,
-                       Model* model, MultiCameraStartSummary* summary) {
-  CHECK(model != nullptr && summary != nullptr);
+                       Model* model) {
+  CHECK(model != nullptr);
   CHECK_EQ(camera0.num_cameras, 1);
   CHECK_EQ(camera0.num_frames, centered.num_frames);
   CHECK_EQ(camera0.num_points, centered.num_points);
-  *summary = MultiCameraStartSummary();
+  int views_from_rig = 0;
   const int f = centered.num_frames;
   const int m = centered.num_cameras;
   const int k = camera0.num_bases;
@@ -94,12 +94,12 @@ Status ExtendToCameras(const Measurements& centered, const Model& camera0,
       } else {
         model->SetRotation(t, c, rig * base.Rotation(t, 0));
         model->scales(view) = rig_scale;
-        ++summary->views_from_rig;
+        ++views_from_rig;
       }
     }
   }
   VLOG(1) << "multi-camera start: " << m << " cameras, views posed from the rig "
-          << summary->views_from_rig;
+          << views_from_rig;
   return Status::OK();
 }
 

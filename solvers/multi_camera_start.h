@@ -22,16 +22,12 @@
 
 namespace nrsfm {
 
-struct MultiCameraStartSummary {
-  int views_from_rig = 0;  // views (t, c ≥ 1) posed from the rig (step 2)
-};
-
 // `centered`: all M cameras, W with the per-view translation removed (only
 // visible entries are used). `camera0`: a monocular model (F, 1, P, K) of
 // camera 0's rows. Fills `model` (Resize'd to F, M, P, K; zero
 // translations). Errors when a camera c ≥ 1 has no view that step 1 can fit.
 Status ExtendToCameras(const Measurements& centered, const Model& camera0,
-                       Model* model, MultiCameraStartSummary* summary);
+                       Model* model);
 
 }  // namespace nrsfm
 

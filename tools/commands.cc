@@ -238,7 +238,7 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
   ReconstructionReport report;
   report.input = flags.input;
   report.options = OptionList(flags, num_bases);
-  report.start_used = StartMethodName(result.start.used);
+  report.start_used = StartMethodName(result.start.method);
   report.start_reprojection_rms = result.start.reprojection_rms;
   report.stages.push_back({"initialize", 0.0, 0.0, 0, result.start.seconds});
   report.stages.push_back({"refine", result.refine.initial_cost,

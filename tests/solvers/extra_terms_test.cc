@@ -145,18 +145,19 @@ Eigen::Matrix3d MeanRelativeRotation(const Model& model) {
   return NearestRotation(sum);
 }
 
-// The shoe sequence of `shoe`, started with K = 4 and refined twice from the
-// same start (100 iterations): `off` with default problem options, `on` with
-// `with`. Fails the test when a step fails.
+// The shoe sequence of `shoe`, started with K = 4 by `start` and refined
+// twice from the same start (100 iterations): `off` with default problem
+// options, `on` with `with`. Fails the test when a step fails.
 struct WithoutAndWith {
   SyntheticSequence sequence;
   Model off, on;
 };
-void RefineShoeWithoutAndWith(const ShoeOptions& shoe, const ProblemOptions& with,
-                              WithoutAndWith* out) {
+void RefineShoeWithoutAndWith(const ShoeOptions& shoe, StartMethod start_method,
+                              const ProblemOptions& with, WithoutAndWith* out) {
   ASSERT_TRUE(GenerateShoe(shoe, &out->sequence).ok());
   StartOptions init;
   init.num_bases = 4;
+  init.method = start_method;
   Model start;
   StartSummary init_summary;
   ASSERT_TRUE(Initialize(init, out->sequence.measurements, &start, &init_summary).ok());
@@ -180,7 +181,8 @@ TEST(ExtraTerms, RigidityRecoversTheRigAndImprovesTheShapes) {
   ProblemOptions with;
   with.term_weights["rigidity"] = 100.0;
   WithoutAndWith run;
-  RefineShoeWithoutAndWith(shoe, with, &run);
+  // The factorization start, the one of lower RMS here (0.022 vs 0.030).
+  RefineShoeWithoutAndWith(shoe, StartMethod::kFactorization, with, &run);
   if (HasFatalFailure()) return;
   const SyntheticSequence& s = run.sequence;
   const Model& off = run.off;
@@ -217,7 +219,8 @@ TEST(ExtraTerms, TemporalPriorLowersTheErrorOnSmoothNoisyData) {
   with.term_weights["temporal_weights"] = 100.0;
   with.term_weights["temporal_rotations"] = 0.3;
   WithoutAndWith run;
-  RefineShoeWithoutAndWith(shoe, with, &run);
+  // The rigid start, the one of lower RMS here (0.026 vs 0.034).
+  RefineShoeWithoutAndWith(shoe, StartMethod::kRigid, with, &run);
   if (HasFatalFailure()) return;
   const SyntheticSequence& s = run.sequence;
   const Model& off = run.off;

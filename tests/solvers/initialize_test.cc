@@ -20,6 +20,7 @@
 #include "core/synthetic.h"
 #include "solvers/low_rank_completion.h"
 #include "solvers/rigid_start.h"
+#include "solvers/triple_start.h"
 #include "tests/test_util.h"
 
 namespace nrsfm {
@@ -85,8 +86,8 @@ SyntheticSequence RandomSequence(int num_frames, int num_points, int num_bases,
 
 TEST(Initialize, RigidNoiseFreeIsExactForEveryStart) {
   const SyntheticSequence sequence = RandomSequence(100, 30, 1, 0.0, 0.0, 1);
-  for (StartMethod method : {StartMethod::kAuto, StartMethod::kFactorization,
-                            StartMethod::kRigid, StartMethod::kTriple}) {
+  for (StartMethod method :
+       {StartMethod::kFactorization, StartMethod::kRigid, StartMethod::kTriple}) {
     SCOPED_TRACE(StartMethodName(method));
     StartOptions options;
     options.method = method;
@@ -99,22 +100,34 @@ TEST(Initialize, RigidNoiseFreeIsExactForEveryStart) {
     EXPECT_LT(summary.reprojection_rms, 1e-9);
     EXPECT_EQ(summary.completion_rms, -1.0);
     EXPECT_FALSE(summary.metric_upgrade_was_indefinite);
-    if (method != StartMethod::kAuto) {
-      EXPECT_EQ(summary.used, method);
-    }
+    EXPECT_EQ(summary.method, method);
   }
 }
 
-// The measured table of the issue. Guarantee asserted (see the rigid start's
-// header): the rigid start's alternation never increases the cost, so its
-// RMS is at most that of the rigid Tomasi-Kanade model it starts from, and
-// auto keeps the lower of the two starts. The rigid Tomasi-Kanade model is
-// (near) the best rigid fit, and the truth's own rigid part (R_t, S_1) is a
-// rigid fit whose residual is the image of the deformation; so the kept RMS
-// is expected below NonRigidRms(truth). That last bound is not a theorem
-// (Tomasi-Kanade is not the optimal rigid fit), it is asserted with the
-// measured margin: over seeds 1-10 (F = 200, P = 50) the kept RMS was at most
-// 0.18 of the spread, the non-rigid RMS at least 0.29 of it.
+// auto is Reconstruct()'s choice between starts (solvers/reconstruct.h), not
+// a start Initialize() could compute.
+TEST(Initialize, AutoIsNotAStart) {
+  const SyntheticSequence sequence = RandomSequence(30, 12, 1, 0.0, 0.0, 1);
+  StartOptions options;
+  ASSERT_EQ(options.method, StartMethod::kAuto);
+  Model model;
+  StartSummary summary;
+  const Status status = Initialize(options, sequence.measurements, &model, &summary);
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("auto is Reconstruct()'s choice"), std::string::npos)
+      << status.message();
+}
+
+// The RMS of the factorization and rigid starts. Guarantee asserted (see
+// solvers/alternation.h): the rigid start's alternation never increases the
+// cost, so its RMS is at most that of the rigid Tomasi-Kanade model it
+// starts from. The rigid Tomasi-Kanade model is (near) the best rigid fit,
+// and the truth's own rigid part (R_t, S_1) is a rigid fit whose residual is
+// the image of the deformation; so the better start's RMS is expected below
+// NonRigidRms(truth). That last bound is not a theorem (Tomasi-Kanade is not
+// the optimal rigid fit), it is asserted with the measured margin: over
+// seeds 1-10 (F = 200, P = 50) the better start's RMS was at most 0.18 of
+// the spread, the non-rigid RMS at least 0.29 of it.
 TEST(Initialize, NonRigidStartsTable) {
   std::cout << "   K  noise  start          rms/spread  e3D      (seed 1, F = 150, P = 40)\n";
   for (double noise : {0.0, 0.01}) {
@@ -138,28 +151,21 @@ TEST(Initialize, NonRigidStartsTable) {
                   << std::setw(10) << std::setprecision(3) << summary.reprojection_rms / spread
                   << "  " << std::setw(8) << E3D(sequence, model) << "\n";
       }
-      options.method = StartMethod::kAuto;
-      Model model;
-      StartSummary summary;
-      ASSERT_TRUE(Initialize(options, sequence.measurements, &model, &summary).ok());
-      EXPECT_DOUBLE_EQ(summary.factorization_rms, rms[0]);
-      EXPECT_DOUBLE_EQ(summary.rigid_rms, rms[1]);
-      EXPECT_DOUBLE_EQ(summary.reprojection_rms, std::min(rms[0], rms[1]));
-      EXPECT_EQ(summary.used, rms[1] < rms[0] ? StartMethod::kRigid
-                                              : StartMethod::kFactorization);
-
       // Monotone alternation: rigid start ≤ its rigid Tomasi-Kanade model.
       Measurements centered = sequence.measurements;
       centered.W = centered.W.colwise() - centered.W.rowwise().mean();
-      RigidStartOptions rigid_options;
       Model rigid_model;
       RigidStartSummary rigid_summary;
-      ASSERT_TRUE(RigidStart(centered, k, rigid_options, &rigid_model, &rigid_summary).ok());
-      EXPECT_NEAR(rigid_summary.final_rms, rms[1], 1e-12 * spread);
-      EXPECT_LE(rigid_summary.final_rms, rigid_summary.rigid_rms * (1.0 + 1e-9));
+      ASSERT_TRUE(RigidStart(centered, k, AlternationOptions(), options.seed, &rigid_model,
+                             &rigid_summary)
+                      .ok());
+      const AlternationSummary& alternation = rigid_summary.alternation;
+      EXPECT_NEAR(alternation.final_rms, rms[1], 1e-12 * spread);
+      EXPECT_LE(alternation.final_rms, alternation.rigid_rms * (1.0 + 1e-9));
 
-      EXPECT_LT(summary.reprojection_rms, NonRigidRms(sequence.truth));
-      EXPECT_LT(summary.reprojection_rms, 0.25 * spread);
+      const double better = std::min(rms[0], rms[1]);
+      EXPECT_LT(better, NonRigidRms(sequence.truth));
+      EXPECT_LT(better, 0.25 * spread);
     }
   }
 }
@@ -167,8 +173,11 @@ TEST(Initialize, NonRigidStartsTable) {
 TEST(Initialize, ThirtyPercentMissing) {
   // Rigid, noise-free: the completion is exact up to its ridge bias and the
   // start is exact to the same level.
+  // The rigid start: of the two closed-form starts the one with the lower
+  // RMS on both sequences.
   const SyntheticSequence rigid = RandomSequence(100, 30, 1, 0.0, 0.3, 2);
   StartOptions options;
+  options.method = StartMethod::kRigid;
   Model model;
   StartSummary summary;
   ASSERT_TRUE(Initialize(options, rigid.measurements, &model, &summary).ok());
@@ -181,10 +190,8 @@ TEST(Initialize, ThirtyPercentMissing) {
   // works as on complete data.
   const int k = 3;
   const SyntheticSequence sequence = RandomSequence(150, 40, k, 0.0, 0.3, 2);
-  LowRankCompletionOptions completion_options;  // what Initialize uses
-  completion_options.rank = 3 * k;
-  LowRankCompletion completion;
-  ASSERT_TRUE(CompleteLowRankAffine(sequence.measurements, completion_options,
+  LowRankCompletion completion;  // what Initialize does
+  ASSERT_TRUE(CompleteLowRankAffine(sequence.measurements, 3 * k, options.completion,
                                     &completion).ok());
   const Measurements& m = sequence.measurements;
   double max_error = 0.0;
@@ -203,7 +210,7 @@ TEST(Initialize, ThirtyPercentMissing) {
   ASSERT_TRUE(Initialize(options, sequence.measurements, &model, &summary).ok());
   ASSERT_TRUE(model.Validate().ok());
   const double spread = sequence.measurements.ImageSpreadRms();
-  std::cout << "30 % missing, K = 3: kept " << StartMethodName(summary.used)
+  std::cout << "30 % missing, K = 3: kept " << StartMethodName(summary.method)
             << ", rms/spread " << summary.reprojection_rms / spread << ", e3D "
             << E3D(sequence, model) << "\n";
   EXPECT_LT(summary.reprojection_rms, NonRigidRms(sequence.truth));
@@ -219,8 +226,11 @@ TEST(Initialize, TwoCamerasRecoverTheRigRotation) {
     shoe.self_occlusion = occlusion;
     SyntheticSequence sequence;
     ASSERT_TRUE(GenerateShoe(shoe, &sequence).ok());
+    // The start with the lower RMS: rigid without occlusion, factorization
+    // with it.
     StartOptions options;
     options.num_bases = 2;
+    options.method = occlusion ? StartMethod::kFactorization : StartMethod::kRigid;
     Model model;
     StartSummary summary;
     ASSERT_TRUE(Initialize(options, sequence.measurements, &model, &summary).ok());
@@ -241,7 +251,7 @@ TEST(Initialize, TwoCamerasRecoverTheRigRotation) {
     std::cout << "shoe, 2 cameras, " << 100.0 * missing << " % missing: rig rotation error "
               << error_deg << " deg (baseline " << shoe.camera_baseline_deg
               << "), rig scale " << model.rig_scales(0) << " (truth "
-              << sequence.truth.rig_scales(0) << "), kept " << StartMethodName(summary.used)
+              << sequence.truth.rig_scales(0) << "), kept " << StartMethodName(summary.method)
               << ", rms/spread " << summary.reprojection_rms / sequence.measurements.ImageSpreadRms()
               << "\n";
     EXPECT_LT(error_deg, 5.0);
@@ -265,6 +275,7 @@ TEST(Initialize, DegenerateDataGivesClearErrors) {
   const SyntheticSequence sequence = RandomSequence(30, 20, 2, 0.0, 0.0, 3);
   StartOptions options;
   options.num_bases = 2;
+  options.method = StartMethod::kFactorization;
 
   Measurements one_frame = sequence.measurements;
   one_frame.num_frames = 1;
@@ -309,7 +320,7 @@ TEST(Initialize, DegenerateDataGivesClearErrors) {
     StartOptions static_options;
     static_options.num_bases = k;
     for (StartMethod method :
-         {StartMethod::kAuto, StartMethod::kFactorization, StartMethod::kRigid}) {
+         {StartMethod::kFactorization, StartMethod::kRigid, StartMethod::kTriple}) {
       static_options.method = method;
       ExpectError(static_options, static_sequence.measurements, "no rotation");
     }
@@ -329,7 +340,7 @@ TEST(Initialize, TripleRecoversNoiseFreeNonRigidRotations) {
     Model model;
     StartSummary summary;
     ASSERT_TRUE(Initialize(options, sequence.measurements, &model, &summary).ok());
-    EXPECT_EQ(summary.used, StartMethod::kTriple);
+    EXPECT_EQ(summary.method, StartMethod::kTriple);
     EXPECT_EQ(summary.triple_sign_segments, 1);  // smooth rotations: linked in time
     EXPECT_TRUE(summary.warnings.empty());
     const double rotation_error = RotationErrorUpToGauge(sequence.truth, model);
@@ -374,11 +385,10 @@ TEST(Initialize, TripleSignsLinkATimeSequenceButNotShuffledFrames) {
   for (bool shuffle : {false, true}) {
     SCOPED_TRACE(shuffle ? "shuffled" : "in order");
     const SyntheticSequence input = shuffle ? ShuffledFrames(sequence, 5) : sequence;
-    RigidStartOptions options;
-    options.rotations_from_triple = true;
     Model model;
-    RigidStartSummary summary;
-    ASSERT_TRUE(RigidStart(input.measurements, 3, options, &model, &summary).ok());
+    TripleStartSummary summary;
+    ASSERT_TRUE(
+        TripleStart(input.measurements, 3, AlternationOptions(), 1, &model, &summary).ok());
     EXPECT_EQ(summary.triple.temporal_signs, !shuffle);
     EXPECT_EQ(summary.triple.sign_segments, shuffle ? 150 : 1);
     EXPECT_LT(RotationErrorUpToGauge(input.truth, model), 1e-6);
@@ -406,11 +416,9 @@ TEST(Initialize, TripleRotationsOfPickupWithinTwentyFiveDegrees) {
     r.row(2) = r.row(0).cross(r.row(1));
     truth.SetRotation(t, 0, r);
   }
-  RigidStartOptions options;
-  options.rotations_from_triple = true;
   Model model;
-  RigidStartSummary summary;
-  ASSERT_TRUE(RigidStart(measurements, 12, options, &model, &summary).ok());
+  TripleStartSummary summary;
+  ASSERT_TRUE(TripleStart(measurements, 12, AlternationOptions(), 1, &model, &summary).ok());
   EXPECT_TRUE(summary.triple.temporal_signs);
   EXPECT_EQ(summary.triple.sign_segments, 1);
   // RotationErrorUpToGauge is a Frobenius norm: 2√2 sin(θ/2) for angle θ.
@@ -437,14 +445,19 @@ TEST(Initialize, MethodNamesAndOptions) {
 
   StartOptions options;
   EXPECT_TRUE(options.Check().ok());
-  options.completion_max_iterations = 0;
-  EXPECT_FALSE(options.Check().ok());
+  options.completion.max_iterations = 0;
+  EXPECT_NE(options.Check().message().find(
+                "start options: low-rank completion options: max_iterations must be >= 1"),
+            std::string::npos)
+      << options.Check().message();
   options = StartOptions();
-  options.rigid_initial_deformation = -1.0;
-  EXPECT_FALSE(options.Check().ok());
+  options.alternation.initial_deformation = -1.0;
+  EXPECT_NE(options.Check().message().find("initial_deformation must be finite and >= 0"),
+            std::string::npos);
   options = StartOptions();
-  options.rigid_refine_iterations = -1;
-  EXPECT_FALSE(options.Check().ok());
+  options.alternation.rounds = -1;
+  EXPECT_NE(options.Check().message().find("rounds must be >= 0, got -1"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -51,9 +51,9 @@ SyntheticSequence RandomMissing(int num_bases, double noise, double missing) {
 TEST(LowRankCompletion, RecoversMissingEntriesOfNoiseFreeData) {
   const SyntheticSequence sequence = RandomMissing(3, 0.0, 0.3);
   LowRankCompletionOptions options;
-  options.rank = 9;
+  int rank = 9;
   LowRankCompletion completion;
-  ASSERT_TRUE(CompleteLowRankAffine(sequence.measurements, options, &completion).ok());
+  ASSERT_TRUE(CompleteLowRankAffine(sequence.measurements, rank, options, &completion).ok());
   double max_error = 0.0, rms_error = 0.0;
   MissingErrors(sequence, completion, &max_error, &rms_error);
   // Ridge bias only (header: about ridge_floor² relative).
@@ -70,7 +70,7 @@ TEST(LowRankCompletion, RecoversMissingEntriesOfNoiseFreeData) {
 
   // Without the ridge the fit is exact to round-off.
   options.ridge_floor = 0.0;
-  ASSERT_TRUE(CompleteLowRankAffine(sequence.measurements, options, &completion).ok());
+  ASSERT_TRUE(CompleteLowRankAffine(sequence.measurements, rank, options, &completion).ok());
   MissingErrors(sequence, completion, &max_error, &rms_error);
   EXPECT_LT(max_error, 1e-9);
 }
@@ -79,9 +79,9 @@ TEST(LowRankCompletion, NoisyCompletionStaysAtTheNoiseLevel) {
   const double noise = 0.01;
   const SyntheticSequence sequence = RandomMissing(2, noise, 0.3);
   LowRankCompletionOptions options;
-  options.rank = 6;
+  int rank = 6;
   LowRankCompletion completion;
-  ASSERT_TRUE(CompleteLowRankAffine(sequence.measurements, options, &completion).ok());
+  ASSERT_TRUE(CompleteLowRankAffine(sequence.measurements, rank, options, &completion).ok());
   double max_error = 0.0, rms_error = 0.0;
   MissingErrors(sequence, completion, &max_error, &rms_error);
   // A 2D point with noise σ per coordinate is off by σ√2 RMS; the completed
@@ -98,9 +98,9 @@ TEST(LowRankCompletion, TranslationOfACompleteViewIsItsMean) {
   Measurements& m = sequence.measurements;
   m.visible(3, 7) = false;  // one incomplete view; all others complete
   LowRankCompletionOptions options;
-  options.rank = 6;
+  int rank = 6;
   LowRankCompletion completion;
-  ASSERT_TRUE(CompleteLowRankAffine(m, options, &completion).ok());
+  ASSERT_TRUE(CompleteLowRankAffine(m, rank, options, &completion).ok());
   EXPECT_DOUBLE_EQ(completion.translations(0), m.W.row(0).mean());
   EXPECT_DOUBLE_EQ(completion.translations(1), m.W.row(1).mean());
   // The hidden entry is predicted (noise-free, exact up to the ridge bias).
@@ -111,13 +111,13 @@ TEST(LowRankCompletion, TranslationOfACompleteViewIsItsMean) {
 TEST(LowRankCompletion, UnderdeterminedRowsAndColumnsAreErrors) {
   SyntheticSequence sequence = RandomMissing(2, 0.0, 0.0);
   LowRankCompletionOptions options;
-  options.rank = 6;
+  int rank = 6;
   LowRankCompletion completion;
 
   Measurements few_points = sequence.measurements;
   few_points.visible.row(4).setConstant(false);
   few_points.visible.row(4).head(6).setConstant(true);  // 6 < r + 1 = 7
-  Status status = CompleteLowRankAffine(few_points, options, &completion);
+  Status status = CompleteLowRankAffine(few_points, rank, options, &completion);
   ASSERT_FALSE(status.ok());
   EXPECT_NE(status.message().find("frame 4 sees 6 points"), std::string::npos)
       << status.message();
@@ -125,13 +125,13 @@ TEST(LowRankCompletion, UnderdeterminedRowsAndColumnsAreErrors) {
   Measurements few_views = sequence.measurements;
   few_views.visible.col(11).setConstant(false);
   few_views.visible.col(11).head(2).setConstant(true);  // 2 views < ⌈6/2⌉
-  status = CompleteLowRankAffine(few_views, options, &completion);
+  status = CompleteLowRankAffine(few_views, rank, options, &completion);
   ASSERT_FALSE(status.ok());
   EXPECT_NE(status.message().find("point 11 is seen in 2 views"), std::string::npos)
       << status.message();
 
-  options.rank = 0;
-  EXPECT_FALSE(CompleteLowRankAffine(sequence.measurements, options, &completion).ok());
+  rank = 0;
+  EXPECT_FALSE(CompleteLowRankAffine(sequence.measurements, rank, options, &completion).ok());
 }
 
 }  // namespace
