@@ -15,7 +15,9 @@
 //
 // The page honours a URL fragment: #frame=N (0-based frame shown first),
 // play=1 (start playing), fps=N (playback speed, frames per second),
-// camera=C (2D view of camera C), slide_to=N (after loading, moves the frame
+// camera=C (2D view of camera C), vup=1 (draw the image's v axis up, e.g. for
+// motion capture with y up), orbit=A,E (first 3D view turned by azimuth A and
+// elevation E, degrees), slide_to=N (after loading, moves the frame
 // slider to N through its input event, as a user's drag does; for tests).
 // It writes the frame shown into document.title ("nrsfm view: frame N of F")
 // and the positions of its 3D and 2D panes into <body data-view3d="x y w h"

@@ -27,7 +27,7 @@
     return (value === null || value === undefined) ? 'n/a' : Number(value).toPrecision(digits);
   }
 
-  // ---- URL fragment: #frame=N&play=1&fps=N&camera=C&vup=1&slide_to=N ----
+  // ---- URL fragment: #frame=N&play=1&fps=N&camera=C&vup=1&orbit=A,E&slide_to=N ----
   function fragment() {
     var out = {};
     location.hash.replace(/^#/, '').split('&').forEach(function (item) {
@@ -134,7 +134,14 @@
     var scene = new THREE.Scene();
     var r = radius();
     var camera = new THREE.PerspectiveCamera(30, 1, r / 100, r * 100);
-    camera.position.set(0, 0, 1.1 * r / Math.tan(15 * Math.PI / 180));
+    // Through camera 0, or turned by orbit=A,E: azimuth A about the vertical
+    // and elevation E, in degrees.
+    var distance = 1.1 * r / Math.tan(15 * Math.PI / 180);
+    var orbit = (fragment().orbit || '0,0').split(',').map(parseFloat);
+    var azimuth = (orbit[0] || 0) * Math.PI / 180, elevation = (orbit[1] || 0) * Math.PI / 180;
+    camera.position.set(distance * Math.cos(elevation) * Math.sin(azimuth),
+                        distance * Math.sin(elevation),
+                        distance * Math.cos(elevation) * Math.cos(azimuth));
     var controls = new THREE.OrbitControls(camera, renderer.domElement);
     controls.target.set(0, 0, 0);
     controls.enablePan = true;
