@@ -368,6 +368,16 @@ TEST_F(ViewTest, TwoCamerasHaveTheirOwnReprojections) {
   EXPECT_NEAR(data["meta"]["reprojection_rms"].get<double>(), rms, 1e-9 * rms);
 }
 
+TEST_F(ViewTest, HelpDescribesTheCommand) {
+  const RunResult r = Run("--help");
+  EXPECT_EQ(r.exit_code, 0);
+  const std::string text = r.out + r.err;
+  EXPECT_NE(text.find("nrsfm view --result DIR [--truth PATH] [--input PATH] --output FILE.html"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("view writes one self-contained HTML page"), std::string::npos) << text;
+}
+
 TEST_F(ViewTest, BadInputGetsOneLineNamingThePathAndNoPage) {
   MakeReconstruction();
   ExpectRejected("--output v.html", "--result DIR is required");
