@@ -38,18 +38,24 @@ Eigen::Matrix3Xd Centred(const Eigen::Matrix3Xd& x) {
   return x.colwise() - x.rowwise().mean();
 }
 
-// The shapes the viewer shows and aligns with the truth: the frame in which
-// `nrsfm evaluate` scores. Today every truth (S + Rs, P3_gt, X, a result
-// directory) is compared in camera 0's frame: points_camera.csv (camera 0)
-// against GroundTruth::points_in_camera, so that is what is returned. This is
-// the one place that chooses the frame: when evaluate scores S + Rs truth in
-// the object frame (points_object.csv against the world-frame S), return
-// those two here and change ScoringFrameLabel() with it.
-void ScoringShapes(const GroundTruth& points_camera0, const GroundTruth* truth,
-                   std::vector<Eigen::Matrix3Xd>* estimate,
-                   std::vector<Eigen::Matrix3Xd>* truth_shapes) {
-  *estimate = points_camera0.points_in_camera;
-  if (truth != nullptr) *truth_shapes = truth->points_in_camera;
+// The shapes the viewer shows and aligns with the truth, in the frame in
+// which `nrsfm evaluate` scores, and that frame in words.
+struct ScoringShapes {
+  std::vector<Eigen::Matrix3Xd> estimate, truth;  // F × (3 × P) each; truth empty without
+  std::string frame;
+};
+
+// The one place that chooses the frame. Today every truth (S + Rs, P3_gt, X,
+// a result directory) is compared in camera 0's frame: points_camera.csv
+// (camera 0) against GroundTruth::points_in_camera. When evaluate scores
+// S + Rs truth in the object frame (points_object.csv against the world-frame
+// S), return those two here, with their name.
+ScoringShapes ChooseScoringShapes(const GroundTruth& points_camera0, const GroundTruth* truth) {
+  ScoringShapes shapes;
+  shapes.estimate = points_camera0.points_in_camera;
+  if (truth != nullptr) shapes.truth = truth->points_in_camera;
+  shapes.frame = "camera 0's frame (points_camera.csv), as nrsfm evaluate scores it";
+  return shapes;
 }
 
 // translations.csv (frame,camera,tx,ty,scale): T_tc per view, 2 × FM
@@ -309,10 +315,6 @@ Status AddEdges(const ViewDataOptions& options, const Measurements* tracks, View
 
 }  // namespace
 
-const char* ScoringFrameLabel() {
-  return "camera 0's frame (points_camera.csv), as nrsfm evaluate scores it";
-}
-
 Status GatherViewData(const ViewDataOptions& options, ViewData* data) {
   const std::string& dir = options.result_dir;
   std::error_code ec;
@@ -322,7 +324,6 @@ Status GatherViewData(const ViewDataOptions& options, ViewData* data) {
                          "reconstruct)");
   }
   ViewData result;
-  result.scoring_frame = ScoringFrameLabel();
 
   // Camera-frame points of every camera and the translations: the
   // reprojections w_tcp = Π X_tc[:, p] + T_tc (core/result_writer.h).
@@ -362,12 +363,12 @@ Status GatherViewData(const ViewDataOptions& options, ViewData* data) {
                            ", P = " + Str(p));
     }
   }
-  std::vector<Eigen::Matrix3Xd> estimate, truth_shapes;
-  ScoringShapes(camera0, options.truth_path.empty() ? nullptr : &truth, &estimate,
-                &truth_shapes);
-  for (const Eigen::Matrix3Xd& x : estimate) result.estimate.push_back(Centred(x));
+  const ScoringShapes shapes =
+      ChooseScoringShapes(camera0, options.truth_path.empty() ? nullptr : &truth);
+  result.scoring_frame = shapes.frame;
+  for (const Eigen::Matrix3Xd& x : shapes.estimate) result.estimate.push_back(Centred(x));
   if (!options.truth_path.empty()) {
-    NRSFM_RETURN_IF_ERROR(AddTruth(options, estimate, truth_shapes, &result));
+    NRSFM_RETURN_IF_ERROR(AddTruth(options, shapes.estimate, shapes.truth, &result));
   } else {
     result.notes.push_back("no ground truth given (--truth): no error shown");
   }

@@ -4,8 +4,10 @@
 // with their reprojections. No HTML here (see tools/view_page.h).
 //
 // Frames, units: everything is in the units of the measurements W. The 3D
-// shapes are in the frame that `nrsfm evaluate` scores in (ScoringFrameLabel()
-// names it; today camera 0's frame: x, y along the image's u, v, z the depth),
+// shapes are in the frame that `nrsfm evaluate` scores in (chosen in one
+// place, ChooseScoringShapes in view_data.cc, and named in
+// ViewData::scoring_frame; today camera 0's frame: x, y along the image's u,
+// v, z the depth),
 // each frame centred on the mean of its P points, as the metrics centre them
 // (core/metrics.h). The truth is mapped into the estimate's frame by Yᵀ, Y the
 // one global e3D alignment (estimate → truth), so distances between the two
@@ -41,7 +43,7 @@ struct ViewData {
   int num_cameras = 0;  // M
   int num_points = 0;   // P
   int num_bases = -1;   // K from result.json; -1 when unknown
-  std::string scoring_frame;  // ScoringFrameLabel()
+  std::string scoring_frame;  // the frame of `estimate`, in words
 
   // F entries, 3 × P: the estimate in the scoring frame, centred per frame.
   std::vector<Eigen::Matrix3Xd> estimate;
@@ -80,9 +82,6 @@ struct ViewData {
   // Things the page should say (e.g. that no tracks were given).
   std::vector<std::string> notes;
 };
-
-// The frame the 3D shapes are shown and aligned in, in words.
-const char* ScoringFrameLabel();
 
 // Reads and checks everything. Fails, naming the path, on a missing result
 // directory or one without a valid points_camera.csv / translations.csv, a
