@@ -74,6 +74,21 @@ double ComputeE3D(const std::vector<Eigen::Matrix3Xd>& truth,
          E3DScale(Centred(truth));
 }
 
+E3DDetail ComputeE3DDetail(const std::vector<Eigen::Matrix3Xd>& truth,
+                           const std::vector<Eigen::Matrix3Xd>& estimate) {
+  CheckSizes(truth, estimate);
+  const std::vector<Eigen::Matrix3Xd> x = Centred(truth);
+  const std::vector<Eigen::Matrix3Xd> x_hat = Centred(estimate);
+  E3DDetail detail;
+  detail.alignment = AlignLeastSquaresThenOrthogonal(x, x_hat);
+  detail.scale = E3DScale(x);
+  for (std::size_t t = 0; t < x.size(); ++t) {
+    detail.frame_errors.push_back(
+        (x[t] - detail.alignment * x_hat[t]).colwise().norm().mean() / detail.scale);
+  }
+  return detail;
+}
+
 double ComputeFrobeniusZSign(const std::vector<Eigen::Matrix3Xd>& truth,
                              const std::vector<Eigen::Matrix3Xd>& estimate) {
   CheckSizes(truth, estimate);
@@ -226,6 +241,12 @@ Status EvaluateShapes(const GroundTruth& truth, const GroundTruth& estimate,
     errors->rotation_error = ComputeRotationError(truth.rotations, estimate.rotations);
   }
   return Status::OK();
+}
+
+const std::vector<Eigen::Matrix3Xd>& ScoredShapes(const GroundTruth& shapes,
+                                                  EvaluationFrame frame) {
+  return frame == EvaluationFrame::kObject ? shapes.points_in_object
+                                           : shapes.points_in_camera;
 }
 
 GroundTruth ShapesOfModel(const Model& model, int camera) {

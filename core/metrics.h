@@ -46,6 +46,17 @@ namespace nrsfm {
 double ComputeE3D(const std::vector<Eigen::Matrix3Xd>& truth,
                   const std::vector<Eigen::Matrix3Xd>& estimate);
 
+// The parts of ComputeE3D for display: the alignment Y (truth ≈ Y · centred
+// estimate), s, and each frame's (1 / P) Σ_p ||X_tp − Y X̂_tp|| / s, whose
+// mean is e3D. Same CHECKs as ComputeE3D.
+struct E3DDetail {
+  Eigen::Matrix3d alignment = Eigen::Matrix3d::Identity();
+  double scale = 0.0;
+  std::vector<double> frame_errors;
+};
+E3DDetail ComputeE3DDetail(const std::vector<Eigen::Matrix3Xd>& truth,
+                           const std::vector<Eigen::Matrix3Xd>& estimate);
+
 // Relative Frobenius error with a per-frame depth sign (Lee et al., the metric
 // used for the face sequence):
 //   e = (1 / F) Σ_t min(||X_t − X̂_t||_F, ||X_t − Z X̂_t||_F) / ||X_t||_F,
@@ -116,6 +127,12 @@ struct ShapeErrors {
 // centred per frame before it is compared.
 Status EvaluateShapes(const GroundTruth& truth, const GroundTruth& estimate,
                       ShapeErrors* errors);
+
+// The two sequences EvaluateShapes compares for the e3D of `errors.e3d_frame`:
+// the object-frame shapes for EvaluationFrame::kObject, the camera frame
+// otherwise.
+const std::vector<Eigen::Matrix3Xd>& ScoredShapes(const GroundTruth& shapes,
+                                                  EvaluationFrame frame);
 
 // The shapes of a model for EvaluateShapes: camera `camera`'s frame
 // (Model::ShapeInCamera), the object frame S_t and the rotations R_tc.

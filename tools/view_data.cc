@@ -13,6 +13,7 @@
 
 #include "core/ground_truth.h"
 #include "core/mat_io.h"
+#include "core/metrics.h"
 #include "core/measurements.h"
 #include "core/procrustes.h"
 #include "core/read_measurements.h"
@@ -36,26 +37,6 @@ bool IsIndex(double value) {
 
 Eigen::Matrix3Xd Centred(const Eigen::Matrix3Xd& x) {
   return x.colwise() - x.rowwise().mean();
-}
-
-// The shapes the viewer shows and aligns with the truth, in the frame in
-// which `nrsfm evaluate` scores, and that frame in words.
-struct ScoringShapes {
-  std::vector<Eigen::Matrix3Xd> estimate, truth;  // F × (3 × P) each; truth empty without
-  std::string frame;
-};
-
-// The one place that chooses the frame. Today every truth (S + Rs, P3_gt, X,
-// a result directory) is compared in camera 0's frame: points_camera.csv
-// (camera 0) against GroundTruth::points_in_camera. When evaluate scores
-// S + Rs truth in the object frame (points_object.csv against the world-frame
-// S), return those two here, with their name.
-ScoringShapes ChooseScoringShapes(const GroundTruth& points_camera0, const GroundTruth* truth) {
-  ScoringShapes shapes;
-  shapes.estimate = points_camera0.points_in_camera;
-  if (truth != nullptr) shapes.truth = truth->points_in_camera;
-  shapes.frame = "camera 0's frame (points_camera.csv), as nrsfm evaluate scores it";
-  return shapes;
 }
 
 // translations.csv (frame,camera,tx,ty,scale): T_tc per view, 2 × FM
@@ -196,32 +177,31 @@ Status ReadSkeleton(const std::string& path, int num_points,
   return Status::OK();
 }
 
-// Mean over rows of the population standard deviation of the centred truth's
-// rows: the s of e3D (core/metrics.h).
-double E3DScale(const std::vector<Eigen::Matrix3Xd>& centred_truth) {
-  double sum = 0.0;
-  for (const Eigen::Matrix3Xd& x : centred_truth) {
-    sum += (x.rowwise().squaredNorm() / static_cast<double>(x.cols())).cwiseSqrt().sum();
-  }
-  return sum / (3.0 * static_cast<double>(centred_truth.size()));
-}
-
-Status AddTruth(const ViewDataOptions& options, const std::vector<Eigen::Matrix3Xd>& estimate,
-                const std::vector<Eigen::Matrix3Xd>& truth_shapes, ViewData* data) {
-  NRSFM_RETURN_IF_ERROR(EvaluateShapes(truth_shapes, estimate, &data->metrics)
+// Scores the result against the truth as `nrsfm evaluate` does
+// (core/metrics.h EvaluateShapes: the object frame for S + Rs truth, the
+// camera frame otherwise) and shows the shapes of that frame: the centred
+// estimate, the truth mapped onto it by the e3D alignment, each frame's error.
+Status AddTruth(const ViewDataOptions& options, const GroundTruth& estimate,
+                const GroundTruth& truth, ViewData* data) {
+  NRSFM_RETURN_IF_ERROR(EvaluateShapes(truth, estimate, &data->metrics)
                             .WithContext("--truth '" + options.truth_path + "'"));
-  std::vector<Eigen::Matrix3Xd> truth_centred;
-  for (const Eigen::Matrix3Xd& x : truth_shapes) truth_centred.push_back(Centred(x));
-  // data->estimate is already centred; Y maps it onto the truth (e3D).
-  const Eigen::Matrix3d y = AlignLeastSquaresThenOrthogonal(truth_centred, data->estimate);
-  const double scale = E3DScale(truth_centred);
-  data->frame_error.resize(data->num_frames);
+  const EvaluationFrame frame = data->metrics.e3d_frame;
+  data->scoring_frame =
+      frame == EvaluationFrame::kObject
+          ? "the object frame (points_object.csv against the world-frame S of the truth), "
+            "as nrsfm evaluate scores it"
+          : "camera 0's frame (points_camera.csv), as nrsfm evaluate scores it";
+  const std::vector<Eigen::Matrix3Xd>& shown = ScoredShapes(estimate, frame);
+  const std::vector<Eigen::Matrix3Xd>& truth_shapes = ScoredShapes(truth, frame);
+  const E3DDetail detail = ComputeE3DDetail(truth_shapes, shown);
+  data->estimate.clear();
   data->truth_aligned.clear();
+  data->frame_error.resize(data->num_frames);
   for (int t = 0; t < data->num_frames; ++t) {
-    data->frame_error(t) =
-        (truth_centred[t] - y * data->estimate[t]).colwise().norm().mean() / scale;
+    data->estimate.push_back(Centred(shown[t]));
     // Y is orthogonal: ||X − Y X̂|| = ||Yᵀ X − X̂||.
-    data->truth_aligned.push_back(y.transpose() * truth_centred[t]);
+    data->truth_aligned.push_back(detail.alignment.transpose() * Centred(truth_shapes[t]));
+    data->frame_error(t) = detail.frame_errors[t];
   }
   data->has_truth = true;
   return Status::OK();
@@ -363,12 +343,16 @@ Status GatherViewData(const ViewDataOptions& options, ViewData* data) {
                            ", P = " + Str(p));
     }
   }
-  const ScoringShapes shapes =
-      ChooseScoringShapes(camera0, options.truth_path.empty() ? nullptr : &truth);
-  result.scoring_frame = shapes.frame;
-  for (const Eigen::Matrix3Xd& x : shapes.estimate) result.estimate.push_back(Centred(x));
+  // Without a truth the camera frame is shown; with one, the frame it is
+  // scored in (AddTruth).
+  result.scoring_frame = "camera 0's frame (points_camera.csv)";
+  for (const Eigen::Matrix3Xd& x : camera0.points_in_camera) result.estimate.push_back(Centred(x));
   if (!options.truth_path.empty()) {
-    NRSFM_RETURN_IF_ERROR(AddTruth(options, shapes.estimate, shapes.truth, &result));
+    GroundTruth estimate = camera0;
+    if (truth.HasObjectFrame()) {
+      NRSFM_RETURN_IF_ERROR(ReadResultShapes(dir, /*camera=*/0, &estimate));
+    }
+    NRSFM_RETURN_IF_ERROR(AddTruth(options, estimate, truth, &result));
   } else {
     result.notes.push_back("no ground truth given (--truth): no error shown");
   }

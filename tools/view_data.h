@@ -3,11 +3,12 @@
 // the e3D alignment, per-frame errors, the edges to draw and the 2D tracks
 // with their reprojections. No HTML here (see tools/view_page.h).
 //
-// Frames, units: everything is in the units of the measurements W. The 3D
-// shapes are in the frame that `nrsfm evaluate` scores in (chosen in one
-// place, ChooseScoringShapes in view_data.cc, and named in
-// ViewData::scoring_frame; today camera 0's frame: x, y along the image's u,
-// v, z the depth),
+// Frames, units: everything is in the units of the measurements W. With a
+// truth the 3D shapes are in the frame that `nrsfm evaluate` scores in
+// (core/metrics.h EvaluateShapes: the object frame, points_object.csv, for
+// S + Rs truth; camera 0's frame, points_camera.csv, otherwise), without one
+// in camera 0's frame (x, y along the image's u, v, z the depth); the frame
+// is named in ViewData::scoring_frame,
 // each frame centred on the mean of its P points, as the metrics centre them
 // (core/metrics.h). The truth is mapped into the estimate's frame by Yᵀ, Y the
 // one global e3D alignment (estimate → truth), so distances between the two

@@ -105,6 +105,8 @@ std::string DataJson(const ViewData& data, const ViewPageSources& sources) {
   meta["has_tracks"] = data.has_tracks;
   if (data.has_truth) {
     meta["metrics"] = {{"e3d", data.metrics.e3d},
+                       {"e3d_frame", EvaluationFrameName(data.metrics.e3d_frame)},
+                       {"e3d_camera", data.metrics.e3d_camera},
                        {"frob_zsign", data.metrics.frob_zsign},
                        {"error3d_pct", data.metrics.error3d_pct},
                        {"zerror_pct", data.metrics.zerror_pct}};
