@@ -43,14 +43,13 @@ bool EnableTwoCameraRigidity(ReconstructOptions* options) {
   return true;
 }
 
-Status Evaluate(const Model& model, const std::vector<Eigen::Matrix3Xd>& truth,
-                ShapeErrors* errors) {
-  return EvaluateShapes(truth, CameraFrameShapes(model, 0), errors);
+Status Evaluate(const Model& model, const GroundTruth& truth, ShapeErrors* errors) {
+  return EvaluateShapes(truth, ShapesOfModel(model, 0), errors);
 }
 
 RunOutcome ReconstructAndEvaluate(const ReconstructOptions& options,
                                   const Measurements& measurements,
-                                  const std::vector<Eigen::Matrix3Xd>& truth) {
+                                  const GroundTruth& truth) {
   RunOutcome outcome;
   ReconstructResult result;
   const Status status = Reconstruct(options, measurements, &result);
@@ -161,8 +160,11 @@ SweepResult SweepK(
   return sweep;
 }
 
-std::vector<Eigen::Matrix3Xd> TruthShapes(const Model& truth) {
-  return CameraFrameShapes(truth, 0);
+GroundTruth TruthShapes(const Model& truth) {
+  GroundTruth shapes;
+  shapes.points_in_camera = CameraFrameShapes(truth, 0);
+  shapes.source = "model";
+  return shapes;
 }
 
 double Median(std::vector<double> values) {

@@ -72,14 +72,14 @@ struct RunOutcome {
   Model model;                  // the reconstruction
 };
 
-// Scores `model` (camera 0) against `truth` (F shapes 3 × P).
-Status Evaluate(const Model& model, const std::vector<Eigen::Matrix3Xd>& truth,
-                ShapeErrors* errors);
+// Scores `model` (camera 0) against `truth` (core/metrics.h EvaluateShapes:
+// the object frame when the truth has one).
+Status Evaluate(const Model& model, const GroundTruth& truth, ShapeErrors* errors);
 
 // Reconstruct() + Evaluate(). Never fails: problems go into outcome.message.
 RunOutcome ReconstructAndEvaluate(const ReconstructOptions& options,
                                   const Measurements& measurements,
-                                  const std::vector<Eigen::Matrix3Xd>& truth);
+                                  const GroundTruth& truth);
 
 // K sweep on synthetic data: for each K and each run r = 0 … runs − 1,
 // make(seed = r + 1) generates a sequence, options(K) reconstructs it, and
@@ -108,7 +108,7 @@ SweepResult SweepK(
 void ParallelFor(int count, int jobs, const std::function<void(int)>& body);
 
 // Camera-0 ground truth of a synthetic model (ShapeInCamera(t, 0)).
-std::vector<Eigen::Matrix3Xd> TruthShapes(const Model& truth);
+GroundTruth TruthShapes(const Model& truth);
 
 double Median(std::vector<double> values);  // NaN when empty
 

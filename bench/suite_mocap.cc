@@ -40,7 +40,7 @@ const std::map<std::string, PublishedNumbers>& Published() {
 struct Sequence {
   std::string name;
   Measurements measurements;
-  std::vector<Eigen::Matrix3Xd> truth;
+  GroundTruth truth;
 };
 
 // Strategies: "plain" (Reconstruct() with default options), or '+'-joined
@@ -126,7 +126,7 @@ Status RunMocapSuite(const BenchConfig& config, Json* out) {
       std::cout << "skip " << file << ": " << status.message() << "\n";
       continue;
     }
-    sequence.truth = std::move(truth.points_in_camera);
+    sequence.truth = std::move(truth);
     sequences.push_back(std::move(sequence));
   }
   if (sequences.empty()) {

@@ -28,14 +28,27 @@ Status ReadFromSAndRs(const std::string& path, GroundTruth* truth) {
                          " rows (F = " + std::to_string(num_frames) + ")");
   }
   if (!rs.allFinite()) return Status::Error(path + ": Rs holds NaN or Inf");
+  truth->points_in_camera.resize(num_frames);
+  truth->rotations.resize(num_frames);
   for (Eigen::Index t = 0; t < num_frames; ++t) {
     const Eigen::Vector3d r1 = rs.row(2 * t).transpose();
     const Eigen::Vector3d r2 = rs.row(2 * t + 1).transpose();
     Eigen::Matrix3d rotation;
     rotation << r1.transpose(), r2.transpose(), r1.cross(r2).transpose();
-    frames[t] = rotation * frames[t];
+    // Rs holds the first two rows of a rotation; anything else (a scaled or
+    // sheared camera) would make the object-frame score meaningless.
+    if ((rotation * rotation.transpose() - Eigen::Matrix3d::Identity())
+            .cwiseAbs()
+            .maxCoeff() > 1e-3) {
+      return Status::Error(path + ": Rs rows " + std::to_string(2 * t + 1) +
+                           "-" + std::to_string(2 * t + 2) +
+                           " (frame " + std::to_string(t) +
+                           ") are not two orthonormal rows of a rotation");
+    }
+    truth->rotations[t] = rotation;
+    truth->points_in_camera[t] = rotation * frames[t];
   }
-  truth->points_in_camera = std::move(frames);
+  truth->points_in_object = std::move(frames);
   truth->source = "S+Rs";
   return Status::OK();
 }

@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 
+#include <Eigen/LU>
 #include <glog/logging.h>
 
 #include "core/procrustes.h"
@@ -73,6 +74,21 @@ double ComputeE3D(const std::vector<Eigen::Matrix3Xd>& truth,
          E3DScale(Centred(truth));
 }
 
+E3DDetail ComputeE3DDetail(const std::vector<Eigen::Matrix3Xd>& truth,
+                           const std::vector<Eigen::Matrix3Xd>& estimate) {
+  CheckSizes(truth, estimate);
+  const std::vector<Eigen::Matrix3Xd> x = Centred(truth);
+  const std::vector<Eigen::Matrix3Xd> x_hat = Centred(estimate);
+  E3DDetail detail;
+  detail.alignment = AlignLeastSquaresThenOrthogonal(x, x_hat);
+  detail.scale = E3DScale(x);
+  for (std::size_t t = 0; t < x.size(); ++t) {
+    detail.frame_errors.push_back(
+        (x[t] - detail.alignment * x_hat[t]).colwise().norm().mean() / detail.scale);
+  }
+  return detail;
+}
+
 double ComputeFrobeniusZSign(const std::vector<Eigen::Matrix3Xd>& truth,
                              const std::vector<Eigen::Matrix3Xd>& estimate) {
   CheckSizes(truth, estimate);
@@ -120,15 +136,18 @@ double ComputeZErrorPercent(const std::vector<Eigen::Matrix3Xd>& truth,
   return 100.0 * sum / static_cast<double>(residuals.size()) / ShapeSize(truth);
 }
 
-Status EvaluateShapes(const std::vector<Eigen::Matrix3Xd>& truth,
-                      const std::vector<Eigen::Matrix3Xd>& estimate,
-                      ShapeErrors* errors) {
-  CHECK(errors != nullptr);
+namespace {
+
+// The user-data checks of EvaluateShapes for one pair of shape sequences;
+// `what` names them in the message ("" for the camera frame).
+Status CheckShapes(const std::vector<Eigen::Matrix3Xd>& truth,
+                   const std::vector<Eigen::Matrix3Xd>& estimate,
+                   const std::string& what) {
   std::ostringstream msg;
   if (truth.empty())
     return Status::Error("evaluation: the truth has no frames");
   if (truth.size() != estimate.size()) {
-    msg << "evaluation: truth has " << truth.size() << " frames, estimate has "
+    msg << "evaluation: " << what << "truth has " << truth.size() << " frames, estimate has "
         << estimate.size();
     return Status::Error(msg.str());
   }
@@ -137,31 +156,110 @@ Status EvaluateShapes(const std::vector<Eigen::Matrix3Xd>& truth,
     return Status::Error("evaluation: truth frame 0 has no points");
   for (size_t t = 0; t < truth.size(); ++t) {
     if (truth[t].cols() != num_points || estimate[t].cols() != num_points) {
-      msg << "evaluation: frame " << t << " has " << truth[t].cols()
+      msg << "evaluation: " << what << "frame " << t << " has " << truth[t].cols()
           << " truth and " << estimate[t].cols()
           << " estimated points, expected " << num_points
           << " (the point count of truth frame 0)";
       return Status::Error(msg.str());
     }
     if (!truth[t].allFinite() || !estimate[t].allFinite()) {
-      msg << "evaluation: frame " << t << " of the "
+      msg << "evaluation: " << what << "frame " << t << " of the "
           << (truth[t].allFinite() ? "estimate" : "truth")
           << " has a NaN or infinite value";
       return Status::Error(msg.str());
     }
     if ((truth[t].colwise() - truth[t].rowwise().mean()).norm() == 0.0) {
-      msg << "evaluation: all points of truth frame " << t
+      msg << "evaluation: all points of " << what << "truth frame " << t
           << " coincide; the errors relative to its size are undefined";
       return Status::Error(msg.str());
     }
   }
-  errors->e3d = ComputeE3D(truth, estimate);
-  errors->frob_zsign = ComputeFrobeniusZSign(truth, estimate);
-  errors->error3d_pct = ComputeError3DPercent(truth, estimate);
-  errors->zerror_pct = ComputeZErrorPercent(truth, estimate);
-  errors->num_frames = static_cast<int>(truth.size());
-  errors->num_points = static_cast<int>(num_points);
   return Status::OK();
+}
+
+}  // namespace
+
+const char* EvaluationFrameName(EvaluationFrame frame) {
+  return frame == EvaluationFrame::kObject ? "object" : "camera";
+}
+
+double ComputeRotationError(const std::vector<Eigen::Matrix3d>& truth,
+                            const std::vector<Eigen::Matrix3d>& estimate) {
+  CHECK_EQ(truth.size(), estimate.size());
+  CHECK(!truth.empty());
+  Eigen::Matrix3d cross = Eigen::Matrix3d::Zero();  // Âᵀ A
+  for (std::size_t t = 0; t < truth.size(); ++t) {
+    cross += estimate[t].topRows<2>().transpose() * truth[t].topRows<2>();
+  }
+  // argmin_Q ||Â Q − A||_F = argmax tr(Qᵀ Âᵀ A): the orthogonal factor of
+  // Âᵀ A.
+  const Eigen::Matrix3d q = NearestOrthogonal(cross);
+  double sum = 0.0;
+  for (std::size_t t = 0; t < truth.size(); ++t) {
+    const Eigen::Matrix<double, 2, 3> difference =
+        estimate[t].topRows<2>() * q - truth[t].topRows<2>();
+    // Spectral norm of a 2 × 3 matrix: sqrt of the largest eigenvalue of the
+    // 2 × 2 D Dᵀ.
+    const Eigen::Matrix2d gram = difference * difference.transpose();
+    const double half_trace = 0.5 * gram.trace();
+    const double det = gram.determinant();
+    sum += std::sqrt(std::max(
+        0.0, half_trace + std::sqrt(std::max(0.0, half_trace * half_trace - det))));
+  }
+  return sum / static_cast<double>(truth.size());
+}
+
+Status EvaluateShapes(const GroundTruth& truth, const GroundTruth& estimate,
+                      ShapeErrors* errors) {
+  CHECK(errors != nullptr);
+  *errors = ShapeErrors();
+  NRSFM_RETURN_IF_ERROR(
+      CheckShapes(truth.points_in_camera, estimate.points_in_camera, ""));
+  const std::vector<Eigen::Matrix3Xd>& x = truth.points_in_camera;
+  const std::vector<Eigen::Matrix3Xd>& x_hat = estimate.points_in_camera;
+  errors->e3d_camera = ComputeE3D(x, x_hat);
+  errors->frob_zsign = ComputeFrobeniusZSign(x, x_hat);
+  errors->error3d_pct = ComputeError3DPercent(x, x_hat);
+  errors->zerror_pct = ComputeZErrorPercent(x, x_hat);
+  errors->num_frames = static_cast<int>(x.size());
+  errors->num_points = static_cast<int>(x[0].cols());
+  errors->e3d = errors->e3d_camera;
+  errors->e3d_frame = EvaluationFrame::kCamera;
+  if (truth.HasObjectFrame()) {
+    if (!estimate.HasObjectFrame()) {
+      return Status::Error(
+          "evaluation: the truth (" + truth.source +
+          ") is scored in the object frame, but the estimate (" +
+          estimate.source + ") has no object-frame shapes and rotations");
+    }
+    NRSFM_RETURN_IF_ERROR(CheckShapes(truth.points_in_object,
+                                      estimate.points_in_object, "object-frame "));
+    errors->e3d = ComputeE3D(truth.points_in_object, estimate.points_in_object);
+    errors->e3d_frame = EvaluationFrame::kObject;
+  }
+  if (!truth.rotations.empty() && truth.rotations.size() == estimate.rotations.size()) {
+    errors->rotation_error = ComputeRotationError(truth.rotations, estimate.rotations);
+  }
+  return Status::OK();
+}
+
+const std::vector<Eigen::Matrix3Xd>& ScoredShapes(const GroundTruth& shapes,
+                                                  EvaluationFrame frame) {
+  return frame == EvaluationFrame::kObject ? shapes.points_in_object
+                                           : shapes.points_in_camera;
+}
+
+GroundTruth ShapesOfModel(const Model& model, int camera) {
+  CHECK_GE(camera, 0);
+  CHECK_LT(camera, model.num_cameras);
+  GroundTruth shapes;
+  shapes.source = "model";
+  for (int t = 0; t < model.num_frames; ++t) {
+    shapes.points_in_camera.push_back(model.ShapeInCamera(t, camera));
+    shapes.points_in_object.push_back(model.ShapeInObject(t));
+    shapes.rotations.push_back(model.Rotation(t, camera));
+  }
+  return shapes;
 }
 
 double ReprojectionRms(const Measurements& measurements, const Model& model) {

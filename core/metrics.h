@@ -14,10 +14,12 @@
 #ifndef NRSFM_CORE_METRICS_H_
 #define NRSFM_CORE_METRICS_H_
 
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "core/ground_truth.h"
 #include "core/measurements.h"
 #include "core/model.h"
 #include "core/status.h"
@@ -43,6 +45,17 @@ namespace nrsfm {
 // scale. Dimensionless.
 double ComputeE3D(const std::vector<Eigen::Matrix3Xd>& truth,
                   const std::vector<Eigen::Matrix3Xd>& estimate);
+
+// The parts of ComputeE3D for display: the alignment Y (truth ≈ Y · centred
+// estimate), s, and each frame's (1 / P) Σ_p ||X_tp − Y X̂_tp|| / s, whose
+// mean is e3D. Same CHECKs as ComputeE3D.
+struct E3DDetail {
+  Eigen::Matrix3d alignment = Eigen::Matrix3d::Identity();
+  double scale = 0.0;
+  std::vector<double> frame_errors;
+};
+E3DDetail ComputeE3DDetail(const std::vector<Eigen::Matrix3Xd>& truth,
+                           const std::vector<Eigen::Matrix3Xd>& estimate);
 
 // Relative Frobenius error with a per-frame depth sign (Lee et al., the metric
 // used for the face sequence):
@@ -70,11 +83,38 @@ double ComputeError3DPercent(const std::vector<Eigen::Matrix3Xd>& truth,
 double ComputeZErrorPercent(const std::vector<Eigen::Matrix3Xd>& truth,
                             const std::vector<Eigen::Matrix3Xd>& estimate);
 
+// Rotation error of Dai, Li and He (their BMM code's compareRotations): the
+// first two rows of every rotation stacked into 2F × 3 matrices A (truth) and
+// Â (estimate); one orthogonal Q = argmin ||Â Q − A||_F (reflection allowed:
+// the depth-reflected reconstruction scores the same);
+//   error = (1 / F) Σ_t ||Â_t Q − A_t||_2,
+// the spectral norm of each frame's 2 × 3 difference. For small errors it is
+// the mean rotation error in radians. CHECKs equal, non-zero lengths.
+double ComputeRotationError(const std::vector<Eigen::Matrix3d>& truth,
+                            const std::vector<Eigen::Matrix3d>& estimate);
+
+// Which frame the field's e3D is computed in (docs/metrics.md): the object
+// frame when the truth has one (world-frame S
+// with camera rotations Rs, as in the Akhter et al. files: the published
+// numbers of PTA and of Dai et al.'s BMM code, rotStruct = 0, compare the
+// reconstruction's object-frame shapes S_t with the world-frame S, so the
+// recovered rotations count), the camera frame otherwise (P3_gt, X, a
+// points_camera.csv).
+enum class EvaluationFrame { kObject, kCamera };
+const char* EvaluationFrameName(EvaluationFrame frame);  // "object" | "camera"
+
 struct ShapeErrors {
-  double e3d = 0.0;          // ComputeE3D
+  // ComputeE3D in `e3d_frame`: the number to compare with published e3D.
+  double e3d = 0.0;
+  EvaluationFrame e3d_frame = EvaluationFrame::kCamera;
+  double e3d_camera = 0.0;   // ComputeE3D of the camera-0 frame shapes
+  // Camera frame (camera 0), whatever the truth:
   double frob_zsign = 0.0;   // ComputeFrobeniusZSign
   double error3d_pct = 0.0;  // ComputeError3DPercent, %
   double zerror_pct = 0.0;   // ComputeZErrorPercent, %
+  // ComputeRotationError of camera 0 when truth and estimate both have
+  // rotations; NaN otherwise.
+  double rotation_error = std::numeric_limits<double>::quiet_NaN();
   int num_frames = 0;        // F
   int num_points = 0;        // P
 };
@@ -82,9 +122,21 @@ struct ShapeErrors {
 // All of the above, after checking user data: same F ≥ 1 in both, the same
 // P ≥ 1 in every frame of both, finite values, and a truth that is not
 // degenerate (no frame whose points all coincide). Errors name the frame.
-Status EvaluateShapes(const std::vector<Eigen::Matrix3Xd>& truth,
-                      const std::vector<Eigen::Matrix3Xd>& estimate,
+// The object-frame e3D is used when truth.HasObjectFrame(); the estimate must
+// then have its object frame too (an error says so otherwise). Every shape is
+// centred per frame before it is compared.
+Status EvaluateShapes(const GroundTruth& truth, const GroundTruth& estimate,
                       ShapeErrors* errors);
+
+// The two sequences EvaluateShapes compares for the e3D of `errors.e3d_frame`:
+// the object-frame shapes for EvaluationFrame::kObject, the camera frame
+// otherwise.
+const std::vector<Eigen::Matrix3Xd>& ScoredShapes(const GroundTruth& shapes,
+                                                  EvaluationFrame frame);
+
+// The shapes of a model for EvaluateShapes: camera `camera`'s frame
+// (Model::ShapeInCamera), the object frame S_t and the rotations R_tc.
+GroundTruth ShapesOfModel(const Model& model, int camera = 0);
 
 // Reprojection RMS over the visible entries, in the units of W: the RMS of the
 // 2D point distance,

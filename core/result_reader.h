@@ -20,6 +20,15 @@ namespace nrsfm {
 Status ReadPointsCameraCsv(const std::string& path, int camera,
                            GroundTruth* truth);
 
+// Reads a whole result directory `dir` as the estimate of an evaluation:
+// camera `camera`'s points (ReadPointsCameraCsv), the object-frame shapes
+// S_t of points_object.csv (header frame,point,x,y,z; every (frame, point)
+// of the camera's F and P exactly once) and camera `camera`'s rotations of
+// rotations.csv (header frame,camera,r11..r33; every frame once; each a
+// rotation to 1e-6). Sets shapes->source to "result". Fails, naming the
+// file and row, like ReadPointsCameraCsv.
+Status ReadResultShapes(const std::string& dir, int camera, GroundTruth* shapes);
+
 }  // namespace nrsfm
 
 #endif  // NRSFM_CORE_RESULT_READER_H_

@@ -189,6 +189,7 @@ Status WriteJson(const fs::path& dir, const Measurements& measurements,
   json["warnings"] = report.warnings;
   Json metrics = Json::object();
   for (const auto& [name, value] : report.metrics) metrics[name] = value;
+  if (!report.e3d_frame.empty()) metrics["e3d_frame"] = report.e3d_frame;
   json["metrics"] = metrics;
   Json versions = Json::object();
   for (const auto& [name, value] : report.versions) versions[name] = value;

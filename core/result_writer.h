@@ -53,6 +53,7 @@ struct ReconstructionReport {
   bool solution_usable = true;
   std::vector<std::string> warnings;
   std::vector<std::pair<std::string, double>> metrics;  // e.g. {"e3d", 0.03}
+  std::string e3d_frame;  // "object" | "camera" (core/metrics.h), "" = no metrics
   // Versions of the caller's libraries, e.g. {"nrsfm", "0.1.0"},
   // {"ceres", CERES_VERSION_STRING}; the writer adds eigen, matio and
   // nlohmann_json itself.

@@ -141,6 +141,21 @@ std::vector<std::pair<std::string, std::string>> OptionList(
 
 const char* VersionString() { return kVersion; }
 
+// The metrics of `errors` as written to result.json and printed by
+// `evaluate` (rotation_error only when it was computed).
+std::vector<std::pair<std::string, double>> MetricList(const ShapeErrors& errors) {
+  std::vector<std::pair<std::string, double>> list = {
+      {"e3d", errors.e3d},
+      {"e3d_camera", errors.e3d_camera},
+      {"frob_zsign", errors.frob_zsign},
+      {"error3d_pct", errors.error3d_pct},
+      {"zerror_pct", errors.zerror_pct}};
+  if (!std::isnan(errors.rotation_error)) {
+    list.emplace_back("rotation_error", errors.rotation_error);
+  }
+  return list;
+}
+
 Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
                       std::ostream& progress) {
   if (flags.input.empty()) return Status::Error("--input is required");
@@ -255,13 +270,10 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
 
   ShapeErrors errors;
   if (!flags.truth.empty()) {
-    NRSFM_RETURN_IF_ERROR(EvaluateShapes(truth.points_in_camera,
-                                         CameraFrameShapes(result.model, 0), &errors)
+    NRSFM_RETURN_IF_ERROR(EvaluateShapes(truth, ShapesOfModel(result.model, 0), &errors)
                               .WithContext("--truth"));
-    report.metrics = {{"e3d", errors.e3d},
-                      {"frob_zsign", errors.frob_zsign},
-                      {"error3d_pct", errors.error3d_pct},
-                      {"zerror_pct", errors.zerror_pct}};
+    report.metrics = MetricList(errors);
+    report.e3d_frame = EvaluationFrameName(errors.e3d_frame);
   }
 
   WriteOptions write_options;
@@ -281,9 +293,14 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
   out << "reprojection RMS " << report.reprojection_rms << ", time "
       << std::setprecision(3) << result.total_seconds << " s\n";
   if (!flags.truth.empty()) {
-    out << std::setprecision(6) << "e3D " << errors.e3d << ", frob_zsign "
-        << errors.frob_zsign << ", 3D error " << errors.error3d_pct
-        << " %, z error " << errors.zerror_pct << " %\n";
+    out << std::setprecision(6) << "e3D " << errors.e3d << " ("
+        << EvaluationFrameName(errors.e3d_frame) << " frame), e3D camera frame "
+        << errors.e3d_camera << ", frob_zsign " << errors.frob_zsign;
+    if (!std::isnan(errors.rotation_error)) {
+      out << ", rotation error " << errors.rotation_error;
+    }
+    out << ", 3D error " << errors.error3d_pct << " %, z error " << errors.zerror_pct
+        << " %\n";
   }
   for (const auto& warning : report.warnings) out << "warning: " << warning << "\n";
   out << "wrote " << flags.output << "\n";
@@ -300,16 +317,19 @@ Status RunEvaluate(const CommandFlags& flags, std::ostream& out) {
   if (flags.result.empty()) return Status::Error("--result is required");
   GroundTruth truth, estimate;
   NRSFM_RETURN_IF_ERROR(ReadTruth(flags.truth, flags.truth_var, &truth));
-  NRSFM_RETURN_IF_ERROR(ReadPointsCameraCsv(flags.result, /*camera=*/0, &estimate));
+  std::error_code ec;
+  if (std::filesystem::is_directory(flags.result, ec)) {
+    NRSFM_RETURN_IF_ERROR(ReadResultShapes(flags.result, /*camera=*/0, &estimate));
+  } else {
+    NRSFM_RETURN_IF_ERROR(ReadPointsCameraCsv(flags.result, /*camera=*/0, &estimate));
+  }
   ShapeErrors errors;
   NRSFM_RETURN_IF_ERROR(
-      EvaluateShapes(truth.points_in_camera, estimate.points_in_camera, &errors)
+      EvaluateShapes(truth, estimate, &errors)
           .WithContext("evaluate " + flags.result + " against " + flags.truth));
   nlohmann::ordered_json line;
-  line["e3d"] = errors.e3d;
-  line["frob_zsign"] = errors.frob_zsign;
-  line["error3d_pct"] = errors.error3d_pct;
-  line["zerror_pct"] = errors.zerror_pct;
+  for (const auto& [name, value] : MetricList(errors)) line[name] = value;
+  line["e3d_frame"] = EvaluationFrameName(errors.e3d_frame);
   line["F"] = errors.num_frames;
   line["P"] = errors.num_points;
   out << line.dump() << "\n";

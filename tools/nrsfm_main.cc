@@ -3,6 +3,7 @@
 //   nrsfm reconstruct --input PATH --K N|auto --output DIR [options]
 //   nrsfm evaluate --truth PATH --result DIR
 //   nrsfm synth --dataset random|superquadric|shoe --output PATH.mat [options]
+//   nrsfm view --result DIR [--truth PATH] [--input PATH] --output FILE.html
 //
 // Flags may also come from a file: --flagfile=PATH. Logs go to stderr. The
 // exit code is 0 only on success.
@@ -15,6 +16,7 @@
 #include <glog/logging.h>
 
 #include "tools/commands.h"
+#include "tools/view_command.h"
 
 DEFINE_string(input, "", "reconstruct: input file (.mat v4/v5/v7.3, text/CSV W, or an "
               "observation list .obs/.list 'frame camera point u v').");
@@ -79,12 +81,17 @@ constexpr char kUsage[] =
     "  nrsfm reconstruct --input PATH --K N|auto --output DIR [options]\n"
     "  nrsfm evaluate --truth PATH --result DIR\n"
     "  nrsfm synth --dataset random|superquadric|shoe --output PATH.mat [options]\n"
+    "  nrsfm view --result DIR [--truth PATH] [--input PATH] --output FILE.html\n"
     "\n"
     "reconstruct reads W (2F x P, rows u_t, v_t interleaved; 2FM x P for M\n"
     "cameras), NaN = missing, and writes points_camera.csv, points_object.csv,\n"
     "rotations.csv, weights.csv, basis.csv and result.json into DIR.\n"
     "evaluate prints one JSON line with e3d, frob_zsign, error3d_pct, zerror_pct,\n"
     "F and P. synth writes a .mat with W and the ground truth P3_gt.\n"
+    "view writes one self-contained HTML page (works offline): the 3D points\n"
+    "animated over the frames, the truth (--truth, --truth_var) aligned as for\n"
+    "e3D with the per-frame error, and the 2D tracks (--input, --var, --mask_var,\n"
+    "--format) with their reprojections; --overwrite replaces an existing page.\n"
     "Flags may be read from a file with --flagfile=PATH. Exit code 0 = success.";
 
 bool WantsHelp(int argc, char** argv) {
@@ -113,8 +120,8 @@ int main(int argc, char** argv) {
   google::InitGoogleLogging(argv[0]);
 
   if (argc != 2) {
-    std::cerr << "nrsfm: expected exactly one command (reconstruct, evaluate or "
-                 "synth), got "
+    std::cerr << "nrsfm: expected exactly one command (reconstruct, evaluate, "
+                 "synth or view), got "
               << argc - 1 << "; see nrsfm --help\n";
     return 2;
   }
@@ -161,9 +168,11 @@ int main(int argc, char** argv) {
     status = nrsfm::tools::RunEvaluate(flags, std::cout);
   } else if (command == "synth") {
     status = nrsfm::tools::RunSynth(flags, std::cout);
+  } else if (command == "view") {
+    status = nrsfm::tools::RunView(flags, std::cout);
   } else {
     std::cerr << "nrsfm: unknown command '" << command
-              << "' (expected reconstruct, evaluate or synth); see nrsfm --help\n";
+              << "' (expected reconstruct, evaluate, synth or view); see nrsfm --help\n";
     return 2;
   }
   if (!status.ok()) {

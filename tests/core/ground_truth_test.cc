@@ -30,6 +30,17 @@ Eigen::MatrixXd RandomMatrix(int rows, int cols, std::uint32_t seed) {
   return m;
 }
 
+// The first two rows of F rotations (2F × 3), seeded.
+Eigen::MatrixXd RandomRotationRows(int num_frames, std::uint32_t seed) {
+  const Eigen::MatrixXd angles = RandomMatrix(num_frames, 3, seed);
+  Eigen::MatrixXd rows(2 * num_frames, 3);
+  for (int t = 0; t < num_frames; ++t) {
+    rows.middleRows<2>(2 * t) =
+        AngleAxisToRotation(angles.row(t).transpose()).topRows<2>();
+  }
+  return rows;
+}
+
 TEST(GroundTruth, DrinkSAndRsReproduceW) {
   NRSFM_SKIP_WITHOUT_SHARED_DATA(dir);
   const std::string path = dir + "/drink.mat";
@@ -117,6 +128,17 @@ TEST(GroundTruth, SyntheticSAndRsP3gtAndXAgree) {
       EXPECT_LT((truth.points_in_camera[t] - camera[t]).cwiseAbs().maxCoeff(),
                 1e-15);
     }
+    // Only S + Rs has an object (world) frame: S itself and the rotations.
+    EXPECT_EQ(truth.HasObjectFrame(), truth.source == "S+Rs");
+    if (truth.HasObjectFrame()) {
+      for (int t = 0; t < num_frames; ++t) {
+        EXPECT_EQ(truth.points_in_object[t], s.middleRows(3 * t, 3));
+        EXPECT_LT((truth.rotations[t].topRows<2>() - rs.middleRows(2 * t, 2))
+                      .cwiseAbs()
+                      .maxCoeff(),
+                  1e-15);
+      }
+    }
   }
   // Without S and Rs, P3_gt is preferred to X.
   const std::string no_s = dir + "/no_s.mat";
@@ -160,11 +182,22 @@ TEST(GroundTruth, BadInputsGiveClearErrors) {
 
   const std::string nan_path = dir + "/nan.mat";
   ASSERT_TRUE(WriteMat(nan_path, MatVersion::kV4,
-                       {{"S", s_nan, {}}, {"Rs", RandomMatrix(4, 3, 62), {}}})
+                       {{"S", s_nan, {}}, {"Rs", RandomRotationRows(2, 62), {}}})
                   .ok());
   st = ReadGroundTruth(nan_path, "", &truth);
   EXPECT_EQ(st.message(),
             nan_path + ": ground truth S holds NaN or Inf (frame 1)");
+
+  // Rs rows that are not a rotation's (here scaled by 2 in frame 1).
+  const std::string sheared = dir + "/sheared.mat";
+  Eigen::MatrixXd rs_scaled = RandomRotationRows(2, 67);
+  rs_scaled.middleRows<2>(2) *= 2.0;
+  ASSERT_TRUE(WriteMat(sheared, MatVersion::kV5,
+                       {{"S", RandomMatrix(6, 4, 68), {}}, {"Rs", rs_scaled, {}}})
+                  .ok());
+  st = ReadGroundTruth(sheared, "", &truth);
+  EXPECT_EQ(st.message(), sheared + ": Rs rows 3-4 (frame 1) are not two "
+                                    "orthonormal rows of a rotation");
 
   const std::string none = dir + "/none.mat";
   ASSERT_TRUE(WriteMat(none, MatVersion::kV5,

@@ -152,12 +152,23 @@ TEST(Metrics, ShapeSizeIsTheMeanDiameter) {
   EXPECT_NEAR(ShapeSize(TwoCrosses()), (std::sqrt(7.25) + 4.0) / 2.0, 1e-15);
 }
 
+// Camera-frame-only shapes for EvaluateShapes.
+GroundTruth CameraOnly(const Frames& frames) {
+  GroundTruth shapes;
+  shapes.points_in_camera = frames;
+  shapes.source = "test";
+  return shapes;
+}
+
 TEST(Metrics, EvaluateShapesFillsEveryField) {
   const Frames truth = TwoCrosses();
   Frames estimate = truth;
   for (Eigen::Matrix3Xd& x : estimate) x(0, 0) += 0.1;
   ShapeErrors errors;
-  ASSERT_TRUE(EvaluateShapes(truth, estimate, &errors).ok());
+  ASSERT_TRUE(EvaluateShapes(CameraOnly(truth), CameraOnly(estimate), &errors).ok());
+  EXPECT_EQ(errors.e3d_frame, EvaluationFrame::kCamera);
+  EXPECT_EQ(errors.e3d_camera, errors.e3d);
+  EXPECT_TRUE(std::isnan(errors.rotation_error));
   EXPECT_EQ(errors.num_frames, 2);
   EXPECT_EQ(errors.num_points, 5);
   EXPECT_EQ(errors.e3d, ComputeE3D(truth, estimate));
@@ -171,7 +182,7 @@ TEST(Metrics, EvaluateShapesRejectsBadInput) {
   const Frames truth = TwoCrosses();
   ShapeErrors errors;
   auto message = [&](const Frames& t, const Frames& e) {
-    const Status status = EvaluateShapes(t, e, &errors);
+    const Status status = EvaluateShapes(CameraOnly(t), CameraOnly(e), &errors);
     EXPECT_FALSE(status.ok());
     return status.message();
   };
@@ -193,6 +204,92 @@ TEST(Metrics, EvaluateShapesRejectsBadInput) {
   EXPECT_NE(
       message(collapsed, truth).find("all points of truth frame 0 coincide"),
       std::string::npos);
+}
+
+Eigen::Matrix3d RotationZ(double angle) {
+  return AngleAxisToRotation(Eigen::Vector3d(0.0, 0.0, angle));
+}
+
+TEST(Metrics, RotationErrorOfHandCases) {
+  // Frames turned by +θ and −θ about the optical axis: by symmetry the
+  // alignment is the identity on the first two rows, and each frame's 2 × 3
+  // difference [[cos θ − 1, −sin θ, 0], [sin θ, cos θ − 1, 0]] has spectral
+  // norm 2 sin(θ / 2).
+  const double angle = 0.3;
+  const std::vector<Eigen::Matrix3d> truth(2, Eigen::Matrix3d::Identity());
+  EXPECT_NEAR(ComputeRotationError(truth, {RotationZ(angle), RotationZ(-angle)}),
+              2.0 * std::sin(angle / 2.0), 1e-12);
+  // A global rotation, and a global reflection of the object frame (the
+  // depth-reflected reconstruction: rows of R times diag(1, 1, −1)), are
+  // aligned away.
+  std::vector<Eigen::Matrix3d> moving, rotated, reflected;
+  const Eigen::Matrix3d global = AngleAxisToRotation(Eigen::Vector3d(0.3, -1.1, 0.4));
+  const Eigen::Matrix3d flip = Eigen::Vector3d(1.0, 1.0, -1.0).asDiagonal();
+  for (int t = 0; t < 6; ++t) {
+    moving.push_back(AngleAxisToRotation(Eigen::Vector3d(0.1 * t, 0.5, -0.2 * t)));
+    rotated.push_back(moving.back() * global);
+    reflected.push_back(flip * moving.back() * flip);
+  }
+  EXPECT_LT(ComputeRotationError(moving, rotated), 1e-12);
+  EXPECT_LT(ComputeRotationError(moving, reflected), 1e-12);
+}
+
+// A sequence with an object frame: shapes S_t and rotations R_t.
+GroundTruth WithObjectFrame(const Frames& object,
+                            const std::vector<Eigen::Matrix3d>& rotations) {
+  GroundTruth shapes;
+  shapes.points_in_object = object;
+  shapes.rotations = rotations;
+  for (std::size_t t = 0; t < object.size(); ++t) {
+    shapes.points_in_camera.push_back(rotations[t] * object[t]);
+  }
+  shapes.source = "test";
+  return shapes;
+}
+
+TEST(Metrics, ObjectFrameProtocolScoresTheRotations) {
+  // Truth: a turning camera around a deforming cross.
+  Frames object;
+  std::vector<Eigen::Matrix3d> rotations;
+  for (int t = 0; t < 8; ++t) {
+    object.push_back(Cross(1.0 + 0.1 * t, 1.5 - 0.05 * t));
+    rotations.push_back(AngleAxisToRotation(Eigen::Vector3d(0.2, 0.1 * t, 0.05)));
+  }
+  const GroundTruth truth = WithObjectFrame(object, rotations);
+  ShapeErrors errors;
+  // The same sequence seen in another object frame (a global rotation G:
+  // S'_t = G S_t, R'_t = R_t Gᵀ) scores 0 in every frame.
+  const Eigen::Matrix3d global = AngleAxisToRotation(Eigen::Vector3d(-0.4, 0.9, 0.2));
+  Frames object_g;
+  std::vector<Eigen::Matrix3d> rotations_g;
+  for (int t = 0; t < 8; ++t) {
+    object_g.push_back(global * object[t]);
+    rotations_g.push_back(rotations[t] * global.transpose());
+  }
+  ASSERT_TRUE(EvaluateShapes(truth, WithObjectFrame(object_g, rotations_g), &errors).ok());
+  EXPECT_EQ(errors.e3d_frame, EvaluationFrame::kObject);
+  EXPECT_LT(errors.e3d, 1e-12);
+  EXPECT_LT(errors.e3d_camera, 1e-12);
+  EXPECT_LT(errors.rotation_error, 1e-12);
+  // A per-frame drift Q_t of the object frame (S'_t = Q_t S_t, R'_t =
+  // R_t Q_tᵀ) leaves the camera frame exact and is scored by the object-frame
+  // e3D and the rotation error.
+  Frames object_d;
+  std::vector<Eigen::Matrix3d> rotations_d;
+  for (int t = 0; t < 8; ++t) {
+    const Eigen::Matrix3d drift = RotationZ(0.02 * t);
+    object_d.push_back(drift * object[t]);
+    rotations_d.push_back(rotations[t] * drift.transpose());
+  }
+  ASSERT_TRUE(EvaluateShapes(truth, WithObjectFrame(object_d, rotations_d), &errors).ok());
+  EXPECT_LT(errors.e3d_camera, 1e-12);
+  EXPECT_EQ(errors.e3d, ComputeE3D(object, object_d));
+  EXPECT_GT(errors.e3d, 0.01);
+  EXPECT_GT(errors.rotation_error, 0.01);
+  // Without an object frame in the estimate the protocol cannot be followed.
+  const Status status = EvaluateShapes(truth, CameraOnly(truth.points_in_camera), &errors);
+  EXPECT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("no object-frame shapes"), std::string::npos);
 }
 
 TEST(Metrics, ReprojectionRmsSkipsMissingEntries) {

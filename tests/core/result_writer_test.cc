@@ -237,6 +237,42 @@ TEST(ResultWriter, PointsCameraCsvReadsBackAsGroundTruth) {
   EXPECT_EQ(s.message(), bad + "/points_camera.csv: no such file");
 }
 
+TEST(ResultWriter, ResultDirectoryReadsBackWithItsObjectFrame) {
+  Model model;
+  Measurements measurements;
+  MakeSmallProblem(&model, &measurements);
+  const std::string dir = MakeTempDir("result_shapes") + "/out";
+  ASSERT_TRUE(
+      WriteReconstruction(dir, measurements, model, SmallReport(), {}).ok());
+  for (int camera : {0, 1}) {
+    GroundTruth shapes;
+    ASSERT_TRUE(ReadResultShapes(dir, camera, &shapes).ok());
+    EXPECT_EQ(shapes.source, "result");
+    ASSERT_TRUE(shapes.HasObjectFrame());
+    for (int t = 0; t < 3; ++t) {
+      EXPECT_EQ(shapes.points_in_camera[t], model.ShapeInCamera(t, camera));
+      EXPECT_EQ(shapes.points_in_object[t], model.ShapeInObject(t));
+      EXPECT_LT((shapes.rotations[t] - model.Rotation(t, camera)).cwiseAbs().maxCoeff(),
+                1e-15);
+    }
+  }
+  // Missing or damaged object-frame files are named.
+  std::filesystem::remove(dir + "/rotations.csv");
+  GroundTruth shapes;
+  Status s = ReadResultShapes(dir, 0, &shapes);
+  EXPECT_EQ(s.message(), dir + "/rotations.csv: no such file");
+  std::ofstream(dir + "/rotations.csv")
+      << "frame,camera,r11,r12,r13,r21,r22,r23,r31,r32,r33\n"
+         "0,0,2,0,0,0,1,0,0,0,1\n";
+  s = ReadResultShapes(dir, 0, &shapes);
+  EXPECT_EQ(s.message(), dir + "/rotations.csv: data row 1: not a rotation matrix");
+  std::ofstream(dir + "/points_object.csv") << "frame,point,x,y,z\n0,0,1,2,3\n";
+  s = ReadResultShapes(dir, 0, &shapes);
+  EXPECT_TRUE(Contains(s.message(), dir + "/points_object.csv: has 1 rows; expected "
+                                          "every frame and point of F = 3, P = 4 once"))
+      << s.message();
+}
+
 TEST(ResultWriter, ExistingDirectoriesAreReplacedOnlyWhenSafe) {
   Model model;
   Measurements measurements;

@@ -141,10 +141,10 @@ TEST_F(CliTest, ExtraTermFlags) {
 }
 
 // Real motion capture (../shared/datasets/yoga.mat, 307 frames): the
-// corrective-triple start and the object-frame temporal shape prior.
-// Measured e3D: 0.0243 (start alone 0.107; default options 2.14); best
-// published 0.1150 (BMM, Dai et al. 2012), PTA 0.1625.
-TEST_F(CliTest, YogaWithTripleStartAndTemporalShapeBeatsPublished) {
+// corrective-triple start and the object-frame temporal shape prior, scored
+// by the field's protocol (object frame against the world-frame S).
+// Measured: e3D 0.1127 (object frame), 0.0243 in the camera frame.
+TEST_F(CliTest, YogaWithTripleStartAndTemporalShape) {
   NRSFM_SKIP_WITHOUT_SHARED_DATA(dir);
   const std::string yoga = dir + "/yoga.mat";
   const RunResult r = Run("reconstruct --input " + yoga + " --K 10 --init triple "
@@ -152,9 +152,15 @@ TEST_F(CliTest, YogaWithTripleStartAndTemporalShapeBeatsPublished) {
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const nlohmann::json result = nlohmann::json::parse(ReadFile(Path("y/result.json")));
   EXPECT_NE(result.dump().find("\"temporal_shape\""), std::string::npos);
-  const double e3d = Evaluate(yoga, "y")["e3d"].get<double>();
-  std::cout << "yoga e3D " << e3d << "\n";
-  EXPECT_LT(e3d, 0.05);
+  const nlohmann::json e = Evaluate(yoga, "y");
+  EXPECT_EQ(e["e3d_frame"], "object");
+  EXPECT_EQ(result["metrics"]["e3d_frame"], "object");
+  EXPECT_EQ(result["metrics"]["e3d"].get<double>(), e["e3d"].get<double>());
+  std::cout << "yoga e3D " << e["e3d"] << " (object frame), camera frame "
+            << e["e3d_camera"] << ", rotation error " << e["rotation_error"] << "\n";
+  EXPECT_LT(e["e3d"].get<double>(), 0.15);
+  EXPECT_LT(e["e3d_camera"].get<double>(), 0.05);
+  EXPECT_LT(e["rotation_error"].get<double>(), 0.15);
 }
 
 TEST_F(CliTest, FlagfileWorks) {
