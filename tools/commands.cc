@@ -4,7 +4,6 @@
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
-#include <map>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -21,6 +20,7 @@
 #include "core/result_reader.h"
 #include "core/result_writer.h"
 #include "core/synthetic.h"
+#include "problems/extra_terms.h"
 #include "solvers/reconstruct.h"
 #include "solvers/select_num_bases.h"
 
@@ -80,32 +80,22 @@ Status BuildReconstructOptions(const CommandFlags& flags,
   NRSFM_RETURN_IF_ERROR(
       ParseLinearSolver(flags.linear_solver, &options->solver.linear_solver)
           .WithContext("--linear_solver"));
-  NRSFM_RETURN_IF_ERROR(CheckFinite("robust_scale", flags.robust_scale));
-  NRSFM_RETURN_IF_ERROR(CheckFinite("smoothness", flags.smoothness));
-  NRSFM_RETURN_IF_ERROR(CheckFinite("temporal", flags.temporal));
-  NRSFM_RETURN_IF_ERROR(CheckFinite("temporal_rotations", flags.temporal_rotations));
-  NRSFM_RETURN_IF_ERROR(CheckFinite("temporal_shape", flags.temporal_shape));
-  NRSFM_RETURN_IF_ERROR(
-      CheckFinite("rotation_acceleration", flags.rotation_acceleration));
-  NRSFM_RETURN_IF_ERROR(CheckFinite("rigidity", flags.rigidity));
-  if (flags.smoothness < 0.0 || flags.temporal < 0.0 || flags.temporal_rotations < 0.0 ||
-      flags.temporal_shape < 0.0 || flags.rotation_acceleration < 0.0 ||
-      flags.rigidity < 0.0) {
-    return Status::Error("--smoothness, --temporal, --temporal_rotations, "
-                         "--temporal_shape, --rotation_acceleration and "
-                         "--rigidity must be >= 0");
+  // One flag per extra term (problems/extra_terms.h).
+  const std::vector<ExtraTerm>& terms = ExtraTerms();
+  for (std::size_t i = 0; i < terms.size(); ++i) {
+    const std::string flag = std::string("--") + terms[i].flag;
+    const double weight = flags.term_weights[i];
+    if (!(std::isfinite(weight) && weight >= 0.0)) {
+      return Status::Error(flag + " must be a finite number >= 0, got " +
+                           FormatDouble(weight));
+    }
+    if (weight > 0.0 && flags.cameras < terms[i].min_cameras) {
+      return Status::Error(flag + " needs synchronised cameras: --cameras must be >= " +
+                           std::to_string(terms[i].min_cameras) + ", got " +
+                           std::to_string(flags.cameras));
+    }
+    if (weight > 0.0) options->problem.term_weights[terms[i].name] = weight;
   }
-  if (flags.rigidity > 0.0 && flags.cameras < 2) {
-    return Status::Error("--rigidity needs synchronised cameras: --cameras must be "
-                         ">= 2, got " + std::to_string(flags.cameras));
-  }
-  std::map<std::string, double>& weights = options->problem.term_weights;
-  weights["smoothness"] = flags.smoothness;
-  weights["temporal_weights"] = flags.temporal;
-  weights["temporal_rotations"] = flags.temporal_rotations;
-  weights["temporal_shape"] = flags.temporal_shape;
-  weights["rotation_acceleration"] = flags.rotation_acceleration;
-  weights["rigidity"] = flags.rigidity;
   options->start.seed = flags.seed;
   options->problem.robust_scale = flags.robust_scale;
   options->solver.max_iterations = flags.max_iterations;
@@ -116,25 +106,24 @@ Status BuildReconstructOptions(const CommandFlags& flags,
 // The flags a reconstruction used, for result.json.
 std::vector<std::pair<std::string, std::string>> OptionList(
     const CommandFlags& flags, int num_bases) {
-  return {{"K", std::to_string(num_bases)},
-          {"K_flag", flags.K},
-          {"var", flags.var},
-          {"mask_var", flags.mask_var},
-          {"format", flags.format},
-          {"cameras", std::to_string(flags.cameras)},
-          {"init", flags.init},
-          {"smoothness", FormatDouble(flags.smoothness)},
-          {"temporal", FormatDouble(flags.temporal)},
-          {"temporal_rotations", FormatDouble(flags.temporal_rotations)},
-          {"temporal_shape", FormatDouble(flags.temporal_shape)},
-          {"rotation_acceleration", FormatDouble(flags.rotation_acceleration)},
-          {"rigidity", FormatDouble(flags.rigidity)},
-          {"robust", flags.robust},
-          {"robust_scale", FormatDouble(flags.robust_scale)},
-          {"max_iterations", std::to_string(flags.max_iterations)},
-          {"threads", std::to_string(flags.threads)},
-          {"linear_solver", flags.linear_solver},
-          {"seed", std::to_string(flags.seed)}};
+  std::vector<std::pair<std::string, std::string>> list = {
+      {"K", std::to_string(num_bases)},
+      {"K_flag", flags.K},
+      {"var", flags.var},
+      {"mask_var", flags.mask_var},
+      {"format", flags.format},
+      {"cameras", std::to_string(flags.cameras)},
+      {"init", flags.init}};
+  for (std::size_t i = 0; i < ExtraTerms().size(); ++i) {
+    list.emplace_back(ExtraTerms()[i].flag, FormatDouble(flags.term_weights[i]));
+  }
+  list.insert(list.end(), {{"robust", flags.robust},
+                           {"robust_scale", FormatDouble(flags.robust_scale)},
+                           {"max_iterations", std::to_string(flags.max_iterations)},
+                           {"threads", std::to_string(flags.threads)},
+                           {"linear_solver", flags.linear_solver},
+                           {"seed", std::to_string(flags.seed)}});
+  return list;
 }
 
 }  // namespace

@@ -15,63 +15,9 @@
 #include <gflags/gflags.h>
 #include <glog/logging.h>
 
+#include "tools/command_flags.h"
 #include "tools/commands.h"
 #include "tools/view_command.h"
-
-DEFINE_string(input, "", "reconstruct: input file (.mat v4/v5/v7.3, text/CSV W, or an "
-              "observation list .obs/.list 'frame camera point u v').");
-DEFINE_string(var, "", "reconstruct: variable of a .mat input (default: W, then P3_gt, "
-              "then X).");
-DEFINE_string(mask_var, "", "reconstruct: optional visibility-mask variable of a .mat "
-              "input (nonzero = visible).");
-DEFINE_string(format, "auto", "reconstruct: input format auto|mat|text|list.");
-DEFINE_string(K, "", "reconstruct: number of basis shapes, an integer >= 1 or 'auto'; "
-              "synth: basis shapes of the random generator (default 5).");
-DEFINE_int32(K_max, 8, "reconstruct --K auto: largest K tried.");
-DEFINE_double(K_threshold, 1.1, "reconstruct --K auto: keep the smallest K whose "
-              "reprojection RMS is within this factor of the noise level estimated "
-              "from the data.");
-DEFINE_string(output, "", "reconstruct: output directory; synth: output .mat file.");
-DEFINE_bool(overwrite, false, "reconstruct: replace a non-empty output directory.");
-DEFINE_bool(ply, false, "reconstruct: also write one PLY file per frame.");
-DEFINE_string(init, "auto", "reconstruct: start auto|factorization|rigid|triple.");
-DEFINE_double(smoothness, 0.0, "reconstruct: weight of the Delaunay-neighbour "
-              "smoothness term (0 = off).");
-DEFINE_double(temporal, 0.0, "reconstruct: weight of the temporal smoothness of the "
-              "deformation weights, l_t - l_(t-1) (0 = off; see docs/extra_terms.md).");
-DEFINE_double(temporal_rotations, 0.0, "reconstruct: weight of the temporal smoothness "
-              "of the rotations between consecutive frames (0 = off). Keep it far below "
-              "--temporal (about 1/300): it trades real rotation for deformation.");
-DEFINE_double(temporal_shape, 0.0, "reconstruct: weight of the temporal smoothness "
-              "of the 3D shape in the object frame, S_t - S_(t-1) per point (0 = off; "
-              "dimensionless; see docs/extra_terms.md).");
-DEFINE_double(rotation_acceleration, 0.0, "reconstruct: weight of the temporal "
-              "smoothness of the angular velocity, log(R_(t+1) R_t^T) - log(R_t R_(t-1)^T) "
-              "(0 = off; dimensionless; see docs/extra_terms.md).");
-DEFINE_double(rigidity, 0.0, "reconstruct: weight of the multi-camera rigidity term "
-              "(0 = off; needs --cameras >= 2).");
-DEFINE_int32(cameras, 1, "reconstruct: number of synchronised cameras M of a W "
-             "input with 2FM rows.");
-DEFINE_string(robust, "none", "reconstruct: robust loss none|huber|cauchy on the "
-              "reprojection terms.");
-DEFINE_double(robust_scale, 1.0, "reconstruct: robust loss scale, in input units.");
-DEFINE_int32(max_iterations, 100, "reconstruct: Levenberg-Marquardt iterations.");
-DEFINE_int32(threads, 1, "reconstruct: solver threads.");
-DEFINE_string(linear_solver, "auto", "reconstruct: auto|dense_schur|sparse_schur|"
-              "iterative_schur|sparse_normal_cholesky|cgnr|dense_qr.");
-DEFINE_uint64(seed, 1, "reconstruct: seed of the rigid start; synth: seed.");
-DEFINE_string(truth, "", "reconstruct/evaluate: ground truth (.mat with S+Rs, P3_gt "
-              "or X, or a result directory).");
-DEFINE_string(truth_var, "", "reconstruct/evaluate: variable of the truth .mat "
-              "(default: S+Rs, then P3_gt, then X).");
-DEFINE_string(result, "", "evaluate: result directory of a reconstruction.");
-DEFINE_string(dataset, "random", "synth: random|superquadric|shoe.");
-DEFINE_int32(frames, -1, "synth: frames F (default: the generator's).");
-DEFINE_int32(points, -1, "synth: points P (default: the generator's).");
-DEFINE_double(noise, 0.0, "synth: Gaussian noise std on W, input units.");
-DEFINE_double(missing, 0.0, "synth: fraction of entries removed at random "
-              "(random, superquadric).");
-DEFINE_bool(quiet, false, "reconstruct: no progress lines on stderr.");
 
 namespace {
 
@@ -108,12 +54,15 @@ bool WantsHelp(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // The flags parse into `flags` (tools/command_flags.h).
+  static nrsfm::tools::CommandFlags flags;
+  nrsfm::tools::RegisterCommandFlags(&flags);
   FLAGS_logtostderr = true;
   gflags::SetUsageMessage(kUsage);
   gflags::SetVersionString(nrsfm::tools::VersionString());
   if (WantsHelp(argc, argv)) {
     // Only this tool's flags, not those of glog and gflags themselves.
-    gflags::ShowUsageWithFlagsRestrict(argv[0], "nrsfm_main");
+    gflags::ShowUsageWithFlagsRestrict(argv[0], nrsfm::tools::kCommandFlagsFile);
     return 0;
   }
   gflags::ParseCommandLineFlags(&argc, &argv, /*remove_flags=*/true);
@@ -126,41 +75,6 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string command = argv[1];
-  nrsfm::tools::CommandFlags flags;
-  flags.input = FLAGS_input;
-  flags.var = FLAGS_var;
-  flags.mask_var = FLAGS_mask_var;
-  flags.format = FLAGS_format;
-  flags.K = FLAGS_K;
-  flags.K_max = FLAGS_K_max;
-  flags.K_threshold = FLAGS_K_threshold;
-  flags.output = FLAGS_output;
-  flags.overwrite = FLAGS_overwrite;
-  flags.ply = FLAGS_ply;
-  flags.init = FLAGS_init;
-  flags.smoothness = FLAGS_smoothness;
-  flags.temporal = FLAGS_temporal;
-  flags.temporal_rotations = FLAGS_temporal_rotations;
-  flags.temporal_shape = FLAGS_temporal_shape;
-  flags.rotation_acceleration = FLAGS_rotation_acceleration;
-  flags.rigidity = FLAGS_rigidity;
-  flags.cameras = FLAGS_cameras;
-  flags.robust = FLAGS_robust;
-  flags.robust_scale = FLAGS_robust_scale;
-  flags.max_iterations = FLAGS_max_iterations;
-  flags.threads = FLAGS_threads;
-  flags.linear_solver = FLAGS_linear_solver;
-  flags.seed = FLAGS_seed;
-  flags.truth = FLAGS_truth;
-  flags.truth_var = FLAGS_truth_var;
-  flags.result = FLAGS_result;
-  flags.dataset = FLAGS_dataset;
-  flags.frames = FLAGS_frames;
-  flags.points = FLAGS_points;
-  flags.noise = FLAGS_noise;
-  flags.missing = FLAGS_missing;
-  flags.quiet = FLAGS_quiet;
-
   nrsfm::Status status;
   if (command == "reconstruct") {
     status = nrsfm::tools::RunReconstruct(flags, std::cout, std::cerr);

@@ -1,0 +1,111 @@
+// The flags of the nrsfm tool, each declared once: NRSFM_COMMAND_FLAGS lists
+// type, name, default and help of every flag, and from that one list come
+// the members of CommandFlags (what the commands read) and the gflags flags
+// that parse into them (RegisterCommandFlags). A flag that sets a library
+// option takes that option's default. The extra terms' weights are not in
+// the list: one flag per row of the table in problems/extra_terms.h, named
+// by its `flag` column, parsed into CommandFlags::term_weights.
+#ifndef NRSFM_TOOLS_COMMAND_FLAGS_H_
+#define NRSFM_TOOLS_COMMAND_FLAGS_H_
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/read_measurements.h"
+#include "problems/extra_terms.h"
+#include "problems/problem_options.h"
+#include "solvers/initialize.h"
+#include "solvers/select_num_bases.h"
+#include "solvers/solver_options.h"
+
+// X(type, name, default, help)
+#define NRSFM_COMMAND_FLAGS(X)                                                   \
+  X(std::string, input, "",                                                      \
+    "reconstruct, view: input file (.mat v4/v5/v7.3, text/CSV W, or an "         \
+    "observation list .obs/.list 'frame camera point u v').")                    \
+  X(std::string, var, ::nrsfm::InputOptions().variable,                          \
+    "reconstruct, view: variable of a .mat input (default: W, then P3_gt, "      \
+    "then X).")                                                                  \
+  X(std::string, mask_var, ::nrsfm::InputOptions().mask_variable,                \
+    "reconstruct, view: optional visibility-mask variable of a .mat input "      \
+    "(nonzero = visible).")                                                      \
+  X(std::string, format, ::nrsfm::InputOptions().format,                         \
+    "reconstruct, view: input format auto|mat|text|list.")                       \
+  X(int, cameras, ::nrsfm::InputOptions().num_cameras,                           \
+    "reconstruct: number of synchronised cameras M of a W input with 2FM rows; " \
+    "synth: cameras of the shoe (1 or 2).")                                      \
+  X(std::string, K, "",                                                          \
+    "reconstruct: number of basis shapes, an integer >= 1 or 'auto'; synth: "    \
+    "basis shapes of the random generator (default 5).")                         \
+  X(int, K_max, ::nrsfm::SelectNumBasesOptions().max_num_bases,                  \
+    "reconstruct --K auto: largest K tried.")                                    \
+  X(double, K_threshold, ::nrsfm::SelectNumBasesOptions().threshold,             \
+    "reconstruct --K auto: keep the smallest K whose reprojection RMS is "       \
+    "within this factor of the noise level estimated from the data.")            \
+  X(std::string, output, "",                                                     \
+    "reconstruct: output directory; synth: output .mat file; view: output "      \
+    ".html file.")                                                               \
+  X(bool, overwrite, false,                                                      \
+    "reconstruct: replace an earlier result directory; view: replace the page.") \
+  X(bool, ply, false, "reconstruct: also write one PLY file per frame.")         \
+  X(std::string, init, ::nrsfm::StartMethodName(::nrsfm::StartOptions().method), \
+    "reconstruct: start auto|factorization|rigid|triple (auto refines the "      \
+    "factorization and rigid starts and keeps the lower cost).")                 \
+  X(std::string, robust,                                                         \
+    ::nrsfm::RobustLossName(::nrsfm::ProblemOptions().robust_loss),              \
+    "reconstruct: robust loss none|huber|cauchy on the reprojection terms.")     \
+  X(double, robust_scale, ::nrsfm::ProblemOptions().robust_scale,                \
+    "reconstruct: robust loss scale, in input units.")                           \
+  X(int, max_iterations, ::nrsfm::SolverOptions().max_iterations,                \
+    "reconstruct: Levenberg-Marquardt iterations.")                              \
+  X(int, threads, ::nrsfm::SolverOptions().num_threads,                          \
+    "reconstruct: solver threads.")                                              \
+  X(std::string, linear_solver,                                                  \
+    ::nrsfm::LinearSolverName(::nrsfm::SolverOptions().linear_solver),           \
+    "reconstruct: auto|dense_schur|sparse_schur|iterative_schur|"                \
+    "sparse_normal_cholesky|cgnr|dense_qr.")                                     \
+  X(std::uint64_t, seed, ::nrsfm::StartOptions().seed,                           \
+    "reconstruct: seed of the rigid and triple starts; synth: seed.")            \
+  X(std::string, truth, "",                                                      \
+    "reconstruct, evaluate, view: ground truth (.mat with S+Rs, P3_gt or X, "    \
+    "or a result directory).")                                                   \
+  X(std::string, truth_var, "",                                                  \
+    "reconstruct, evaluate, view: variable of the truth .mat (default: S+Rs, "   \
+    "then P3_gt, then X).")                                                      \
+  X(std::string, result, "",                                                     \
+    "evaluate, view: result directory of a reconstruction.")                     \
+  X(std::string, dataset, "random", "synth: random|superquadric|shoe.")          \
+  X(int, frames, -1, "synth: frames F (default: the generator's).")              \
+  X(int, points, -1, "synth: points P (default: the generator's).")              \
+  X(double, noise, 0.0, "synth: Gaussian noise std on W, input units.")          \
+  X(double, missing, 0.0,                                                        \
+    "synth: fraction of entries removed at random (random, superquadric).")      \
+  X(bool, quiet, false, "reconstruct: no progress lines on stderr.")
+
+namespace nrsfm {
+namespace tools {
+
+// The parsed command line; --help describes each member.
+struct CommandFlags {
+#define NRSFM_COMMAND_FLAG_MEMBER(type, name, value, help) type name = value;
+  NRSFM_COMMAND_FLAGS(NRSFM_COMMAND_FLAG_MEMBER)
+#undef NRSFM_COMMAND_FLAG_MEMBER
+  // λ of every extra term, aligned with ExtraTerms() (0 = off).
+  std::vector<double> term_weights = std::vector<double>(ExtraTerms().size(), 0.0);
+};
+
+// Substring of the file name every flag of the tool is registered under
+// (gflags::ShowUsageWithFlagsRestrict shows only these).
+inline constexpr char kCommandFlagsFile[] = "nrsfm_command_flags";
+
+// Registers every member of `*flags` as a gflags flag whose storage is that
+// member (the extra terms as --<flag> doubles). Call once, before
+// gflags::ParseCommandLineFlags, with an object that lives as long as the
+// program; CHECKs that it is called once.
+void RegisterCommandFlags(CommandFlags* flags);
+
+}  // namespace tools
+}  // namespace nrsfm
+
+#endif  // NRSFM_TOOLS_COMMAND_FLAGS_H_
