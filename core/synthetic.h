@@ -1,11 +1,16 @@
-// Synthetic sequences with full ground truth (001 §4.3 and a shoe-style
-// two-camera sequence). Every generator is seeded and deterministic: the same
-// options give bit-identical output on any run of the same build
-// (std::mt19937_64 with our own uniform and Box-Muller conversions, not the
-// implementation-defined std distributions). Each seed drives independent
-// streams for geometry, motion, noise and missing entries, so changing
-// `noise_stddev` or `missing_fraction` leaves the truth unchanged, and the
-// noise of an entry does not depend on which entries are missing.
+// Synthetic sequences with full ground truth: random basis shapes and the
+// deforming superquadric (the synthetic experiments of Torresani et al.
+// 2001), and a shoe-style two-camera sequence with self-occlusion. One
+// generator per file (core/synthetic_random_basis.cc,
+// core/synthetic_superquadric.cc, core/synthetic_shoe.cc with
+// core/shoe_geometry.h; shared pieces in core/synthetic_common.h).
+//
+// Every generator is seeded and deterministic: the same options give
+// bit-identical output on any run of the same build (core/random.h). Each
+// seed drives independent streams for geometry, motion, noise and missing
+// entries, so changing `noise_stddev` or `missing_fraction` leaves the truth
+// unchanged, and the noise of an entry does not depend on which entries are
+// missing.
 //
 // Common to all generators: every basis shape is centred (zero mean over the
 // points), so every S_t is centred; the weight of basis 1 is 1 in every frame
