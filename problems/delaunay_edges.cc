@@ -10,6 +10,8 @@
 
 #include <glog/logging.h>
 
+#include "core/option_checker.h"
+
 extern "C" {
 #include <libqhull_r/qhull_ra.h>
 }
@@ -44,15 +46,12 @@ class MemoryStream {
 }  // namespace
 
 Status DelaunayEdgesOptions::Check() const {
-  std::ostringstream msg;
-  if (reference_frame < -1) {
-    msg << "reference_frame must be -1 (auto) or a frame index, got "
-        << reference_frame;
-  } else if (num_hidden_neighbours < 1) {
-    msg << "num_hidden_neighbours must be >= 1, got " << num_hidden_neighbours;
-  }
-  if (msg.str().empty()) return Status::OK();
-  return Status::Error("delaunay edges options: " + msg.str());
+  OptionChecker check("delaunay edges options");
+  check.Require(reference_frame >= -1,
+                "reference_frame must be -1 (auto) or a frame index, got " +
+                    std::to_string(reference_frame));
+  check.AtLeast("num_hidden_neighbours", num_hidden_neighbours, 1);
+  return check.status();
 }
 
 Status DelaunayTriangulation(const Eigen::Matrix2Xd& points,

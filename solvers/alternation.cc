@@ -1,6 +1,7 @@
 #include "solvers/alternation.h"
 
 #include <cmath>
+#include <string>
 
 #include <glog/logging.h>
 
@@ -55,6 +56,20 @@ Status AlternationOptions::Check() const {
   check.AtLeast("rounds", rounds, 0);
   check.FiniteAtLeast("initial_deformation", initial_deformation, 0.0);
   return check.status();
+}
+
+Status CheckAlternationInput(const Measurements& centered, int num_bases,
+                             const AlternationOptions& options) {
+  CHECK_EQ(centered.num_cameras, 1);
+  NRSFM_RETURN_IF_ERROR(options.Check());
+  const int f = centered.num_frames;
+  const int p = centered.num_points;
+  if (num_bases < 1 || 2 * f < 3 || p < 4) {
+    return Status::Error("needs K >= 1, 2F >= 3 and P >= 4; got K = " +
+                         std::to_string(num_bases) + ", F = " + std::to_string(f) +
+                         ", P = " + std::to_string(p));
+  }
+  return Status::OK();
 }
 
 void AlternateFromRigid(const Measurements& centered, int num_bases,

@@ -50,6 +50,11 @@ struct AlternationSummary {
   double final_rms = 0.0;  // … of the returned model
 };
 
+// What every start built on the alternation needs: one camera (CHECKed),
+// valid options, K ≥ 1, 2F ≥ 3 and P ≥ 4.
+Status CheckAlternationInput(const Measurements& centered, int num_bases,
+                             const AlternationOptions& options);
+
 // Fills `model` (Resize'd to F, 1, P, K; unit scales; translations = δT, to
 // be added to the translations removed from `centered`). `rotations` and
 // `scales` have F entries, `rigid_shape` is 3 × P. CHECKs the sizes and

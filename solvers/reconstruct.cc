@@ -4,13 +4,16 @@
 
 #include <glog/logging.h>
 
+#include "core/option_checker.h"
+
 namespace nrsfm {
 
 Status ReconstructOptions::Check() const {
-  NRSFM_RETURN_IF_ERROR(start.Check().WithContext("reconstruct"));
-  NRSFM_RETURN_IF_ERROR(problem.Check().WithContext("reconstruct"));
-  NRSFM_RETURN_IF_ERROR(solver.Check().WithContext("reconstruct"));
-  return Status::OK();
+  OptionChecker check("reconstruct");
+  check.Nested(start.Check());
+  check.Nested(problem.Check());
+  check.Nested(solver.Check());
+  return check.status();
 }
 
 namespace {

@@ -1,6 +1,5 @@
 #include "solvers/rigid_start.h"
 
-#include <sstream>
 #include <vector>
 
 #include <Eigen/LU>
@@ -16,17 +15,9 @@ Status RigidStart(const Measurements& centered, int num_bases,
                   const AlternationOptions& options, std::uint64_t seed,
                   Model* model, RigidStartSummary* summary) {
   CHECK(model != nullptr && summary != nullptr);
-  CHECK_EQ(centered.num_cameras, 1);
-  NRSFM_RETURN_IF_ERROR(options.Check().WithContext("rigid start"));
-  const int f = centered.num_frames;
-  const int p = centered.num_points;
+  NRSFM_RETURN_IF_ERROR(
+      CheckAlternationInput(centered, num_bases, options).WithContext("rigid start"));
   const int k = num_bases;
-  if (k < 1 || 2 * f < 3 || p < 4) {
-    std::ostringstream msg;
-    msg << "rigid start: needs K >= 1, 2F >= 3 and P >= 4; got K = " << k
-        << ", F = " << f << ", P = " << p;
-    return Status::Error(msg.str());
-  }
   *summary = RigidStartSummary();
 
   // Step 1: Tomasi-Kanade with the metric upgrade.
@@ -39,6 +30,7 @@ Status RigidStart(const Measurements& centered, int num_bases,
   MetricUpgrade upgrade;
   NRSFM_RETURN_IF_ERROR(SolveMetricUpgrade(q_hat, &upgrade).WithContext("rigid start"));
   summary->metric_upgrade_was_indefinite = upgrade.was_indefinite;
+  const int f = centered.num_frames;
   std::vector<Eigen::Matrix3d> rotations(f);
   Eigen::VectorXd scales(f);
   for (int t = 0; t < f; ++t) {

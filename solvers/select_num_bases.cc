@@ -5,6 +5,8 @@
 #include <sstream>
 #include <utility>
 
+#include "core/option_checker.h"
+
 namespace nrsfm {
 namespace {
 
@@ -18,19 +20,11 @@ double NumFreeParameters(const Measurements& m, int k) {
 }  // namespace
 
 Status SelectNumBasesOptions::Check() const {
-  if (max_num_bases < 2) {
-    return Status::Error("K selection: max_num_bases must be >= 2, got " +
-                         std::to_string(max_num_bases));
-  }
-  if (!(threshold >= 1.0) || !std::isfinite(threshold)) {
-    return Status::Error("K selection: threshold must be a finite number >= 1, got " +
-                         std::to_string(threshold));
-  }
-  if (!(relative_noise_floor > 0.0) || !std::isfinite(relative_noise_floor)) {
-    return Status::Error(
-        "K selection: relative_noise_floor must be a finite number > 0");
-  }
-  return Status::OK();
+  OptionChecker check("K selection");
+  check.AtLeast("max_num_bases", max_num_bases, 2);
+  check.FiniteAtLeast("threshold", threshold, 1.0);
+  check.FinitePositive("relative_noise_floor", relative_noise_floor);
+  return check.status();
 }
 
 Status SelectNumBases(const ReconstructOptions& options,

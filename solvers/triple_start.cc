@@ -1,6 +1,5 @@
 #include "solvers/triple_start.h"
 
-#include <sstream>
 #include <vector>
 
 #include <glog/logging.h>
@@ -11,17 +10,9 @@ Status TripleStart(const Measurements& centered, int num_bases,
                    const AlternationOptions& options, std::uint64_t seed,
                    Model* model, TripleStartSummary* summary) {
   CHECK(model != nullptr && summary != nullptr);
-  CHECK_EQ(centered.num_cameras, 1);
-  NRSFM_RETURN_IF_ERROR(options.Check().WithContext("triple start"));
-  const int f = centered.num_frames;
-  const int p = centered.num_points;
+  NRSFM_RETURN_IF_ERROR(
+      CheckAlternationInput(centered, num_bases, options).WithContext("triple start"));
   const int k = num_bases;
-  if (k < 1 || 2 * f < 3 || p < 4) {
-    std::ostringstream msg;
-    msg << "triple start: needs K >= 1, 2F >= 3 and P >= 4; got K = " << k
-        << ", F = " << f << ", P = " << p;
-    return Status::Error(msg.str());
-  }
   *summary = TripleStartSummary();
   std::vector<Eigen::Matrix3d> rotations;
   Eigen::VectorXd scales;
