@@ -49,7 +49,7 @@ ReconstructOptions DefaultReconstructOptions(int num_bases, int threads);
 void SetDefaultMaxIterations(int max_iterations);
 
 // The one place that decides how "second camera + rigidity" runs: the
-// multi-camera rigidity term (001 §3.4.3, problems/rigidity_error.h) with
+// multi-camera rigidity term (problems/rigidity_error.h) with
 // weight kTwoCameraRigidityWeight, the value of the CLI's two-camera shoe
 // test (tests/tools/cli_test.cc, ExtraTermFlags). Returns true (the shoe
 // table's column header says whether the term ran).

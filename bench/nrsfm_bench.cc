@@ -1,4 +1,4 @@
-// nrsfm_bench: the benchmark suites (issue 7). With no flags it runs the
+// nrsfm_bench: the benchmark suites (docs/benchmark.md). With no flags it runs the
 // reduced default (a few minutes on 2 cores, --jobs=2): paper-random with R = 1,
 // superquadric, shoe at K = 4 (monocular and two cameras), mocap at the published K
 // when ../shared/datasets exists, and a small scale sweep.

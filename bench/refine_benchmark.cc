@@ -1,6 +1,6 @@
 // nrsfm_solver_timing: the measurements behind the linear-solver rule
 // (problems/linear_solver_choice.h) and the drink-sized timing of
-// Reconstruct() (issue 4).
+// Reconstruct() (docs/performance.md).
 //
 //   --mode=table  every linear solver on random-basis data of each --sizes
 //                 entry, all started from the same closed-form start;

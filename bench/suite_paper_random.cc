@@ -1,4 +1,4 @@
-// paper-random suite (001 §4.3, Fig. 5 a/b): data from N = 5, 10 and 20
+// paper-random suite (Torresani et al. 2001, Fig. 5 a/b): data from N = 5, 10 and 20
 // random basis shapes (core/synthetic.h GenerateRandomBasis: points in the
 // unit cube, first basis dominant), F = 300, P = 100, rotations spanning up
 // to 90° about each axis, Gaussian noise 0.01 (unit-cube units); reconstruct
@@ -34,14 +34,14 @@ std::vector<int> KValues(int n, bool full) {
 }  // namespace
 
 Status RunPaperRandomSuite(const BenchConfig& config, Json* out) {
-  std::cout << "\n== paper-random: 001 Fig. 5 a/b (F = " << kFrames
+  std::cout << "\n== paper-random: Torresani et al. 2001, Fig. 5 a/b (F = " << kFrames
             << ", P = " << kPoints << ", 90 deg, noise " << kNoise << ") ==\n";
   const int runs = config.runs > 0 ? config.runs : (config.full ? 30 : 1);
   Table table({"N (gen)", "K", "median 3D err %", "median z err %",
                "median e3D", "median s", "failed"});
-  PlotSpec plot_3d{"paper_random_error3d", "random bases: median 3D error (001 Fig. 5a)",
+  PlotSpec plot_3d{"paper_random_error3d", "random bases: median 3D error (Torresani et al. 2001, Fig. 5a)",
                    "K", "3D error, % of shape size", false, true, {}};
-  PlotSpec plot_z{"paper_random_zerror", "random bases: median z error (001 Fig. 5b)",
+  PlotSpec plot_z{"paper_random_zerror", "random bases: median z error (Torresani et al. 2001, Fig. 5b)",
                   "K", "z error, % of shape size", false, true, {}};
   Json settings = Json::array();
   for (int n : {5, 10, 20}) {

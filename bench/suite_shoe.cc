@@ -1,4 +1,4 @@
-// shoe suite (001 §4.4, Table 1 style): the shoe-style sequence of
+// shoe suite (Torresani et al. 2001, Table 1 style): the shoe-style sequence of
 // core/synthetic.h (GenerateShoe: F = 500, P = 110, exact K = 4, yaw span
 // 120°, self-occlusion ~15 % of the entries), noise 0.002 (shoe length 1).
 // K = 2, 4 (--full: 2 … 8; the default run of every suite: K = 4 only): 3D
@@ -6,7 +6,7 @@
 // smoothness term (kShoeSmoothnessWeight) and the --max_seconds cap, for
 //   monocular   camera 0's tracks alone;
 //   two cameras both views, shared weights, with the rigidity term
-//               (001 §3.4.3; weight in EnableTwoCameraRigidity(),
+//               (weight in EnableTwoCameraRigidity(),
 //               bench_common.h).
 // Median over R runs (default 1 as in the paper's Table 1, --full 5).
 #include <algorithm>
@@ -30,7 +30,7 @@ constexpr double kShoeSmoothnessWeight = 0.01;
 
 Status RunShoeSuite(const BenchConfig& config, Json* out) {
   constexpr double kNoise = 0.002;
-  std::cout << "\n== shoe: 001 Table 1 style (F = 500, P = 110, self-occlusion, "
+  std::cout << "\n== shoe: Torresani et al. 2001, Table 1 style (F = 500, P = 110, self-occlusion, "
                "noise "
             << kNoise << ", smoothness " << kShoeSmoothnessWeight << ") ==\n";
   const int runs = config.runs > 0 ? config.runs : (config.full ? 5 : 1);

@@ -1,4 +1,4 @@
-// superquadric suite (001 §4.3, Fig. 5 c): the octant-deforming superquadric
+// superquadric suite (Torresani et al. 2001, Fig. 5c): the octant-deforming superquadric
 // (core/synthetic.h GenerateSuperquadric, exact model K = 4), F = 300,
 // P = 200 (default run: 100), rotations up to 90°, noise 0.005 (shape ~1
 // across); K = 1 … 8 (default run: 1, 4, 6), median 3D and z error (% of
@@ -16,7 +16,7 @@ namespace bench {
 
 Status RunSuperquadricSuite(const BenchConfig& config, Json* out) {
   constexpr double kNoise = 0.005;
-  std::cout << "\n== superquadric: 001 Fig. 5 c (F = 300, P = "
+  std::cout << "\n== superquadric: Torresani et al. 2001, Fig. 5c (F = 300, P = "
             << (config.full ? 200 : 100) << ", 90 deg, noise " << kNoise << ") ==\n";
   const int runs = config.runs > 0 ? config.runs : (config.full ? 30 : 1);
   const std::vector<int> ks = config.full ? std::vector<int>{1, 2, 3, 4, 5, 6, 7, 8}
@@ -35,7 +35,7 @@ Status RunSuperquadricSuite(const BenchConfig& config, Json* out) {
   const SweepResult sweep = SweepK(make, ks, runs, options, config.jobs);
   Table table({"K", "median 3D err %", "median z err %", "median e3D",
                "median s", "failed"});
-  PlotSpec plot{"superquadric_error", "superquadric: median error (001 Fig. 5c)",
+  PlotSpec plot{"superquadric_error", "superquadric: median error (Torresani et al. 2001, Fig. 5c)",
                 "K", "% of shape size", false, false, {}};
   PlotSeries s3d{"3D error", {}, {}}, sz{"z error", {}, {}};
   Json medians = Json::array();

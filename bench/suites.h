@@ -12,9 +12,9 @@
 namespace nrsfm {
 namespace bench {
 
-// 001 §4.3, Fig. 5 a/b: random bases (5, 10, 20), F = 300, K = 1 … N.
+// Torresani et al. 2001, Fig. 5 a/b: random bases (5, 10, 20), F = 300, K = 1 … N.
 Status RunPaperRandomSuite(const BenchConfig& config, Json* out);
-// 001 §4.3, Fig. 5 c: the superquadric, K = 1 … 8.
+// Torresani et al. 2001, Fig. 5c: the superquadric, K = 1 … 8.
 Status RunSuperquadricSuite(const BenchConfig& config, Json* out);
 // Shoe-style (Table 1): K = 2 … 8, monocular and two cameras, self-occlusion.
 Status RunShoeSuite(const BenchConfig& config, Json* out);

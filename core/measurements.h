@@ -1,10 +1,10 @@
 // Measurements: the 2D point tracks of a deforming object, seen by one camera
-// (monocular) or by M synchronised cameras (DESIGN.md §1).
+// (monocular) or by M synchronised cameras (docs/model.md).
 //
-// Layout (001 eq. 16): W is (2·F·M) × P. Frame t, camera c occupies rows
+// Layout: W is (2·F·M) × P. Frame t, camera c occupies rows
 //   2·(t·M + c)     : u (x image coordinate) of every point,
 //   2·(t·M + c) + 1 : v (y image coordinate).
-// With M = 1 this is the usual interleaved 2F × P matrix of 000 eq. 5.
+// With M = 1 this is the usual interleaved 2F × P tracking matrix.
 // `visible` is (F·M) × P: visible(t·M + c, p) says whether point p was observed
 // by camera c at frame t. Entries of W that are not visible are ignored by every
 // algorithm (their value is unspecified; readers store NaN there).

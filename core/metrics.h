@@ -1,4 +1,4 @@
-// Error metrics of a reconstruction against ground truth (DESIGN.md §4).
+// Error metrics of a reconstruction against ground truth (docs/metrics.md).
 //
 // Shapes are camera-frame, one 3 × P matrix per frame, F frames (e.g.
 // CameraFrameShapes(model) or the world-frame S / Shat of the Akhter files,
@@ -73,12 +73,12 @@ double ComputeFrobeniusZSign(const std::vector<Eigen::Matrix3Xd>& truth,
 // its points (rotation and translation invariant). O(F P²).
 double ShapeSize(const std::vector<Eigen::Matrix3Xd>& truth);
 
-// 3D error in % of shape size (001 §4.3): with Y the e3D alignment above,
+// 3D error in % of shape size (Torresani et al. 2001): with Y the e3D alignment above,
 //   100 · (1 / FP) Σ_t Σ_p ||X_tp − Y X̂_tp|| / ShapeSize(truth).
 double ComputeError3DPercent(const std::vector<Eigen::Matrix3Xd>& truth,
                              const std::vector<Eigen::Matrix3Xd>& estimate);
 
-// z (depth) error in % of shape size (001 §4.3): with the same Y,
+// z (depth) error in % of shape size (Torresani et al. 2001): with the same Y,
 //   100 · (1 / FP) Σ_t Σ_p |z_tp − (Y X̂_tp)_z| / ShapeSize(truth).
 double ComputeZErrorPercent(const std::vector<Eigen::Matrix3Xd>& truth,
                             const std::vector<Eigen::Matrix3Xd>& estimate);

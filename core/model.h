@@ -1,4 +1,4 @@
-// Model: what a reconstruction recovers (DESIGN.md §1).
+// Model: what a reconstruction recovers (docs/model.md).
 //
 //   S_t      = sum_k l_tk S_k                        (3 × P, object frame)
 //   X_tc     = s_tc · R_tc · S_t                     (3 × P, camera c frame)

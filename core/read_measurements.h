@@ -1,4 +1,4 @@
-// Measurements from an input file (DESIGN.md §5): a MATLAB .mat file, a text
+// Measurements from an input file (README.md, "Input formats"): a MATLAB .mat file, a text
 // matrix W, or an observation list.
 //
 // Format (options.format = "auto" decides by the extension, any case):

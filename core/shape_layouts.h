@@ -1,5 +1,5 @@
-// The layouts in which datasets store per-frame 3-D points (DESIGN.md §5,
-// ../shared/datasets/README.md), converted to one 3 × P matrix per frame.
+// The layouts in which datasets store per-frame 3-D points (README.md,
+// "Input formats"), converted to one 3 × P matrix per frame.
 //
 //   interleaved  3F × P   rows x_t, y_t, z_t of frame t at 3t, 3t+1, 3t+2
 //                         (Akhter et al.'s S)

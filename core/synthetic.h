@@ -34,7 +34,7 @@ struct SyntheticSequence {
   Model truth;
 };
 
-// Random basis shapes (001 §4.3): points uniform in the unit cube [-0.5, 0.5]³
+// Random basis shapes (Torresani et al. 2001): points uniform in the unit cube [-0.5, 0.5]³
 // for every basis (then centred); weights l_t1 = 1 (first basis dominant, the
 // rigid component) and l_tk ~ N(0, deformation²) i.i.d. for k > 1; rotations
 // R_t = Rz(c_t) Ry(b_t) Rx(a_t) whose three angles follow smooth random curves
@@ -63,7 +63,7 @@ struct RandomBasisOptions {
 Status GenerateRandomBasis(const RandomBasisOptions& options,
                            SyntheticSequence* sequence);
 
-// Superquadric (001 §4.3, Fig. 5c): P points on the surface
+// Superquadric (Torresani et al. 2001, Fig. 5c): P points on the surface
 // |x/0.5|^(2/e) + |y/0.4|^(2/e) + |z/0.3|^(2/e) = 1, e = 0.5 (a rounded box),
 // at random surface parameters. Three octants, (+,+,+), (−,−,+), (+,−,−),
 // deform independently: mode o scales the points of octant o radially, faded
@@ -85,7 +85,7 @@ struct SuperquadricOptions {
 Status GenerateSuperquadric(const SuperquadricOptions& options,
                             SyntheticSequence* sequence);
 
-// Shoe-style (001 §4.1, §4.4). Object frame: x from heel (−0.5) to toe
+// Shoe-style (after Torresani et al. 2001's deforming shoe). Object frame: x from heel (−0.5) to toe
 // (+0.5), y up, z from the lateral (−) to the medial (+) side; length 1.
 // Surface: a superellipsoid (exponent 4) with a flat sole, a raised heel and a
 // lower, tapered toe. Points (110 by default): round(P · 30/110) on six

@@ -1,4 +1,4 @@
-// Neighbour edges for the basis smoothness term (001 §3.4.4, DESIGN.md §2):
+// Neighbour edges for the basis smoothness term (docs/problem.md):
 // a 2D Delaunay triangulation (Qhull, libqhull_r) of the points seen in one
 // reference view.
 //
@@ -14,9 +14,9 @@
 //
 // Edge weights: α_ij = d̄ / max(d_ij, 1e-3 d̄), d_ij = the edge's length
 // (input units) and d̄ = the mean length of the triangulation's edges, so
-// α ∝ 1/|x_i − x_j| (001: "inversely proportional to the distance"),
-// dimensionless, ~1 for a typical edge; the clamp bounds α for coincident
-// points.
+// α ∝ 1/|x_i − x_j| (Torresani et al. 2001: "inversely proportional to the
+// distance"), dimensionless, ~1 for a typical edge; the clamp bounds α for
+// coincident points.
 #ifndef NRSFM_PROBLEMS_DELAUNAY_EDGES_H_
 #define NRSFM_PROBLEMS_DELAUNAY_EDGES_H_
 

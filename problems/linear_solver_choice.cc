@@ -150,7 +150,7 @@ Status ConfigureLinearSolver(LinearSolverChoice choice, ProblemBuilder* builder,
       options->linear_solver_type = ceres::ITERATIVE_SCHUR;
       // Not SCHUR_JACOBI: Ceres 2.1 builds it by visiting every pair of
       // blocks that share a point, ~(3F)² per point when every frame sees
-      // every point (4.7 s per LM iteration on drink-sized data vs 0.3 s).
+      // every point (docs/performance.md).
       options->preconditioner_type = ceres::JACOBI;
       break;
     case LinearSolverChoice::kSparseNormalCholesky:

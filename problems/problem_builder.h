@@ -1,11 +1,10 @@
-// The one Ceres problem of a reconstruction (DESIGN.md §2).
+// The one Ceres problem of a reconstruction (docs/problem.md).
 //
 // ProblemBuilder owns a ceres::Problem whose parameter blocks are the storage
 // of a Model (core/model.h), so solving the problem updates the model in
-// place. AddReprojectionTerms() adds the data term; further terms (smoothness
-// of the basis, multi-camera rigidity, temporal priors) are added by their own
-// files through problem() and the block accessors below — the builder does
-// not need to know them.
+// place. AddReprojectionTerms() adds the data term; the extra terms are
+// added by AddExtraTerms (problems/extra_terms.h) through problem() and the
+// block accessors below — the builder does not need to know them.
 //
 // Parameter blocks (pointers into the model; sizes in brackets):
 //   RotationBlock(t, c)     ω_tc, angle-axis, radians [3]  rotations.col(View(t, c))
@@ -18,16 +17,11 @@
 // A block is in the problem only once a residual uses it (a view that sees no
 // point has no rotation block; test with problem()->HasParameterBlock).
 //
-// Gauge (DESIGN.md §1): a global rotation, an invertible K × K mixing of
-// weights and basis and a depth reflection leave every residual unchanged;
-// so does a shift S_k → S_k + c_k of every basis shape (3K more dimensions)
-// while the translations are free, since T_tc absorbs s Π R_tc Σ_k l_tk c_k.
-// The Jacobian is therefore rank-deficient. Nothing is held constant to fix
-// the gauge: Levenberg–Marquardt damping (D = diag(JᵀJ) added to every step)
-// keeps each step finite and the solver converges along the other
-// directions (tests/solvers/refine_test.cc starts every linear solver from a
-// re-gauged, perturbed truth); the evaluation removes the gauge
-// (core/metrics.h).
+// The gauges of docs/model.md (global rotation, K × K mixing, depth
+// reflection, basis shift absorbed by the translations) leave every residual
+// unchanged, so the Jacobian is rank-deficient. Nothing is held constant to
+// fix them: Levenberg–Marquardt damping keeps each step finite and the solver
+// converges along the other directions.
 #ifndef NRSFM_PROBLEMS_PROBLEM_BUILDER_H_
 #define NRSFM_PROBLEMS_PROBLEM_BUILDER_H_
 

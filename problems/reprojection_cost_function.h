@@ -12,10 +12,8 @@
 //   ∂r/∂s   = sqrt(w_obs) · Π R X                  (2 × 1, scaled form only)
 //
 // Why: automatic differentiation carries all 3 + 2 + 4K (+1) derivatives
-// through every multiplication of the shape sum; for K = 12 the autodiff
-// functors are 17-39× slower than this, 4-7× once Ceres' own per-block work
-// is included (numbers in problems/reprojection_error.h). The autodiff functors stay the
-// reference the tests compare against.
+// through every multiplication of the shape sum (docs/performance.md). The
+// autodiff functors stay the reference the tests compare against.
 //
 // kNumBases = K fixed at compile time (fixed-size Eigen), or Eigen::Dynamic
 // with K given at run time (the fallback above kMaxStaticBases).

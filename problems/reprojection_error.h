@@ -1,5 +1,6 @@
 // Reprojection error of one visible observation (frame t, camera c, point p),
-// DESIGN.md §2, as an automatically differentiated functor:
+// the data term of docs/problem.md, as an automatically differentiated
+// functor:
 //
 //   r = sqrt(w_obs) · ( s_tc · Π · R(ω_tc) · X + T_tc − w_tcp ),   2 residuals,
 //   X = Σ_k l_tk · b_p[3k : 3k+3]        (point p of the shape S_t, object frame)
@@ -22,16 +23,10 @@
 //
 // These functors are the reference definition of the residual. The builder
 // (problems/problem_builder.h) uses the hand-differentiated equivalent of
-// problems/reprojection_cost_function.h, because autodiff carries all
-// 5 + 4K derivatives through the shape sum: for drink-sized data (45182
-// observations, K = 12) the cost functions alone take 508 ms per Jacobian
-// with ReprojectionError<12>, 219 ms with DynamicReprojectionError and 13 ms
-// by hand; inside Ceres (its bookkeeping included) a whole-problem Jacobian
-// took 0.16-0.57 s with DynamicReprojectionError and 0.04-0.08 s by hand
-// (bench/refine_benchmark.cc --mode=drink, depending on machine load). Dispatching ReprojectionError<K> for K = 1…16 (with and without the
-// scale block) added 60 s of compile time to one translation unit, so the
-// library instantiates only DynamicReprojectionError (ProblemOptions::
-// autodiff); the tests instantiate ReprojectionError<K> for several K.
+// problems/reprojection_cost_function.h, 4-7× faster per Jacobian for
+// K = 12; the library instantiates only DynamicReprojectionError (for
+// ProblemOptions::autodiff), the tests ReprojectionError<K> for a few K
+// (each K costs compile time; docs/performance.md).
 #ifndef NRSFM_PROBLEMS_REPROJECTION_ERROR_H_
 #define NRSFM_PROBLEMS_REPROJECTION_ERROR_H_
 

@@ -1,4 +1,5 @@
-// Multi-camera rigidity (001 §3.4.3, DESIGN.md §2): M synchronised cameras on
+// Multi-camera rigidity (the `rigidity` extra term, docs/problem.md; after
+// Torresani et al. 2001's multi-view input): M synchronised cameras on
 // a rigid rig see the object at a fixed relative pose, so for every frame t
 // and camera c ≥ 1 one residual block ties the view's relative rotation and
 // scale to the rig's shared ones:

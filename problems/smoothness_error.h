@@ -1,4 +1,5 @@
-// Delaunay-neighbour smoothness of the basis (001 §3.4.4, DESIGN.md §2), one
+// Delaunay-neighbour smoothness of the basis (the `smoothness` extra term,
+// docs/problem.md; after Torresani et al. 2001's shape regularisation), one
 // residual block per neighbour edge (i, j) (problems/delaunay_edges.h):
 //
 //   r = sqrt(λ) · α_ij · (b_i − b_j),   3K residuals,

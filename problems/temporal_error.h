@@ -1,5 +1,7 @@
-// Temporal smoothness priors for video-like input (DESIGN.md §2), one
-// residual block per pair of consecutive frames (t − 1, t), t = 1 … F − 1:
+// Temporal smoothness priors for video-like input (the temporal_weights,
+// temporal_rotations, temporal_shape and rotation_acceleration extra terms,
+// docs/problem.md), one residual block per pair of consecutive frames
+// (t − 1, t), t = 1 … F − 1:
 //
 //   weights:   r = sqrt(λ_l) · (l_t − l_{t−1}),                 K residuals
 //   rotations: r = sqrt(λ_R) · log( R(ω_tc) R(ω_{t−1,c})ᵀ ),    3 residuals,
@@ -8,8 +10,8 @@
 //              one block per point p, S_t = Σ_k l_tk S_k in the object frame
 //   angular acceleration, t = 1 … F − 2, one block per camera c:
 //              r = sqrt(λ_A) · σ · ( log(R_{t+1} R_tᵀ) − log(R_t R_{t−1}ᵀ) ),
-//              3 residuals; σ = the spread of the data (Measurements::ImageSpreadRms,
-//              problems/extra_terms.h), so λ_A is dimensionless
+//              3 residuals; σ = the spread of the data
+//              (Measurements::ImageSpreadRms), so λ_A is dimensionless
 //
 // l_t the frame's basis weights (Model::weights.col(t), dimensionless), ω_tc
 // the view's angle-axis (radians); log = the angle-axis of the relative

@@ -1,10 +1,10 @@
-// The linear least-squares steps of the iterative optimisation of
-// 001 §3.4.2 (monocular), on centred measurements:
-//   w̃_tp = Π R_t Σ_k l_tk S_k[:, p] + δT_t      (001 eq. 5 / 13)
+// The linear least-squares steps of the alternation (solvers/alternation.h,
+// docs/factorization.md), monocular, on centred measurements:
+//   w̃_tp = Π R_t Σ_k l_tk S_k[:, p] + δT_t
 // where w̃ is W with a first estimate of the per-frame translation removed
 // and δT_t = model.translations.col(t) a correction of it (zero when the
-// first estimate is kept). Only visible entries enter the fits (001 §3.3:
-// the rows of missing measurements are dropped). Each normal matrix N gets
+// first estimate is kept). Only visible entries enter the fits (the rows of
+// missing measurements are dropped). Each normal matrix N gets
 // `damping · tr(N) / n` on its diagonal so that an under-determined point or
 // frame yields a finite answer instead of NaN.
 #ifndef NRSFM_SOLVERS_BASIS_WEIGHT_FIT_H_

@@ -72,7 +72,6 @@ Status FactorizationStart(const Measurements& centered, int num_bases,
   NRSFM_RETURN_IF_ERROR(SolveMetricUpgrade(blocks, &upgrade)
                             .WithContext("factorisation start"));
   summary->metric_upgrade_was_indefinite = upgrade.was_indefinite;
-  summary->metric_upgrade_conditioning = upgrade.conditioning;
 
   model->Resize(f, 1, p, k);
   for (int t = 0; t < f; ++t) {

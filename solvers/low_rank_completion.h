@@ -1,13 +1,15 @@
 // Affine low-rank completion of a measurement matrix with missing entries
-// (001 §3.3; DESIGN.md §3 step 1).
+// (docs/factorization.md, section 1).
 //
 // Model: every row i of W (2·F·M rows, core/measurements.h layout) is
 //   W[i, p] ≈ a_iᵀ b_p + t_i,   a_i ∈ R^r, b_p ∈ R^r, t_i ∈ R,
 // i.e. W ≈ A B + t 1ᵀ, rank r plus a per-row translation (rank r + 1 affine).
-// For NRSfM r = 3K: the rows of Q B (000 eq. 5) plus the image translation.
+// For NRSfM r = 3K: the motion factor Q of W = Q B (docs/factorization.md)
+// plus the image translation.
 //
 // Algorithm (alternating least squares, the "drop the missing rows and solve
-// the over-constrained system" of 001 §3.3 applied to each factor in turn):
+// the over-constrained system" of Torresani et al. 2001, applied to each
+// factor in turn):
 //   0. B from the top r right singular vectors of the mean-filled, row-centred
 //      W (visible entries minus the row's visible mean, 0 where missing).
 //   1. Given B: each row's [a_i; t_i] by linear least squares over the

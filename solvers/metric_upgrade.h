@@ -1,5 +1,6 @@
-// Metric upgrade of an affine factorisation (000 §3.3 and its footnote;
-// Tomasi-Kanade 1992, weak-perspective form).
+// Metric upgrade of an affine factorisation (Bregler et al. 2000;
+// Tomasi-Kanade 1992, weak-perspective form; docs/factorization.md,
+// section 3).
 //
 // Input: N blocks M_n (2 × 3, rows m₁, m₂), each an unknown scale c_n times
 // the first two rows of a rotation seen through one common 3 × 3 gauge:

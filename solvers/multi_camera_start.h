@@ -1,5 +1,5 @@
 // Extends a monocular start of camera 0 to M synchronised cameras
-// (001 §3.4.3; DESIGN.md §1): the cameras of one frame share the weights
+// (docs/factorization.md, section 6): the cameras of one frame share the weights
 // l_t, so the object-frame shape S_t of camera 0's model is the shape every
 // camera sees, w_tcp = s_tc Π R_tc S_t[:, p] (centred).
 //   1. Per view (t, c ≥ 1) with at least 4 visible points that span 3D:

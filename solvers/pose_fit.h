@@ -1,6 +1,7 @@
 // Weak-perspective (scaled orthographic) pose of one view from 2D-3D
 // correspondences, the per-frame pieces of the closed-form starts
-// (000 §3.3, 001 §3.4.2 step 3, 001 §3.4.3).
+// (docs/factorization.md: the metric upgrade's nearest rotations, the
+// alternation's rotation updates, the extra cameras' poses).
 //
 // Camera model (core/model.h): w_p = s · Π · R · x_p with Π = [I_2 0],
 // R ∈ SO(3), s > 0; w_p are centred 2D observations (translation removed),
@@ -24,7 +25,8 @@ void ScaledRotationFromTwoRows(const Eigen::Matrix<double, 2, 3>& m,
 double PoseCost(const Eigen::Matrix2Xd& observed, const Eigen::Matrix3Xd& points,
                 double scale, const Eigen::Matrix3d& rotation);
 
-// Gauss-Newton on the rotation only (s fixed), linearised as in 001 eq. 15:
+// Gauss-Newton on the rotation only (s fixed), linearised as Torresani et al.
+// 2001 do:
 //   w_p ≈ s Π (I + [ω]×) R x_p,   R ← exp([ω]×) R,
 // each step kept only when it lowers PoseCost (so the cost never increases).
 // Stops after `max_steps` steps or when a step does not help. Returns the
@@ -33,7 +35,7 @@ double RefineRotation(const Eigen::Matrix2Xd& observed,
                       const Eigen::Matrix3Xd& points, double scale,
                       int max_steps, Eigen::Matrix3d* rotation);
 
-// Full weak-perspective fit of s and R (001 §3.4.3 for an extra camera):
+// Full weak-perspective fit of s and R (the pose of an extra camera):
 // the affine least-squares 2 × 3 map M = W Xᵀ (X Xᵀ)⁻¹, its nearest scaled
 // rotation (ScaledRotationFromTwoRows), then up to `max_steps` rounds of
 // RefineRotation and the closed-form scale s = Σ⟨w_p, Π R x_p⟩ / Σ||Π R x_p||².

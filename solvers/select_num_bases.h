@@ -1,5 +1,6 @@
-// Choosing K, the number of basis shapes, from the data (001 §5: "K is
-// increased until the [reprojection] error is below threshold").
+// Choosing K, the number of basis shapes, from the data (as Torresani et al.
+// 2001 do: "K is increased until the [reprojection] error is below
+// threshold").
 //
 // Rule. Reconstruct with K = 1 … max_num_bases. The largest K fits the data
 // best; its residual, corrected for the parameters it spent, estimates the

@@ -29,7 +29,7 @@ TEST(FactorizationStart, RigidDataIsTomasiKanadeExactly) {
   EXPECT_LT(ComputeE3D(CameraFrameShapes(sequence.truth), CameraFrameShapes(model)), 1e-10);
 }
 
-// 001 §3.4.1: the SVD's Q̂ is Q A for an arbitrary 3K × 3K A, so the
+// Torresani et al. 2001: the SVD's Q̂ is Q A for an arbitrary 3K × 3K A, so the
 // reordered blocks are far from rank 1 for K > 1, even without noise.
 TEST(FactorizationStart, SubBlocksAreNotRankOneForSeveralBases) {
   RandomBasisOptions options;
