@@ -46,6 +46,9 @@ Status AddRigidity(double weight, const ProblemOptions&, ProblemBuilder* builder
       ++*num_blocks;
     }
   }
+  for (int c = 1; c < model.num_cameras; ++c) {
+    builder->SetRotationManifold(builder->RigRotationBlock(c));
+  }
   return Status::OK();
 }
 

@@ -23,6 +23,7 @@ ceres::CostFunction* CreateFixedK(bool with_scale,
 ceres::Problem::Options MakeProblemOptions() {
   ceres::Problem::Options options;
   options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   // The blocks are the model's storage; the caller owns them.
   return options;
 }
@@ -172,8 +173,20 @@ Status ProblemBuilder::AddReprojectionTerms(const ProblemOptions& options) {
     }
   }
 
+  for (int t = 0; t < m.num_frames; ++t) {
+    for (int c = 0; c < m.num_cameras; ++c) {
+      if (problem_.HasParameterBlock(RotationBlock(t, c))) {
+        SetRotationManifold(RotationBlock(t, c));
+      }
+    }
+  }
   SetConstantBlocks(options);
   return Status::OK();
+}
+
+void ProblemBuilder::SetRotationManifold(double* block) {
+  CHECK(problem_.HasParameterBlock(block));
+  problem_.SetManifold(block, &rotation_manifold_);
 }
 
 void ProblemBuilder::SetConstantBlocks(const ProblemOptions& options) {

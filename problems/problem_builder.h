@@ -39,6 +39,7 @@
 #include "core/model.h"
 #include "core/status.h"
 #include "problems/problem_options.h"
+#include "problems/rotation_manifold.h"
 
 namespace nrsfm {
 
@@ -101,6 +102,12 @@ class ProblemBuilder {
   // O(number of residual blocks).
   bool PointBlocksAreIndependent() const;
 
+  // Gives the rotation block `block` (already in the problem) the
+  // multiplicative update of problems/rotation_manifold.h.
+  // AddReprojectionTerms does it for every ω_tc; a term that adds other
+  // rotation blocks (the rig's) calls it for them.
+  void SetRotationManifold(double* block);
+
   // Number of reprojection residual blocks added.
   int num_reprojection_terms() const { return num_reprojection_terms_; }
 
@@ -113,6 +120,7 @@ class ProblemBuilder {
   // Losses are shared between residual blocks of equal weight and owned here
   // (declared before problem_ so they outlive it).
   std::map<double, std::unique_ptr<ceres::LossFunction>> losses_;
+  AngleAxisManifold rotation_manifold_;  // shared by every rotation block
   ceres::Problem problem_;
   int num_reprojection_terms_ = 0;
 };
