@@ -23,6 +23,7 @@ constexpr EnumName<LinearSolverChoice> kLinearSolverNames[] = {
     {LinearSolverChoice::kSparseNormalCholesky, "sparse_normal_cholesky"},
     {LinearSolverChoice::kCgnr, "cgnr"},
     {LinearSolverChoice::kDenseQr, "dense_qr"},
+    {LinearSolverChoice::kStructured, "structured"},
 };
 
 bool IsSchur(LinearSolverChoice choice) {
@@ -96,6 +97,30 @@ ProblemStructure DescribeProblem(ProblemBuilder* builder) {
   }
   const double all = s.num_other_parameters;
   s.schur_matrix_entries = std::min(sum_squares, all * all);
+
+  // The frame of every free per-frame block, then the widest span in time of
+  // one residual block.
+  const Model& model = *builder->model();
+  std::unordered_map<const double*, int> frame_of;
+  for (int t = 0; t < model.num_frames; ++t) {
+    frame_of[builder->WeightsBlock(t)] = t;
+    for (int c = 0; c < model.num_cameras; ++c) {
+      frame_of[builder->RotationBlock(t, c)] = t;
+      frame_of[builder->TranslationBlock(t, c)] = t;
+      if (c > 0) frame_of[builder->ScaleBlock(t, c)] = t;
+    }
+  }
+  for (ceres::ResidualBlockId id : residual_blocks) {
+    problem.GetParameterBlocksForResidualBlock(id, &blocks);
+    int first = model.num_frames, last = -1;
+    for (double* block : blocks) {
+      const auto it = frame_of.find(block);
+      if (it == frame_of.end() || problem.IsParameterBlockConstant(block)) continue;
+      first = std::min(first, it->second);
+      last = std::max(last, it->second);
+    }
+    if (last >= first) s.frame_coupling = std::max(s.frame_coupling, last - first);
+  }
   return s;
 }
 
@@ -103,8 +128,9 @@ LinearSolverChoice ChooseLinearSolver(const ProblemStructure& structure) {
   if (structure.num_point_blocks == 0) {
     return LinearSolverChoice::kSparseNormalCholesky;
   }
-  return structure.points_are_independent ? LinearSolverChoice::kIterativeSchur
-                                          : LinearSolverChoice::kCgnr;
+  if (!structure.points_are_independent) return LinearSolverChoice::kCgnr;
+  return structure.frame_coupling > 0 ? LinearSolverChoice::kStructured
+                                      : LinearSolverChoice::kIterativeSchur;
 }
 
 Status ConfigureLinearSolver(LinearSolverChoice choice, ProblemBuilder* builder,
@@ -113,6 +139,11 @@ Status ConfigureLinearSolver(LinearSolverChoice choice, ProblemBuilder* builder,
   const ProblemStructure s = DescribeProblem(builder);
   if (choice == LinearSolverChoice::kAuto) choice = ChooseLinearSolver(s);
   *used = choice;
+  if (choice == LinearSolverChoice::kStructured) {
+    return Status::Error(
+        "linear solver structured: not a Ceres linear solver (SolveProblem "
+        "runs it)");
+  }
   const std::string name = LinearSolverName(choice);
   const bool eliminate_points =
       IsSchur(choice) && s.points_are_independent && s.num_point_blocks > 0;
@@ -164,6 +195,7 @@ Status ConfigureLinearSolver(LinearSolverChoice choice, ProblemBuilder* builder,
       options->linear_solver_type = ceres::DENSE_QR;
       break;
     case LinearSolverChoice::kAuto:
+    case LinearSolverChoice::kStructured:
       LOG(FATAL) << "unreachable";
   }
 

@@ -9,6 +9,10 @@
 // pays O(F · (3KP)²) or O(P · ((5 + K)F)²) flops per step to form it, while
 // the iterative solvers pay O(nnz(J)) per conjugate-gradient step. The rule
 // (ChooseLinearSolver):
+//   free point blocks, no residual coupling two points,
+//   residuals coupling frames (the temporal terms)      → structured (points
+//   eliminated, conjugate gradients over the frame chain with a block-band
+//   preconditioner; solvers/structured_solver.h)
 //   free point blocks, no residual coupling two points  → ITERATIVE_SCHUR
 //   no free point block (poses / weights only; JᵀJ is then block-diagonal
 //   per frame plus what other terms couple)              → SPARSE_NORMAL_CHOLESKY
@@ -36,9 +40,12 @@ enum class LinearSolverChoice {
   kSparseNormalCholesky,  // sparse Cholesky of JᵀJ
   kCgnr,                  // CG on the normal equations, JACOBI
   kDenseQr,               // dense QR of J (tiny problems only)
+  kStructured,            // points eliminated, CG over the frame chain with a
+                          // block-band preconditioner (not Ceres' own solver)
 };
 // "auto", "dense_schur", "sparse_schur", "iterative_schur",
-// "sparse_normal_cholesky", "cgnr", "dense_qr"; an error lists them.
+// "sparse_normal_cholesky", "cgnr", "dense_qr", "structured"; an error lists
+// them.
 Status ParseLinearSolver(const std::string& name, LinearSolverChoice* choice);
 const char* LinearSolverName(LinearSolverChoice choice);
 
@@ -52,6 +59,9 @@ struct ProblemStructure {
   // eliminated (its fill: every pair of parameters that share a point).
   double schur_matrix_entries = 0.0;
   bool points_are_independent = true; // see ProblemBuilder
+  // Largest distance in time between two frames whose free blocks one
+  // residual block holds (0: no residual couples two frames).
+  int frame_coupling = 0;
 };
 ProblemStructure DescribeProblem(ProblemBuilder* builder);
 
@@ -65,7 +75,8 @@ LinearSolverChoice ChooseLinearSolver(const ProblemStructure& structure);
 // solver gets no ordering and Ceres picks an independent set itself. Errors,
 // instead of exhausting the memory, when DENSE_QR, DENSE_SCHUR or the
 // reduced matrix of SPARSE_SCHUR would need more than kMaxDenseBytes.
-// `*used` is the resolved choice.
+// `*used` is the resolved choice. kStructured is not a Ceres linear solver:
+// an error (SolveProblem in solvers/refine.h runs it).
 // Determinism: every solver gets an explicit ordering by block kind (Ceres
 // would otherwise order blocks by address, so the rounding would depend on
 // the heap layout), and DENSE_SCHUR / SPARSE_SCHUR are set to one thread:

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include <ceres/iteration_callback.h>
 #include <ceres/solver.h>
@@ -10,6 +13,7 @@
 
 #include "core/metrics.h"
 #include "problems/extra_terms.h"
+#include "solvers/structured_solver.h"
 
 namespace nrsfm {
 namespace {
@@ -58,6 +62,76 @@ class ProgressCallback : public ceres::IterationCallback {
   int last_reported_ = -1;
 };
 
+// The blocks of the builder's problem as the structured solver sees them: one
+// group per frame (its views' rotations, translations and scales, then its
+// weights), the rig blocks shared, the points eliminated.
+StructuredLayout MakeStructuredLayout(ProblemBuilder* builder) {
+  const Model& model = *builder->model();
+  StructuredLayout layout;
+  layout.groups.resize(model.num_frames);
+  for (int t = 0; t < model.num_frames; ++t) {
+    std::vector<double*>& group = layout.groups[t];
+    for (int c = 0; c < model.num_cameras; ++c) {
+      group.push_back(builder->RotationBlock(t, c));
+      group.push_back(builder->TranslationBlock(t, c));
+      if (c > 0) group.push_back(builder->ScaleBlock(t, c));
+    }
+    group.push_back(builder->WeightsBlock(t));
+  }
+  for (int c = 1; c < model.num_cameras; ++c) {
+    layout.globals.push_back(builder->RigRotationBlock(c));
+    layout.globals.push_back(builder->RigScaleBlock(c));
+  }
+  layout.eliminated = builder->PointBlocks();
+  return layout;
+}
+
+// Runs the structured solver; false when the layout does not fit the
+// problem (`error` says why).
+bool SolveWithStructuredSolver(const SolverOptions& options,
+                               ProblemBuilder* builder, RefineSummary* summary,
+                               std::string* error) {
+  StructuredSolverOptions structured;
+  structured.max_iterations = options.max_iterations;
+  structured.function_tolerance = options.function_tolerance;
+  structured.gradient_tolerance = options.gradient_tolerance;
+  structured.parameter_tolerance = options.parameter_tolerance;
+  structured.max_seconds = options.max_seconds;
+  structured.initial_trust_region_radius = options.initial_trust_region_radius;
+  structured.num_threads = options.num_threads;
+  structured.progress = [&options](int iteration, double cost, double seconds) {
+    if (options.verbosity >= 1) {
+      VLOG(1) << "refine: iteration " << iteration << " cost " << cost
+              << " time " << seconds << " s";
+    }
+    if (options.progress) options.progress(IterationReport{iteration, cost, seconds});
+  };
+  StructuredSolverSummary result;
+  if (!SolveStructured(structured, MakeStructuredLayout(builder),
+                       builder->problem(), &result, error)) {
+    return false;
+  }
+  summary->message = result.message;
+  summary->converged = result.converged;
+  summary->initial_cost = result.initial_cost;
+  summary->final_cost = result.final_cost;
+  summary->iterations = result.iterations;
+  summary->residual_seconds = result.evaluate_seconds;
+  summary->linear_solver_seconds = result.preconditioner_seconds + result.cg_seconds;
+  summary->minimizer_seconds = result.total_seconds;
+  summary->usable = result.usable;
+  std::ostringstream report;
+  report << "structured Levenberg-Marquardt: " << result.iterations
+         << " iterations, " << result.cg_iterations
+         << " conjugate-gradient iterations, cost " << result.initial_cost
+         << " -> " << result.final_cost << ", " << result.message << ", "
+         << result.total_seconds << " s (evaluation " << result.evaluate_seconds
+         << " s, preconditioner " << result.preconditioner_seconds
+         << " s, conjugate gradients " << result.cg_seconds << " s)";
+  summary->ceres_report = report.str();
+  return true;
+}
+
 }  // namespace
 
 Status Refine(const ProblemOptions& problem, const SolverOptions& solver,
@@ -91,36 +165,55 @@ Status SolveProblem(const SolverOptions& options, ProblemBuilder* builder,
   summary->num_residual_blocks = builder->num_reprojection_terms();
   summary->initial_reprojection_rms = ReprojectionRms(measurements, *model);
 
-  ceres::Solver::Options solver_options = ToCeresOptions(options);
-  ProgressCallback callback(options);
-  solver_options.callbacks.push_back(&callback);
-  LinearSolverChoice used = LinearSolverChoice::kAuto;
-  NRSFM_RETURN_IF_ERROR(ConfigureLinearSolver(options.linear_solver, builder,
-                                              &solver_options, &used)
-                            .WithContext("refine"));
-  summary->linear_solver = LinearSolverName(used);
-  std::string invalid;
-  if (!solver_options.IsValid(&invalid)) {
-    return Status::Error("refine: invalid Ceres options: " + invalid);
+  LinearSolverChoice choice = options.linear_solver;
+  if (choice == LinearSolverChoice::kAuto) {
+    choice = ChooseLinearSolver(DescribeProblem(builder));
   }
-  summary->build_seconds = SecondsSince(start);
+  bool solved = false;
+  if (choice == LinearSolverChoice::kStructured) {
+    std::string error;
+    summary->linear_solver = LinearSolverName(choice);
+    summary->build_seconds = SecondsSince(start);
+    solved = SolveWithStructuredSolver(options, builder, summary, &error);
+    if (!solved && options.linear_solver == LinearSolverChoice::kStructured) {
+      return Status::Error("refine: linear solver structured: " + error);
+    }
+    // Chosen by auto for a problem it does not fit (a term the caller added
+    // that couples two points): Ceres' own solver runs instead.
+    if (!solved) choice = LinearSolverChoice::kIterativeSchur;
+  }
+  if (!solved) {
+    ceres::Solver::Options solver_options = ToCeresOptions(options);
+    ProgressCallback callback(options);
+    solver_options.callbacks.push_back(&callback);
+    LinearSolverChoice used = LinearSolverChoice::kAuto;
+    NRSFM_RETURN_IF_ERROR(ConfigureLinearSolver(choice, builder, &solver_options, &used)
+                              .WithContext("refine"));
+    summary->linear_solver = LinearSolverName(used);
+    std::string invalid;
+    if (!solver_options.IsValid(&invalid)) {
+      return Status::Error("refine: invalid Ceres options: " + invalid);
+    }
+    summary->build_seconds = SecondsSince(start);
 
-  ceres::Solver::Summary ceres_summary;
-  ceres::Solve(solver_options, builder->problem(), &ceres_summary);
-  callback.ReportRemaining(ceres_summary);
+    ceres::Solver::Summary ceres_summary;
+    ceres::Solve(solver_options, builder->problem(), &ceres_summary);
+    callback.ReportRemaining(ceres_summary);
 
-  summary->message = ceres_summary.message;
-  summary->initial_cost = ceres_summary.initial_cost;
-  summary->final_cost = ceres_summary.final_cost;
-  summary->iterations =
-      std::max(0, static_cast<int>(ceres_summary.iterations.size()) - 1);
-  summary->preprocessor_seconds = ceres_summary.preprocessor_time_in_seconds;
-  summary->residual_seconds = ceres_summary.residual_evaluation_time_in_seconds;
-  summary->jacobian_seconds = ceres_summary.jacobian_evaluation_time_in_seconds;
-  summary->linear_solver_seconds = ceres_summary.linear_solver_time_in_seconds;
-  summary->minimizer_seconds = ceres_summary.minimizer_time_in_seconds;
-  summary->ceres_report = ceres_summary.FullReport();
-  summary->usable = ceres_summary.IsSolutionUsable();
+    summary->message = ceres_summary.message;
+    summary->converged = ceres_summary.termination_type == ceres::CONVERGENCE;
+    summary->initial_cost = ceres_summary.initial_cost;
+    summary->final_cost = ceres_summary.final_cost;
+    summary->iterations =
+        std::max(0, static_cast<int>(ceres_summary.iterations.size()) - 1);
+    summary->preprocessor_seconds = ceres_summary.preprocessor_time_in_seconds;
+    summary->residual_seconds = ceres_summary.residual_evaluation_time_in_seconds;
+    summary->jacobian_seconds = ceres_summary.jacobian_evaluation_time_in_seconds;
+    summary->linear_solver_seconds = ceres_summary.linear_solver_time_in_seconds;
+    summary->minimizer_seconds = ceres_summary.minimizer_time_in_seconds;
+    summary->ceres_report = ceres_summary.FullReport();
+    summary->usable = ceres_summary.IsSolutionUsable();
+  }
   if (summary->usable && !model->Validate().ok()) {
     summary->usable = false;
     summary->message = "the refined model is not finite (" + summary->message + ")";

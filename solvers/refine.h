@@ -25,7 +25,10 @@ namespace nrsfm {
 
 struct RefineSummary {
   bool usable = false;          // Ceres IsSolutionUsable() and a finite model
-  std::string message;          // Ceres' termination message (or why not usable)
+  std::string message;          // the solver's termination message (or why not usable)
+  // Stopped by a tolerance (function, gradient or parameter), not by the
+  // iteration or time limit.
+  bool converged = false;
   double initial_cost = 0.0;    // Ceres cost ½ Σ ρ(‖r‖²) at the start
   double final_cost = 0.0;      // … at the end (= initial_cost when not usable)
   double initial_reprojection_rms = 0.0;  // Measurements-vs-model RMS (core/metrics.h), input units
@@ -41,8 +44,8 @@ struct RefineSummary {
   double jacobian_seconds = 0.0;
   double linear_solver_seconds = 0.0;
   double minimizer_seconds = 0.0;
-  std::string linear_solver;    // name of the solver used ("iterative_schur", …)
-  std::string ceres_report;     // ceres::Solver::Summary::FullReport()
+  std::string linear_solver;    // name of the solver used ("iterative_schur", "structured", …)
+  std::string ceres_report;     // Ceres' FullReport(), or the structured solver's one-line report
 };
 
 // Refines `model` in place from its current values. Errors (model unchanged)

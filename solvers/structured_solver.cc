@@ -1,0 +1,772 @@
+#include "solvers/structured_solver.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <thread>
+#include <unordered_map>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <ceres/cost_function.h>
+#include <ceres/loss_function.h>
+#include <ceres/manifold.h>
+
+namespace nrsfm {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using ConstRowMap = Eigen::Map<const RowMatrix, 0, Eigen::OuterStride<>>;
+using RowMap = Eigen::Map<RowMatrix, 0, Eigen::OuterStride<>>;
+
+double SecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Runs body(begin, end, worker) over [0, n) split into at most `threads`
+// contiguous ranges (fewer when n is small); worker < threads.
+template <typename Body>
+void ParallelForWorker(int n, int threads, const Body& body) {
+  threads = std::max(1, std::min(threads, n / 64));
+  if (threads <= 1) {
+    body(0, n, 0);
+    return;
+  }
+  std::vector<std::thread> workers;
+  for (int i = 1; i < threads; ++i) {
+    workers.emplace_back([&, i] { body(n * i / threads, n * (i + 1) / threads, i); });
+  }
+  body(0, n / threads, 0);
+  for (std::thread& w : workers) w.join();
+}
+template <typename Body>
+void ParallelFor(int n, int threads, const Body& body) {
+  ParallelForWorker(n, threads, [&](int begin, int end, int) { body(begin, end); });
+}
+
+struct Block {
+  double* values = nullptr;
+  int ambient = 0;  // values in memory
+  int size = 0;     // tangent size: columns of the Jacobian
+  const ceres::Manifold* manifold = nullptr;
+  bool eliminated = false;
+  int group = -1;   // frame group of a reduced block, -1 for a shared one
+  int offset = 0;   // in the reduced or the eliminated vector
+};
+
+// Columns [col, col + width) of a residual block's Jacobian, which sit at
+// [jcol, jcol + width) of its stored row-major m × width_total matrix.
+struct Segment {
+  int col = 0;
+  int width = 0;
+  int jcol = 0;
+  int group = -1;  // -1: shared block
+};
+
+struct Residual {
+  const ceres::CostFunction* cost = nullptr;
+  const ceres::LossFunction* loss = nullptr;
+  int m = 0;          // residuals
+  int row = 0;        // first row in r
+  int width = 0;      // columns of the stored Jacobian
+  std::size_t jac = 0;  // start in the Jacobian buffer
+  std::vector<double*> parameters;
+  std::vector<int> slot_block;  // Block index per parameter, -1 = constant
+  std::vector<int> slot_jcol;   // column of the slot in the stored Jacobian
+  std::vector<Segment> reduced;  // merged per group
+  int eliminated = -1;           // Block index, -1 = none
+  int eliminated_jcol = 0;
+  int single_group = -1;         // its only group if it touches exactly one and no shared block
+};
+
+// A reference from a target (group, shared block or eliminated block) to the
+// residual segments that touch it.
+struct Ref {
+  int residual;
+  int segment;  // index into Residual::reduced, or -1 for the eliminated part
+};
+
+class Solver {
+ public:
+  Solver(const StructuredSolverOptions& options, ceres::Problem* problem)
+      : options_(options), problem_(problem) {}
+
+  bool Setup(const StructuredLayout& layout, std::string* error);
+  bool Run(StructuredSolverSummary* summary);
+
+ private:
+  int GroupSize(int g) const { return group_offset_[g + 1] - group_offset_[g]; }
+  double* J(const Residual& r) { return jacobian_.data() + r.jac; }
+  const double* J(const Residual& r) const { return jacobian_.data() + r.jac; }
+  ConstRowMap Cols(const Residual& r, int jcol, int width) const {
+    return ConstRowMap(J(r) + jcol, r.m, width, Eigen::OuterStride<>(r.width));
+  }
+
+  bool Evaluate(bool with_jacobian, double* cost);
+  void MultiplyJ(const Eigen::VectorXd* reduced, const Eigen::VectorXd* eliminated,
+                 Eigen::VectorXd* rows) const;
+  void MultiplyJtReduced(const Eigen::VectorXd& rows, Eigen::VectorXd* out) const;
+  void MultiplyJtEliminated(const Eigen::VectorXd& rows, Eigen::VectorXd* out) const;
+  void ComputeGradientAndScaling();
+  void FactorEliminated(double mu);
+  void SolveEliminated(const Eigen::VectorXd& in, Eigen::VectorXd* out) const;
+  void BuildPreconditioner(double mu);
+  void BandSolve(Eigen::MatrixXd* x) const;
+  void ApplyPreconditioner(const Eigen::VectorXd& in, Eigen::VectorXd* out) const;
+  void ApplyReduced(const Eigen::VectorXd& v, double mu, Eigen::VectorXd* out) const;
+  int SolveStep(double mu, Eigen::VectorXd* step_reduced, Eigen::VectorXd* step_eliminated);
+  std::vector<double> Save() const;
+  void Restore(const std::vector<double>& saved);
+  void Step(const std::vector<double>& saved, const Eigen::VectorXd& reduced,
+            const Eigen::VectorXd& eliminated);
+  double ParameterNorm() const;
+
+  const StructuredSolverOptions& options_;
+  ceres::Problem* problem_;
+  std::vector<Block> blocks_;
+  std::vector<int> group_offset_;  // columns of group g: [g_off[g], g_off[g + 1])
+  int num_group_columns_ = 0, num_reduced_ = 0, num_eliminated_ = 0, num_rows_ = 0;
+  int band_ = 0;
+  std::vector<int> shared_blocks_, eliminated_blocks_;
+  std::vector<Residual> residuals_;
+  std::vector<std::vector<Ref>> group_refs_, shared_refs_, eliminated_refs_;
+  std::vector<int> residuals_with_shared_;
+  std::vector<double> jacobian_;
+  Eigen::VectorXd r_, gradient_reduced_, gradient_eliminated_, d_reduced_, d_eliminated_;
+  std::vector<Eigen::LLT<Eigen::MatrixXd>> eliminated_llt_;  // per eliminated block
+  std::vector<std::vector<Eigen::MatrixXd>> blocks_band_;  // [g][d]: block (g, g − d)
+  Eigen::MatrixXd border_, border_solved_;
+  Eigen::LLT<Eigen::MatrixXd> corner_llt_;
+  double evaluate_seconds_ = 0.0, preconditioner_seconds_ = 0.0, cg_seconds_ = 0.0;
+};
+
+bool Solver::Setup(const StructuredLayout& layout, std::string* error) {
+  std::unordered_map<const double*, int> index;
+  auto add = [&](double* values, bool eliminated, int group) {
+    if (!problem_->HasParameterBlock(values) || problem_->IsParameterBlockConstant(values) ||
+        index.count(values)) {
+      return;
+    }
+    Block b;
+    b.values = values;
+    b.ambient = problem_->ParameterBlockSize(values);
+    b.manifold = problem_->HasManifold(values) ? problem_->GetManifold(values) : nullptr;
+    b.size = b.manifold != nullptr ? b.manifold->TangentSize() : b.ambient;
+    b.eliminated = eliminated;
+    b.group = group;
+    int& counter = eliminated ? num_eliminated_ : num_reduced_;
+    b.offset = counter;
+    counter += b.size;
+    index[values] = static_cast<int>(blocks_.size());
+    if (eliminated) {
+      eliminated_blocks_.push_back(static_cast<int>(blocks_.size()));
+    } else if (group < 0) {
+      shared_blocks_.push_back(static_cast<int>(blocks_.size()));
+    }
+    blocks_.push_back(b);
+  };
+  group_offset_.push_back(0);
+  for (std::size_t g = 0; g < layout.groups.size(); ++g) {
+    for (double* values : layout.groups[g]) add(values, false, static_cast<int>(g));
+    group_offset_.push_back(num_reduced_);
+  }
+  num_group_columns_ = num_reduced_;
+  for (double* values : layout.globals) add(values, false, -1);
+  for (double* values : layout.eliminated) add(values, true, -1);
+  const int num_groups = static_cast<int>(layout.groups.size());
+
+  std::vector<ceres::ResidualBlockId> ids;
+  problem_->GetResidualBlocks(&ids);
+  residuals_.reserve(ids.size());
+  std::size_t jac = 0;
+  for (ceres::ResidualBlockId id : ids) {
+    Residual r;
+    r.cost = problem_->GetCostFunctionForResidualBlock(id);
+    r.loss = problem_->GetLossFunctionForResidualBlock(id);
+    r.m = r.cost->num_residuals();
+    r.row = num_rows_;
+    num_rows_ += r.m;
+    problem_->GetParameterBlocksForResidualBlock(id, &r.parameters);
+    bool touches_shared = false;
+    for (double* values : r.parameters) {
+      int block = -1;
+      if (!problem_->IsParameterBlockConstant(values)) {
+        const auto it = index.find(values);
+        if (it == index.end()) {
+          *error = "a free parameter block of the problem is not in the layout";
+          return false;
+        }
+        block = it->second;
+      }
+      r.slot_block.push_back(block);
+      r.slot_jcol.push_back(r.width);
+      if (block < 0) continue;
+      const Block& b = blocks_[block];
+      if (b.eliminated) {
+        if (r.eliminated >= 0) {
+          *error = "a residual block holds two eliminated blocks";
+          return false;
+        }
+        r.eliminated = block;
+        r.eliminated_jcol = r.width;
+      } else {
+        // Merge with the previous segment when the columns continue it
+        // within the same group.
+        if (!r.reduced.empty() && b.group >= 0 && r.reduced.back().group == b.group &&
+            r.reduced.back().col + r.reduced.back().width == b.offset &&
+            r.reduced.back().jcol + r.reduced.back().width == r.width) {
+          r.reduced.back().width += b.size;
+        } else {
+          r.reduced.push_back({b.offset, b.size, r.width, b.group});
+        }
+        touches_shared = touches_shared || b.group < 0;
+      }
+      r.width += b.size;
+    }
+    r.jac = jac;
+    jac += static_cast<std::size_t>(r.m) * r.width;
+    int lo = num_groups, hi = -1;
+    for (const Segment& s : r.reduced) {
+      if (s.group < 0) continue;
+      lo = std::min(lo, s.group);
+      hi = std::max(hi, s.group);
+    }
+    if (hi >= 0) band_ = std::max(band_, hi - lo);
+    r.single_group = (!touches_shared && hi >= 0 && lo == hi) ? hi : -1;
+    residuals_.push_back(std::move(r));
+  }
+  jacobian_.assign(jac, 0.0);
+  r_.setZero(num_rows_);
+
+  group_refs_.assign(num_groups, {});
+  shared_refs_.assign(shared_blocks_.size(), {});
+  eliminated_refs_.assign(eliminated_blocks_.size(), {});
+  std::vector<int> shared_position(blocks_.size(), -1), eliminated_position(blocks_.size(), -1);
+  for (std::size_t k = 0; k < shared_blocks_.size(); ++k) shared_position[shared_blocks_[k]] = k;
+  for (std::size_t k = 0; k < eliminated_blocks_.size(); ++k) {
+    eliminated_position[eliminated_blocks_[k]] = k;
+  }
+  for (std::size_t i = 0; i < residuals_.size(); ++i) {
+    const Residual& r = residuals_[i];
+    bool with_shared = false;
+    for (std::size_t s = 0; s < r.reduced.size(); ++s) {
+      if (r.reduced[s].group >= 0) {
+        group_refs_[r.reduced[s].group].push_back({static_cast<int>(i), static_cast<int>(s)});
+      } else {
+        with_shared = true;
+      }
+    }
+    // A shared block's segment: one per slot (segments of shared blocks are
+    // never merged, so col identifies the block).
+    for (std::size_t s = 0; s < r.reduced.size(); ++s) {
+      if (r.reduced[s].group >= 0) continue;
+      for (int k : shared_blocks_) {
+        if (blocks_[k].offset == r.reduced[s].col) {
+          shared_refs_[shared_position[k]].push_back({static_cast<int>(i), static_cast<int>(s)});
+        }
+      }
+    }
+    if (with_shared) residuals_with_shared_.push_back(static_cast<int>(i));
+    if (r.eliminated >= 0) {
+      eliminated_refs_[eliminated_position[r.eliminated]].push_back({static_cast<int>(i), -1});
+    }
+  }
+  return true;
+}
+
+bool Solver::Evaluate(bool with_jacobian, double* cost) {
+  const Clock::time_point start = Clock::now();
+  const int n = static_cast<int>(residuals_.size());
+  const int threads = std::max(1, options_.num_threads);
+  std::vector<double> partial(threads, 0.0);
+  std::vector<char> ok(threads, 1);
+  ParallelForWorker(n, threads, [&](int begin, int end, int worker) {
+    std::vector<std::vector<double>> ambient;
+    std::vector<double*> jacobians;
+    double sum = 0.0;
+    for (int i = begin; i < end; ++i) {
+      Residual& r = residuals_[i];
+      double* residual = r_.data() + r.row;
+      jacobians.assign(r.parameters.size(), nullptr);
+      if (ambient.size() < r.parameters.size()) ambient.resize(r.parameters.size());
+      if (with_jacobian) {
+        for (std::size_t k = 0; k < r.parameters.size(); ++k) {
+          if (r.slot_block[k] < 0) continue;
+          ambient[k].resize(static_cast<std::size_t>(r.m) * blocks_[r.slot_block[k]].ambient);
+          jacobians[k] = ambient[k].data();
+        }
+      }
+      if (!r.cost->Evaluate(r.parameters.data(), residual,
+                            with_jacobian ? jacobians.data() : nullptr)) {
+        ok[worker] = 0;
+        return;
+      }
+      if (with_jacobian) {
+        for (std::size_t k = 0; k < r.parameters.size(); ++k) {
+          if (r.slot_block[k] < 0) continue;
+          const Block& b = blocks_[r.slot_block[k]];
+          RowMap out(J(r) + r.slot_jcol[k], r.m, b.size, Eigen::OuterStride<>(r.width));
+          const Eigen::Map<const RowMatrix> in(ambient[k].data(), r.m, b.ambient);
+          if (b.manifold == nullptr) {
+            out = in;
+          } else {
+            RowMatrix plus(b.ambient, b.size);
+            b.manifold->PlusJacobian(b.values, plus.data());
+            out.noalias() = in * plus;
+          }
+        }
+      }
+      double squared = 0.0;
+      for (int j = 0; j < r.m; ++j) squared += residual[j] * residual[j];
+      if (r.loss == nullptr) {
+        sum += 0.5 * squared;
+        continue;
+      }
+      // Ceres' correction of residuals and Jacobians for a robust loss (Triggs
+      // et al.), so that JᵀJ and Jᵀr are its Gauss–Newton model.
+      double rho[3];
+      r.loss->Evaluate(squared, rho);
+      sum += 0.5 * rho[0];
+      const double sqrt_rho1 = std::sqrt(rho[1]);
+      double scaling = sqrt_rho1, alpha_sq_norm = 0.0;
+      if (squared > 0.0 && rho[2] > 0.0) {
+        const double alpha = 1.0 - std::sqrt(1.0 + 2.0 * squared * rho[2] / rho[1]);
+        scaling = sqrt_rho1 / (1.0 - alpha);
+        alpha_sq_norm = alpha / squared;
+      }
+      if (with_jacobian) {
+        Eigen::Map<RowMatrix> j(J(r), r.m, r.width);
+        if (alpha_sq_norm == 0.0) {
+          j *= sqrt_rho1;
+        } else {
+          const Eigen::Map<const Eigen::VectorXd> e(residual, r.m);
+          const Eigen::RowVectorXd ej = e.transpose() * j;
+          j = sqrt_rho1 * (j - alpha_sq_norm * e * ej);
+        }
+      }
+      for (int j = 0; j < r.m; ++j) residual[j] *= scaling;
+    }
+    partial[worker] += sum;
+  });
+  evaluate_seconds_ += SecondsSince(start);
+  if (std::find(ok.begin(), ok.end(), 0) != ok.end()) return false;
+  *cost = 0.0;
+  for (double p : partial) *cost += p;
+  return std::isfinite(*cost);
+}
+
+void Solver::MultiplyJ(const Eigen::VectorXd* reduced, const Eigen::VectorXd* eliminated,
+                       Eigen::VectorXd* rows) const {
+  rows->resize(num_rows_);
+  ParallelFor(static_cast<int>(residuals_.size()), options_.num_threads, [&](int begin, int end) {
+    for (int i = begin; i < end; ++i) {
+      const Residual& r = residuals_[i];
+      Eigen::Map<Eigen::VectorXd> out(rows->data() + r.row, r.m);
+      out.setZero();
+      if (reduced != nullptr) {
+        for (const Segment& s : r.reduced) {
+          out.noalias() += Cols(r, s.jcol, s.width) * reduced->segment(s.col, s.width);
+        }
+      }
+      if (eliminated != nullptr && r.eliminated >= 0) {
+        const Block& b = blocks_[r.eliminated];
+        out.noalias() += Cols(r, r.eliminated_jcol, b.size) * eliminated->segment(b.offset, b.size);
+      }
+    }
+  });
+}
+
+void Solver::MultiplyJtReduced(const Eigen::VectorXd& rows, Eigen::VectorXd* out) const {
+  out->setZero(num_reduced_);
+  const int num_groups = static_cast<int>(group_refs_.size());
+  ParallelFor(num_groups, options_.num_threads, [&](int begin, int end) {
+    for (int g = begin; g < end; ++g) {
+      for (const Ref& ref : group_refs_[g]) {
+        const Residual& r = residuals_[ref.residual];
+        const Segment& s = r.reduced[ref.segment];
+        out->segment(s.col, s.width).noalias() +=
+            Cols(r, s.jcol, s.width).transpose() * rows.segment(r.row, r.m);
+      }
+    }
+  });
+  for (std::size_t k = 0; k < shared_refs_.size(); ++k) {
+    for (const Ref& ref : shared_refs_[k]) {
+      const Residual& r = residuals_[ref.residual];
+      const Segment& s = r.reduced[ref.segment];
+      out->segment(s.col, s.width).noalias() +=
+          Cols(r, s.jcol, s.width).transpose() * rows.segment(r.row, r.m);
+    }
+  }
+}
+
+void Solver::MultiplyJtEliminated(const Eigen::VectorXd& rows, Eigen::VectorXd* out) const {
+  out->setZero(num_eliminated_);
+  ParallelFor(static_cast<int>(eliminated_blocks_.size()), options_.num_threads,
+              [&](int begin, int end) {
+                for (int k = begin; k < end; ++k) {
+                  const Block& b = blocks_[eliminated_blocks_[k]];
+                  for (const Ref& ref : eliminated_refs_[k]) {
+                    const Residual& r = residuals_[ref.residual];
+                    out->segment(b.offset, b.size).noalias() +=
+                        Cols(r, r.eliminated_jcol, b.size).transpose() * rows.segment(r.row, r.m);
+                  }
+                }
+              });
+}
+
+void Solver::ComputeGradientAndScaling() {
+  MultiplyJtReduced(r_, &gradient_reduced_);
+  MultiplyJtEliminated(r_, &gradient_eliminated_);
+  // diag(JᵀJ): the column sums of squares.
+  d_reduced_.setZero(num_reduced_);
+  d_eliminated_.setZero(num_eliminated_);
+  for (const Residual& r : residuals_) {
+    for (const Segment& s : r.reduced) {
+      d_reduced_.segment(s.col, s.width) += Cols(r, s.jcol, s.width).colwise().squaredNorm().transpose();
+    }
+    if (r.eliminated >= 0) {
+      const Block& b = blocks_[r.eliminated];
+      d_eliminated_.segment(b.offset, b.size) +=
+          Cols(r, r.eliminated_jcol, b.size).colwise().squaredNorm().transpose();
+    }
+  }
+  d_reduced_ = d_reduced_.cwiseMax(1e-6).cwiseMin(1e32);
+  d_eliminated_ = d_eliminated_.cwiseMax(1e-6).cwiseMin(1e32);
+}
+
+void Solver::FactorEliminated(double mu) {
+  eliminated_llt_.resize(eliminated_blocks_.size());
+  ParallelFor(static_cast<int>(eliminated_blocks_.size()), options_.num_threads,
+              [&](int begin, int end) {
+                for (int k = begin; k < end; ++k) {
+                  const Block& b = blocks_[eliminated_blocks_[k]];
+                  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(b.size, b.size);
+                  for (const Ref& ref : eliminated_refs_[k]) {
+                    const Residual& r = residuals_[ref.residual];
+                    const ConstRowMap j = Cols(r, r.eliminated_jcol, b.size);
+                    c.noalias() += j.transpose() * j;
+                  }
+                  c.diagonal() += mu * d_eliminated_.segment(b.offset, b.size);
+                  eliminated_llt_[k].compute(c);
+                }
+              });
+}
+
+void Solver::SolveEliminated(const Eigen::VectorXd& in, Eigen::VectorXd* out) const {
+  out->resize(num_eliminated_);
+  for (std::size_t k = 0; k < eliminated_blocks_.size(); ++k) {
+    const Block& b = blocks_[eliminated_blocks_[k]];
+    out->segment(b.offset, b.size) = eliminated_llt_[k].solve(in.segment(b.offset, b.size));
+  }
+}
+
+void Solver::BuildPreconditioner(double mu) {
+  const Clock::time_point start = Clock::now();
+  const int num_groups = static_cast<int>(group_refs_.size());
+  const int num_shared = num_reduced_ - num_group_columns_;
+  blocks_band_.assign(num_groups, std::vector<Eigen::MatrixXd>(band_ + 1));
+  border_ = Eigen::MatrixXd::Zero(num_group_columns_, num_shared);
+  std::vector<int> eliminated_position(blocks_.size(), -1);
+  for (std::size_t k = 0; k < eliminated_blocks_.size(); ++k) {
+    eliminated_position[eliminated_blocks_[k]] = static_cast<int>(k);
+  }
+  ParallelFor(num_groups, options_.num_threads, [&](int begin, int end) {
+    for (int g = begin; g < end; ++g) {
+      for (int d = 0; d <= band_ && g - d >= 0; ++d) {
+        blocks_band_[g][d] = Eigen::MatrixXd::Zero(GroupSize(g), GroupSize(g - d));
+      }
+      for (const Ref& ref : group_refs_[g]) {
+        const Residual& r = residuals_[ref.residual];
+        const Segment& a = r.reduced[ref.segment];
+        const ConstRowMap ja = Cols(r, a.jcol, a.width);
+        const int row_a = a.col - group_offset_[g];
+        for (const Segment& b : r.reduced) {
+          const ConstRowMap jb = Cols(r, b.jcol, b.width);
+          if (b.group < 0) {
+            border_.block(a.col, b.col - num_group_columns_, a.width, b.width).noalias() +=
+                ja.transpose() * jb;
+            continue;
+          }
+          const int d = g - b.group;
+          if (d < 0) continue;  // the lower triangle of the band only
+          blocks_band_[g][d].block(row_a, b.col - group_offset_[b.group], a.width, b.width).noalias() +=
+              ja.transpose() * jb;
+        }
+      }
+      // The group's own Schur-complement block from the residual blocks that
+      // touch it and one point: − J_gᵀ J_p C̃_p⁻¹ J_pᵀ J_g.
+      for (const Ref& ref : group_refs_[g]) {
+        const Residual& r = residuals_[ref.residual];
+        if (r.single_group != g || r.eliminated < 0 || ref.segment != 0) continue;
+        const Block& p = blocks_[r.eliminated];
+        const ConstRowMap jp = Cols(r, r.eliminated_jcol, p.size);
+        const Eigen::MatrixXd x = eliminated_llt_[eliminated_position[r.eliminated]].solve(
+            Eigen::MatrixXd(jp.transpose()));
+        const Eigen::MatrixXd inner = jp * x;  // m × m
+        for (const Segment& a : r.reduced) {
+          for (const Segment& b : r.reduced) {
+            blocks_band_[g][0]
+                .block(a.col - group_offset_[g], b.col - group_offset_[g], a.width, b.width)
+                .noalias() -= Cols(r, a.jcol, a.width).transpose() * inner * Cols(r, b.jcol, b.width);
+          }
+        }
+      }
+      blocks_band_[g][0].diagonal() += mu * d_reduced_.segment(group_offset_[g], GroupSize(g));
+    }
+  });
+  Eigen::MatrixXd corner = Eigen::MatrixXd::Zero(num_shared, num_shared);
+  for (int i : residuals_with_shared_) {
+    const Residual& r = residuals_[i];
+    for (const Segment& a : r.reduced) {
+      if (a.group >= 0) continue;
+      for (const Segment& b : r.reduced) {
+        if (b.group >= 0) continue;
+        corner.block(a.col - num_group_columns_, b.col - num_group_columns_, a.width, b.width)
+            .noalias() += Cols(r, a.jcol, a.width).transpose() * Cols(r, b.jcol, b.width);
+      }
+    }
+  }
+  corner.diagonal() += mu * d_reduced_.tail(num_shared);
+  // Block-band Cholesky: blocks_band_[g][d] ← L(g, g − d).
+  for (int g = 0; g < num_groups; ++g) {
+    for (int d = std::min(band_, g); d >= 1; --d) {
+      Eigen::MatrixXd m = blocks_band_[g][d];
+      for (int e = d + 1; e <= band_ && g - e >= 0; ++e) {
+        m.noalias() -= blocks_band_[g][e] * blocks_band_[g - d][e - d].transpose();
+      }
+      blocks_band_[g][d] = blocks_band_[g - d][0].triangularView<Eigen::Lower>().solve(m.transpose()).transpose();
+    }
+    Eigen::MatrixXd m = blocks_band_[g][0];
+    for (int d = 1; d <= band_ && g - d >= 0; ++d) m.noalias() -= blocks_band_[g][d] * blocks_band_[g][d].transpose();
+    Eigen::LLT<Eigen::MatrixXd> llt(m);
+    if (llt.info() != Eigen::Success) {
+      // A preconditioner only needs to be positive definite.
+      m.diagonal().array() += 1e-10 * m.diagonal().cwiseAbs().maxCoeff() + 1e-300;
+      llt.compute(m);
+    }
+    blocks_band_[g][0] = llt.matrixL();
+  }
+  if (num_shared > 0) {
+    border_solved_ = border_;
+    BandSolve(&border_solved_);
+    corner_llt_.compute(corner - border_.transpose() * border_solved_);
+  }
+  preconditioner_seconds_ += SecondsSince(start);
+}
+
+void Solver::BandSolve(Eigen::MatrixXd* x) const {
+  const int num_groups = static_cast<int>(group_refs_.size());
+  for (int g = 0; g < num_groups; ++g) {
+    auto xg = x->middleRows(group_offset_[g], GroupSize(g));
+    for (int d = 1; d <= band_ && g - d >= 0; ++d) {
+      xg.noalias() -= blocks_band_[g][d] * x->middleRows(group_offset_[g - d], GroupSize(g - d));
+    }
+    blocks_band_[g][0].triangularView<Eigen::Lower>().solveInPlace(xg);
+  }
+  for (int g = num_groups - 1; g >= 0; --g) {
+    auto xg = x->middleRows(group_offset_[g], GroupSize(g));
+    for (int d = 1; d <= band_ && g + d < num_groups; ++d) {
+      xg.noalias() -= blocks_band_[g + d][d].transpose() * x->middleRows(group_offset_[g + d], GroupSize(g + d));
+    }
+    blocks_band_[g][0].transpose().triangularView<Eigen::Upper>().solveInPlace(xg);
+  }
+}
+
+void Solver::ApplyPreconditioner(const Eigen::VectorXd& in, Eigen::VectorXd* out) const {
+  const int num_shared = num_reduced_ - num_group_columns_;
+  Eigen::MatrixXd x = in.head(num_group_columns_);
+  BandSolve(&x);
+  out->resize(num_reduced_);
+  if (num_shared == 0) {
+    *out = x;
+    return;
+  }
+  // [A B; Bᵀ C]: y = (C − Bᵀ A⁻¹ B)⁻¹ (b − Bᵀ A⁻¹ a), x = A⁻¹ a − A⁻¹ B y.
+  const Eigen::VectorXd y = corner_llt_.solve(in.tail(num_shared) - border_.transpose() * x.col(0));
+  out->head(num_group_columns_) = x.col(0) - border_solved_ * y;
+  out->tail(num_shared) = y;
+}
+
+void Solver::ApplyReduced(const Eigen::VectorXd& v, double mu, Eigen::VectorXd* out) const {
+  // S v = J_fᵀ (J_f v − J_p C̃⁻¹ J_pᵀ J_f v) + μ D_f v.
+  Eigen::VectorXd rows, projected, solved, correction;
+  MultiplyJ(&v, nullptr, &rows);
+  MultiplyJtEliminated(rows, &projected);
+  SolveEliminated(projected, &solved);
+  MultiplyJ(nullptr, &solved, &correction);
+  rows -= correction;
+  MultiplyJtReduced(rows, out);
+  out->array() += mu * d_reduced_.array() * v.array();
+}
+
+int Solver::SolveStep(double mu, Eigen::VectorXd* step_reduced, Eigen::VectorXd* step_eliminated) {
+  FactorEliminated(mu);
+  BuildPreconditioner(mu);
+  const Clock::time_point start = Clock::now();
+  // Right-hand side of the reduced system: −g_f + J_fᵀ J_p C̃⁻¹ g_p.
+  Eigen::VectorXd solved, rows, rhs;
+  SolveEliminated(gradient_eliminated_, &solved);
+  MultiplyJ(nullptr, &solved, &rows);
+  MultiplyJtReduced(rows, &rhs);
+  rhs -= gradient_reduced_;
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(num_reduced_), residual = rhs, z, p, q;
+  ApplyPreconditioner(residual, &z);
+  p = z;
+  double rz = residual.dot(z);
+  const double target = options_.cg_relative_tolerance * rhs.norm();
+  int iterations = 0;
+  while (iterations < options_.max_cg_iterations && residual.norm() > target) {
+    ApplyReduced(p, mu, &q);
+    const double pq = p.dot(q);
+    if (!(pq > 0.0)) break;
+    const double alpha = rz / pq;
+    x += alpha * p;
+    residual -= alpha * q;
+    ApplyPreconditioner(residual, &z);
+    const double rz_next = residual.dot(z);
+    p = z + (rz_next / rz) * p;
+    rz = rz_next;
+    ++iterations;
+  }
+  *step_reduced = x;
+  // Back-substitution: δ_p = C̃⁻¹ (−g_p − J_pᵀ J_f δ_f).
+  Eigen::VectorXd jx, projected;
+  MultiplyJ(&x, nullptr, &jx);
+  MultiplyJtEliminated(jx, &projected);
+  SolveEliminated(-gradient_eliminated_ - projected, step_eliminated);
+  cg_seconds_ += SecondsSince(start);
+  return iterations;
+}
+
+std::vector<double> Solver::Save() const {
+  std::vector<double> saved;
+  for (const Block& b : blocks_) saved.insert(saved.end(), b.values, b.values + b.ambient);
+  return saved;
+}
+
+void Solver::Restore(const std::vector<double>& saved) {
+  std::size_t k = 0;
+  for (Block& b : blocks_) {
+    std::copy(saved.begin() + k, saved.begin() + k + b.ambient, b.values);
+    k += b.ambient;
+  }
+}
+
+void Solver::Step(const std::vector<double>& saved, const Eigen::VectorXd& reduced,
+                  const Eigen::VectorXd& eliminated) {
+  std::size_t k = 0;
+  for (Block& b : blocks_) {
+    const double* delta = (b.eliminated ? eliminated : reduced).data() + b.offset;
+    if (b.manifold != nullptr) {
+      b.manifold->Plus(saved.data() + k, delta, b.values);
+    } else {
+      for (int i = 0; i < b.ambient; ++i) b.values[i] = saved[k + i] + delta[i];
+    }
+    k += b.ambient;
+  }
+}
+
+double Solver::ParameterNorm() const {
+  double sum = 0.0;
+  for (const Block& b : blocks_) {
+    sum += Eigen::Map<const Eigen::VectorXd>(b.values, b.ambient).squaredNorm();
+  }
+  return std::sqrt(sum);
+}
+
+bool Solver::Run(StructuredSolverSummary* summary) {
+  const Clock::time_point start = Clock::now();
+  double cost = 0.0;
+  if (!Evaluate(true, &cost)) {
+    summary->message = "the cost is not finite at the start";
+    return true;
+  }
+  summary->initial_cost = cost;
+  if (options_.progress) options_.progress(0, cost, SecondsSince(start));
+  ComputeGradientAndScaling();
+  double radius = options_.initial_trust_region_radius, decrease = 2.0;
+  int iteration = 0;
+  summary->message = "iteration limit";
+  Eigen::VectorXd step_reduced, step_eliminated, j_step;
+  while (true) {
+    const double gradient_max =
+        std::max(gradient_reduced_.size() ? gradient_reduced_.cwiseAbs().maxCoeff() : 0.0,
+                 gradient_eliminated_.size() ? gradient_eliminated_.cwiseAbs().maxCoeff() : 0.0);
+    if (gradient_max <= options_.gradient_tolerance) {
+      summary->message = "gradient tolerance";
+      summary->converged = true;
+      break;
+    }
+    if (iteration >= options_.max_iterations) break;
+    if (options_.max_seconds > 0.0 && SecondsSince(start) >= options_.max_seconds) {
+      summary->message = "time limit";
+      break;
+    }
+    ++iteration;
+    const double mu = 1.0 / radius;
+    summary->cg_iterations += SolveStep(mu, &step_reduced, &step_eliminated);
+    MultiplyJ(&step_reduced, &step_eliminated, &j_step);
+    // The decrease the linear model predicts: cost − ½||r + J δ||².
+    const double model_decrease = -(j_step.dot(r_) + 0.5 * j_step.squaredNorm());
+    const std::vector<double> saved = Save();
+    const double step_norm = std::sqrt(step_reduced.squaredNorm() + step_eliminated.squaredNorm());
+    if (step_norm <= options_.parameter_tolerance *
+                         (ParameterNorm() + options_.parameter_tolerance)) {
+      summary->message = "parameter tolerance";
+      summary->converged = true;
+      break;
+    }
+    Step(saved, step_reduced, step_eliminated);
+    const Eigen::VectorXd saved_r = r_;
+    double new_cost = 0.0;
+    const bool finite = Evaluate(false, &new_cost);
+    const double ratio = finite && model_decrease > 0.0 ? (cost - new_cost) / model_decrease : -1.0;
+    if (ratio > 1e-3) {
+      const double change = cost - new_cost;
+      cost = new_cost;
+      radius = std::min(1e16, radius / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * ratio - 1.0, 3)));
+      decrease = 2.0;
+      Evaluate(true, &new_cost);
+      ComputeGradientAndScaling();
+      if (options_.progress) options_.progress(iteration, cost, SecondsSince(start));
+      if (change <= options_.function_tolerance * cost) {
+        summary->message = "function tolerance";
+        summary->converged = true;
+        break;
+      }
+    } else {
+      Restore(saved);
+      r_ = saved_r;
+      radius /= decrease;
+      decrease *= 2.0;
+      if (options_.progress) options_.progress(iteration, cost, SecondsSince(start));
+      if (radius < 1e-32) {
+        summary->message = "trust region below 1e-32";
+        break;
+      }
+    }
+  }
+  summary->usable = std::isfinite(cost);
+  summary->iterations = iteration;
+  summary->final_cost = cost;
+  summary->evaluate_seconds = evaluate_seconds_;
+  summary->preconditioner_seconds = preconditioner_seconds_;
+  summary->cg_seconds = cg_seconds_;
+  summary->total_seconds = SecondsSince(start);
+  return true;
+}
+
+}  // namespace
+
+bool SolveStructured(const StructuredSolverOptions& options, const StructuredLayout& layout,
+                     ceres::Problem* problem, StructuredSolverSummary* summary,
+                     std::string* error) {
+  *summary = StructuredSolverSummary();
+  Solver solver(options, problem);
+  if (!solver.Setup(layout, error)) return false;
+  return solver.Run(summary);
+}
+
+}  // namespace nrsfm
