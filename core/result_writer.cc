@@ -187,6 +187,12 @@ Status WriteJson(const fs::path& dir, const Measurements& measurements,
   json["reprojection_rms"] = report.reprojection_rms;
   json["solution_usable"] = report.solution_usable;
   json["warnings"] = report.warnings;
+  Json term_weights = Json::object();
+  for (const auto& [name, value] : report.term_weights) term_weights[name] = value;
+  json["term_weights"] = term_weights;
+  Json diagnostics = Json::object();
+  for (const auto& [name, value] : report.diagnostics) diagnostics[name] = value;
+  json["diagnostics"] = diagnostics;
   Json metrics = Json::object();
   for (const auto& [name, value] : report.metrics) metrics[name] = value;
   if (!report.e3d_frame.empty()) metrics["e3d_frame"] = report.e3d_frame;

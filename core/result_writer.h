@@ -52,6 +52,11 @@ struct ReconstructionReport {
   double reprojection_rms = 0;  // final, input units
   bool solution_usable = true;
   std::vector<std::string> warnings;
+  // The extra terms' weights the refinement used, e.g. {"temporal_shape", 1}
+  // (chosen by the prior rule or given), and what the data measured for the
+  // rule and the warnings, e.g. {"track_step", 0.08} (solvers/prior_rule.h).
+  std::vector<std::pair<std::string, double>> term_weights;
+  std::vector<std::pair<std::string, double>> diagnostics;
   std::vector<std::pair<std::string, double>> metrics;  // e.g. {"e3d", 0.03}
   std::string e3d_frame;  // "object" | "camera" (core/metrics.h), "" = no metrics
   // Versions of the caller's libraries, e.g. {"nrsfm", "0.1.0"},

@@ -4,28 +4,62 @@
 
 #include <glog/logging.h>
 
+#include <iomanip>
+#include <sstream>
+
+#include "core/enum_names.h"
 #include "core/option_checker.h"
 
 namespace nrsfm {
+namespace {
+
+constexpr EnumName<PriorMode> kPriorModeNames[] = {
+    {PriorMode::kAuto, "auto"},
+    {PriorMode::kManual, "manual"},
+};
+
+}  // namespace
+
+const char* PriorModeName(PriorMode mode) { return NameOf(kPriorModeNames, mode); }
+
+Status ParsePriorMode(const std::string& name, PriorMode* mode) {
+  return ParseName(kPriorModeNames, name, "prior mode", mode);
+}
 
 Status ReconstructOptions::Check() const {
   OptionChecker check("reconstruct");
   check.Nested(start.Check());
   check.Nested(problem.Check());
   check.Nested(solver.Check());
+  check.Nested(prior_rule.Check());
+  bool any_weight = false;
+  for (const auto& [name, weight] : problem.term_weights) any_weight |= weight != 0.0;
+  check.Require(priors == PriorMode::kManual || !any_weight,
+                "term weights are given but priors = auto chooses them; set "
+                "priors = manual to use your own");
   return check.status();
 }
 
 namespace {
 
-// One start followed by its refinement.
+// One start followed by its refinement. With priors = auto the start's
+// camera path decides the path prior (`decision` holds the video decision).
 Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
-                      const Measurements& measurements, ReconstructResult* result) {
+                      const Measurements& measurements, const PriorDecision& video,
+                      ReconstructResult* result) {
   StartOptions start = options.start;
   start.method = method;
   NRSFM_RETURN_IF_ERROR(
       Initialize(start, measurements, &result->model, &result->start));
-  return Refine(options.problem, options.solver, measurements, &result->model,
+  ProblemOptions problem = options.problem;
+  result->priors = video;
+  if (options.priors == PriorMode::kAuto) {
+    DecidePathPrior(options.prior_rule, result->model, &result->priors);
+    problem.term_weights = result->priors.term_weights;
+  } else {
+    result->priors.term_weights = problem.term_weights;
+  }
+  return Refine(problem, options.solver, measurements, &result->model,
                 &result->refine);
 }
 
@@ -44,9 +78,18 @@ Status Reconstruct(const ReconstructOptions& options,
   const auto start = std::chrono::steady_clock::now();
   *result = ReconstructResult();
   NRSFM_RETURN_IF_ERROR(options.Check());
+  NRSFM_RETURN_IF_ERROR(measurements.Validate());
+  PriorDecision video;
+  if (options.priors == PriorMode::kAuto) {
+    DecideVideoPriors(options.prior_rule, measurements, options.start.num_bases,
+                      &video);
+  }
   if (options.start.method != StartMethod::kAuto) {
+    NRSFM_RETURN_IF_ERROR(StartAndRefine(options, options.start.method,
+                                         measurements, video, result));
+  } else if (video.term_weights.count("temporal_shape") > 0) {
     NRSFM_RETURN_IF_ERROR(
-        StartAndRefine(options, options.start.method, measurements, result));
+        StartAndRefine(options, StartMethod::kTriple, measurements, video, result));
   } else {
     // Both starts are refined and the lower refined cost is kept: a start's
     // own reprojection error does not tell which basin it is in (the rigid
@@ -54,9 +97,9 @@ Status Reconstruct(const ReconstructOptions& options,
     // converge to a depth-degenerate solution).
     ReconstructResult factorization, rigid;
     const Status factorization_status = StartAndRefine(
-        options, StartMethod::kFactorization, measurements, &factorization);
+        options, StartMethod::kFactorization, measurements, video, &factorization);
     const Status rigid_status =
-        StartAndRefine(options, StartMethod::kRigid, measurements, &rigid);
+        StartAndRefine(options, StartMethod::kRigid, measurements, video, &rigid);
     if (!factorization_status.ok() && !rigid_status.ok()) {
       return Status::Error("both starts failed: factorization: " +
                            factorization_status.message() +
@@ -72,6 +115,18 @@ Status Reconstruct(const ReconstructOptions& options,
           std::string(keep_rigid ? "factorization" : "rigid") +
           " start failed: " + other.message());
     }
+  }
+  result->largest_view_angle_deg = LargestViewAngleDeg(result->model);
+  if (result->largest_view_angle_deg < kLittleRotationDeg) {
+    std::ostringstream warning;
+    warning << std::fixed << std::setprecision(1)
+            << "little rotation: the camera turns at most "
+            << result->largest_view_angle_deg
+            << " degrees between any two frames; below "
+            << kLittleRotationDeg
+            << " degrees the data fix the depth of a deforming shape poorly, "
+               "so the depth (z) of this result may be far off";
+    result->warnings.push_back(warning.str());
   }
   result->total_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)

@@ -4,23 +4,42 @@
 #ifndef NRSFM_SOLVERS_RECONSTRUCT_H_
 #define NRSFM_SOLVERS_RECONSTRUCT_H_
 
+#include <string>
+#include <vector>
+
 #include "core/measurements.h"
 #include "core/model.h"
 #include "core/status.h"
 #include "problems/problem_options.h"
 #include "solvers/initialize.h"
+#include "solvers/prior_rule.h"
 #include "solvers/refine.h"
 #include "solvers/solver_options.h"
 
 namespace nrsfm {
 
-// Everything a reconstruction needs, each fact once.
+// Who chooses the extra terms (problems/extra_terms.h).
+enum class PriorMode {
+  kAuto,    // the rule of solvers/prior_rule.h, from the data and the start;
+            // problem.term_weights must then be empty
+  kManual,  // exactly problem.term_weights (empty: the data term alone)
+};
+// "auto", "manual"; the error lists them.
+const char* PriorModeName(PriorMode mode);
+Status ParsePriorMode(const std::string& name, PriorMode* mode);
+
+// Everything a reconstruction needs, each fact once. The defaults are the
+// pipeline the project recommends for any input (docs/priors.md has what
+// it was measured on).
 struct ReconstructOptions {
   StartOptions start;      // the closed-form start, including K (start.num_bases)
   ProblemOptions problem;  // what the Ceres problem holds and refines
   SolverOptions solver;    // how it is solved
+  PriorMode priors = PriorMode::kAuto;
+  PriorRuleOptions prior_rule;  // used when priors = kAuto
 
-  // Each part's Check(), with the part named in the message.
+  // Each part's Check(), with the part named in the message; errors on term
+  // weights given with priors = kAuto.
   Status Check() const;
 };
 
@@ -28,16 +47,34 @@ struct ReconstructResult {
   Model model;               // the refined model (the start if refine.usable is false)
   StartSummary start;        // the start kept: method, its RMS, its time
   RefineSummary refine;      // the refinement: costs, RMS, iterations, times
+  // What the prior rule measured and the term weights the refinement used
+  // (with priors = kManual: only term_weights, the caller's).
+  PriorDecision priors;
+  // The largest angle between two frames' camera-0 rotations of the result,
+  // degrees, and the warnings about the result as a whole (little rotation).
+  double largest_view_angle_deg = 0;
+  std::vector<std::string> warnings;
   double total_seconds = 0;  // wall time of Reconstruct()
 };
 
-// With start.method = auto, both the factorization and the rigid starts are
-// refined and the lower refined cost is kept (a usable solution before an
-// unusable one); result->start.method says which. A start's own reprojection
-// error does not tell which basin it is in: on superquadric data (F = 80,
-// P = 60, K = 4) the rigid start fits better (RMS 0.003 vs 0.046) but
-// refines to e3D 0.79, the factorisation start to e3D 4e-11. Costs one extra
-// refinement.
+// Below this largest view angle a warning says the depth is weakly
+// determined by the data (measured in docs/robustness.md).
+inline constexpr double kLittleRotationDeg = 60.0;
+
+// The start rule. With start.method = auto:
+// - a video whose basis can absorb rotation (priors = kAuto and the rule of
+//   solvers/prior_rule.h adds temporal_shape): the triple start alone. Its rotations come from an exact
+//   corrective triple of the rank-3K factorisation, the ones the temporal
+//   terms then hold in place; the factorisation and rigid starts' rotations
+//   are several degrees (rigid) to tens of degrees (factorisation) off on
+//   motion capture, and the refinement does not leave their basin.
+// - otherwise both the factorization and the rigid starts are refined and
+//   the lower refined cost is kept (a usable solution before an unusable
+//   one). A start's own reprojection error does not tell which basin it is
+//   in: on superquadric data (F = 80, P = 60, K = 4) the rigid start fits
+//   better (RMS 0.003 vs 0.046) but refines to e3D 0.79, the factorisation
+//   start to e3D 4e-11. Costs one extra refinement.
+// result->start.method says which start was kept.
 // Errors on invalid options or measurements and when the start fails (see
 // Initialize); a refinement that is not usable is reported in
 // result->refine.usable, with result->model left at the start.

@@ -16,6 +16,7 @@
 #include "problems/extra_terms.h"
 #include "problems/problem_options.h"
 #include "solvers/initialize.h"
+#include "solvers/reconstruct.h"
 #include "solvers/select_num_bases.h"
 #include "solvers/solver_options.h"
 
@@ -52,6 +53,11 @@
   X(std::string, init, ::nrsfm::StartMethodName(::nrsfm::StartOptions().method), \
     "reconstruct: start auto|factorization|rigid|triple (auto refines the "      \
     "factorization and rigid starts and keeps the lower cost).")                 \
+  X(std::string, priors,                                                         \
+    ::nrsfm::PriorModeName(::nrsfm::ReconstructOptions().priors),                \
+    "reconstruct: auto|manual. auto chooses the temporal terms from the data "   \
+    "(docs/priors.md); giving any term weight (--temporal_shape, ...) means "    \
+    "manual: exactly the weights given.")                                        \
   X(std::string, robust,                                                         \
     ::nrsfm::RobustLossName(::nrsfm::ProblemOptions().robust_loss),              \
     "reconstruct: robust loss none|huber|cauchy on the reprojection terms.")     \

@@ -80,6 +80,8 @@ Status BuildReconstructOptions(const CommandFlags& flags,
   NRSFM_RETURN_IF_ERROR(
       ParseLinearSolver(flags.linear_solver, &options->solver.linear_solver)
           .WithContext("--linear_solver"));
+  NRSFM_RETURN_IF_ERROR(ParsePriorMode(flags.priors, &options->priors)
+                            .WithContext("--priors"));
   // One flag per extra term (problems/extra_terms.h).
   const std::vector<ExtraTerm>& terms = ExtraTerms();
   for (std::size_t i = 0; i < terms.size(); ++i) {
@@ -96,6 +98,8 @@ Status BuildReconstructOptions(const CommandFlags& flags,
     }
     if (weight > 0.0) options->problem.term_weights[terms[i].name] = weight;
   }
+  // A weight given on the command line is a manual choice of the terms.
+  if (!options->problem.term_weights.empty()) options->priors = PriorMode::kManual;
   options->start.seed = flags.seed;
   options->problem.robust_scale = flags.robust_scale;
   options->solver.max_iterations = flags.max_iterations;
@@ -113,7 +117,8 @@ std::vector<std::pair<std::string, std::string>> OptionList(
       {"mask_var", flags.mask_var},
       {"format", flags.format},
       {"cameras", std::to_string(flags.cameras)},
-      {"init", flags.init}};
+      {"init", flags.init},
+      {"priors", flags.priors}};
   for (std::size_t i = 0; i < ExtraTerms().size(); ++i) {
     list.emplace_back(ExtraTerms()[i].flag, FormatDouble(flags.term_weights[i]));
   }
@@ -252,6 +257,15 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
                                                  : result.start.reprojection_rms;
   report.solution_usable = result.refine.usable;
   report.warnings = result.start.warnings;
+  report.warnings.insert(report.warnings.end(), result.warnings.begin(),
+                         result.warnings.end());
+  for (const auto& [name, weight] : result.priors.term_weights) {
+    report.term_weights.emplace_back(name, weight);
+  }
+  report.diagnostics = {{"track_step", result.priors.track_step},
+                        {"path_acceleration_deg", result.priors.path_acceleration_deg},
+                        {"largest_view_angle_deg", result.largest_view_angle_deg},
+                        {"refine_converged", result.refine.converged ? 1.0 : 0.0}};
   if (!result.refine.usable) {
     report.warnings.push_back("refinement not usable: " + result.refine.message);
   }
@@ -274,7 +288,22 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
   out << "K = " << num_bases << ", start: " << report.start_used
       << " (reprojection RMS " << std::setprecision(6) << result.start.reprojection_rms
       << ")\n";
-  out << "refine: cost " << result.refine.initial_cost << " -> "
+  out << "terms:";
+  if (result.priors.term_weights.empty()) out << " none";
+  for (const auto& [name, weight] : result.priors.term_weights) {
+    out << " " << name << " " << weight;
+  }
+  out << " (priors " << PriorModeName(options.priors);
+  if (options.priors == PriorMode::kAuto) {
+    out << ": track step " << std::setprecision(3) << result.priors.track_step
+        << (result.priors.video ? ", video" : ", not a video");
+    if (result.priors.path_acceleration_deg >= 0) {
+      out << ", start's angular acceleration " << result.priors.path_acceleration_deg
+          << " deg/frame^2";
+    }
+  }
+  out << ")\n";
+  out << std::setprecision(6) << "refine: cost " << result.refine.initial_cost << " -> "
       << result.refine.final_cost << " in " << result.refine.iterations
       << " iterations (" << result.refine.linear_solver << "), "
       << (result.refine.usable ? "usable" : "NOT usable: " + result.refine.message)

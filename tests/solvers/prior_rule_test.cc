@@ -1,0 +1,149 @@
+// Hand-computed values of the measurements behind the prior rule
+// (solvers/prior_rule.h), the decisions they lead to, and Reconstruct()'s
+// use of them.
+#include "solvers/prior_rule.h"
+
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+#include <Eigen/Geometry>
+
+#include "core/rotation.h"
+#include "solvers/reconstruct.h"
+
+namespace nrsfm {
+namespace {
+
+// Two points at (±1, 0) in every frame, shifted right by `step` per frame:
+// spread 1, frame-to-frame motion `step` for every point.
+Measurements Translating(int frames, double step) {
+  Eigen::MatrixXd w(2 * frames, 2);
+  for (int t = 0; t < frames; ++t) {
+    w.block<2, 2>(2 * t, 0) << -1 + step * t, 1 + step * t, 0, 0;
+  }
+  Measurements m;
+  EXPECT_TRUE(Measurements::FromMatrixWithNaN(w, 1, "test", &m).ok());
+  return m;
+}
+
+Model PathModel(const std::vector<double>& angles_deg) {
+  Model model;
+  model.Resize(static_cast<int>(angles_deg.size()), 1, 4, 1);
+  for (int t = 0; t < model.num_frames; ++t) {
+    model.SetRotation(t, 0, AngleAxisToRotation(Eigen::Vector3d(
+                                0, angles_deg[t] * M_PI / 180.0, 0)));
+  }
+  return model;
+}
+
+TEST(PriorRule, TrackStepIsTheMedianMotionOverTheSpread) {
+  EXPECT_NEAR(MedianTrackStep(Translating(5, 0.1)), 0.1, 1e-12);
+  EXPECT_NEAR(MedianTrackStep(Translating(5, 0.5)), 0.5, 1e-12);
+  // One frame: no pair of frames.
+  EXPECT_EQ(MedianTrackStep(Translating(1, 0.1)), -1.0);
+}
+
+TEST(PriorRule, TrackStepSkipsPointsMissingInEitherFrame) {
+  Measurements m = Translating(3, 0.2);
+  // Point 1 missing in frame 1: pairs (0,1) and (1,2) use point 0 only; the
+  // spread is still 1 in frames 0 and 2 and 0 in frame 1 (one point), so
+  // spread = sqrt((1 + 1 + 1 + 1) / 5) over the five visible observations.
+  m.visible(1, 1) = false;
+  const double spread = std::sqrt(4.0 / 5.0);
+  EXPECT_NEAR(m.ImageSpreadRms(), spread, 1e-12);
+  EXPECT_NEAR(MedianTrackStep(m), 0.2 / spread, 1e-12);
+}
+
+TEST(PriorRule, PathAccelerationOfConstantAndAcceleratingPaths) {
+  // Constant 5 degrees per frame: no acceleration.
+  EXPECT_NEAR(MedianPathAccelerationDeg(PathModel({0, 5, 10, 15, 20})), 0.0, 1e-9);
+  // Steps 1, 2, 3, 4 degrees: acceleration 1 degree per frame² everywhere.
+  EXPECT_NEAR(MedianPathAccelerationDeg(PathModel({0, 1, 3, 6, 10})), 1.0, 1e-9);
+  EXPECT_EQ(MedianPathAccelerationDeg(PathModel({0, 1})), -1.0);
+}
+
+TEST(PriorRule, LargestViewAngle) {
+  EXPECT_NEAR(LargestViewAngleDeg(PathModel({0, 10, 40, 25})), 40.0, 1e-6);
+  EXPECT_NEAR(LargestViewAngleDeg(PathModel({-30, 10, 20})), 50.0, 1e-6);
+}
+
+TEST(PriorRule, DecisionsFollowTheThresholds) {
+  const PriorRuleOptions options;
+  PriorDecision video;
+  // P = 2 points, K = 1: 3K ≥ P / 2.
+  DecideVideoPriors(options, Translating(6, 0.05), 1, &video);
+  EXPECT_TRUE(video.video);
+  EXPECT_TRUE(video.basis_absorbs_rotation);
+  EXPECT_EQ(video.term_weights.at("temporal_shape"), options.temporal_shape_weight);
+
+  PriorDecision smooth = video;
+  DecidePathPrior(options, PathModel({0, 5, 10, 15, 20, 25}), &smooth);
+  EXPECT_TRUE(smooth.constant_angular_velocity);
+  EXPECT_EQ(smooth.term_weights.at("rotation_acceleration"),
+            options.rotation_acceleration_weight);
+
+  PriorDecision shaky = video;
+  DecidePathPrior(options, PathModel({0, 5, 11, 15, 21, 25}), &shaky);
+  EXPECT_NEAR(shaky.path_acceleration_deg, 2.0, 1e-9);
+  EXPECT_FALSE(shaky.constant_angular_velocity);
+  EXPECT_EQ(shaky.term_weights.count("rotation_acceleration"), 0u);
+
+  // Frames in no order get no temporal term, and no path prior after.
+  PriorDecision unordered;
+  DecideVideoPriors(options, Translating(6, 1.0), 1, &unordered);
+  EXPECT_FALSE(unordered.video);
+  DecidePathPrior(options, PathModel({0, 5, 10, 15, 20, 25}), &unordered);
+  EXPECT_TRUE(unordered.term_weights.empty());
+  EXPECT_EQ(unordered.path_acceleration_deg, -1.0);
+}
+
+TEST(PriorRule, NoTemporalTermWhenTheDataFixTheRotations) {
+  // 40 points, K = 6: 3K = 18 < 0.5 · 40, the rotations are fixed by the
+  // data; a video all the same, but no term and no path prior.
+  Eigen::MatrixXd w(2 * 6, 40);
+  for (int t = 0; t < 6; ++t) {
+    for (int p = 0; p < 40; ++p) {
+      w(2 * t, p) = std::cos(p) + 0.01 * t;
+      w(2 * t + 1, p) = std::sin(p);
+    }
+  }
+  Measurements m;
+  ASSERT_TRUE(Measurements::FromMatrixWithNaN(w, 1, "test", &m).ok());
+  const PriorRuleOptions options;
+  PriorDecision decision;
+  DecideVideoPriors(options, m, 6, &decision);
+  EXPECT_TRUE(decision.video);
+  EXPECT_FALSE(decision.basis_absorbs_rotation);
+  EXPECT_TRUE(decision.term_weights.empty());
+  DecidePathPrior(options, PathModel({0, 5, 10, 15, 20, 25}), &decision);
+  EXPECT_TRUE(decision.term_weights.empty());
+  // K = 7: 3K = 21 ≥ 20.
+  DecideVideoPriors(options, m, 7, &decision);
+  EXPECT_TRUE(decision.basis_absorbs_rotation);
+  EXPECT_EQ(decision.term_weights.count("temporal_shape"), 1u);
+}
+
+TEST(PriorRule, OptionsAreChecked) {
+  PriorRuleOptions options;
+  options.max_track_step = 0.0;
+  EXPECT_NE(options.Check().message().find("max_track_step"), std::string::npos);
+  options = PriorRuleOptions();
+  options.rotation_acceleration_weight = NAN;
+  EXPECT_NE(options.Check().message().find("rotation_acceleration_weight"),
+            std::string::npos);
+}
+
+TEST(PriorRule, WeightsGivenWithAutoPriorsAreAnError) {
+  ReconstructOptions options;
+  options.problem.term_weights["temporal_shape"] = 1.0;
+  const Status status = options.Check();
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("priors = manual"), std::string::npos)
+      << status.message();
+  options.priors = PriorMode::kManual;
+  EXPECT_TRUE(options.Check().ok());
+}
+
+}  // namespace
+}  // namespace nrsfm
