@@ -39,6 +39,7 @@ ReconstructOptions DefaultReconstructOptions(int num_bases, int threads) {
 }
 
 bool EnableTwoCameraRigidity(ReconstructOptions* options) {
+  options->priors = PriorMode::kManual;
   options->problem.term_weights["rigidity"] = kTwoCameraRigidityWeight;
   return true;
 }

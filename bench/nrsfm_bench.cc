@@ -15,7 +15,7 @@
 //                     run: 30; one suite alone or --full: none)
 //   --jobs            reconstructions run at once (default 2)
 //   --max_iterations  LM iterations per refinement (default: the library's)
-//   --strategy        mocap: plain | triple, ts joined by '+' | all
+//   --strategy        mocap: default | plain | triple, ts joined by '+' | all
 //
 // Output: tables on stdout; <output_dir>/results.json with a "context" block
 // (date, machine, threads, versions, BLAS) and one object per suite.
@@ -52,8 +52,9 @@ DEFINE_int32(jobs, 2,
              "mocap; the scale suite always runs one at a time)");
 DEFINE_int32(max_iterations, 0,
              "LM iterations per refinement (0 = the library default)");
-DEFINE_string(strategy, "triple+ts",
-              "mocap strategy: plain (default options), or '+'-joined triple "
+DEFINE_string(strategy, "default",
+              "mocap strategy: default (the library's defaults), plain (no "
+              "extra term, factorization/rigid starts), or '+'-joined triple "
               "(corrective-triple start) and ts (temporal shape prior), or all "
               "(the ablation)");
 
@@ -116,7 +117,8 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  bool strategy_ok = FLAGS_strategy == "plain" || FLAGS_strategy == "all";
+  bool strategy_ok = FLAGS_strategy == "plain" || FLAGS_strategy == "all" ||
+                     FLAGS_strategy == "default";
   if (!strategy_ok && !FLAGS_strategy.empty()) {
     strategy_ok = true;
     std::string rest = FLAGS_strategy + "+";

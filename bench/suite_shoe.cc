@@ -55,6 +55,7 @@ Status RunShoeSuite(const BenchConfig& config, Json* out) {
     };
     const auto options = [&config, cameras](int k) {
       ReconstructOptions o = DefaultReconstructOptions(k, config.threads);
+      o.priors = PriorMode::kManual;
       o.problem.term_weights["smoothness"] = kShoeSmoothnessWeight;
       o.solver.max_seconds = config.max_seconds;
       if (cameras == 2) EnableTwoCameraRigidity(&o);
