@@ -55,6 +55,13 @@ Status SelectNumBases(const ReconstructOptions& options,
   for (int k = 1; k <= k_max; ++k) {
     ReconstructOptions k_options = options;
     k_options.start.num_bases = k;
+    // The curve measures how well K bases fit the tracks: with priors = auto
+    // it is the data term alone (the chosen K is then reconstructed with the
+    // rule's terms); manual terms are kept as given.
+    if (options.priors == PriorMode::kAuto) {
+      k_options.priors = PriorMode::kManual;
+      k_options.problem.term_weights.clear();
+    }
     NumBasesCandidate candidate;
     candidate.num_bases = k;
     ReconstructResult reconstruction;
@@ -104,7 +111,14 @@ Status SelectNumBases(const ReconstructOptions& options,
       break;
     }
   }
-  out.reconstruction = std::move(reconstructions[out.num_bases - 1]);
+  if (options.priors == PriorMode::kAuto) {
+    ReconstructOptions chosen = options;
+    chosen.start.num_bases = out.num_bases;
+    NRSFM_RETURN_IF_ERROR(Reconstruct(chosen, measurements, &out.reconstruction)
+                              .WithContext("K = " + std::to_string(out.num_bases)));
+  } else {
+    out.reconstruction = std::move(reconstructions[out.num_bases - 1]);
+  }
   *result = std::move(out);
   return Status::OK();
 }

@@ -18,7 +18,10 @@
 // where noise_floor = relative_noise_floor × (RMS spread of W) stops
 // noise-free data from demanding a residual below round-off. If no K passes
 // (e.g. every K but the largest is in a poor local minimum), K_max is kept.
-// The whole curve is returned so the caller can print it.
+// The whole curve is returned so the caller can print it. With priors =
+// auto (solvers/reconstruct.h) the curve is of the data term alone and the
+// chosen K is reconstructed once more with the prior rule's terms; with
+// priors = manual every K uses the given terms.
 #ifndef NRSFM_SOLVERS_SELECT_NUM_BASES_H_
 #define NRSFM_SOLVERS_SELECT_NUM_BASES_H_
 
