@@ -4,14 +4,16 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <thread>
 #include <unordered_map>
 
 #include <Eigen/Cholesky>
+#include <glog/logging.h>
 #include <Eigen/Core>
 #include <ceres/cost_function.h>
 #include <ceres/loss_function.h>
 #include <ceres/manifold.h>
+
+#include "core/parallel_for.h"
 
 namespace nrsfm {
 namespace {
@@ -25,25 +27,32 @@ double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// Runs body(begin, end, worker) over [0, n) split into at most `threads`
-// contiguous ranges (fewer when n is small); worker < threads.
-template <typename Body>
-void ParallelForWorker(int n, int threads, const Body& body) {
-  threads = std::max(1, std::min(threads, n / 64));
-  if (threads <= 1) {
-    body(0, n, 0);
-    return;
+// Loops over residuals, groups or points are split over threads in pieces
+// of at least this many items (core/parallel_for.h).
+constexpr int kGrain = 64;
+
+// The small products with one residual block's Jacobian columns (m × w,
+// row-major with row stride `stride`; m is 2 or 3 here), as plain loops:
+// Eigen's general kernels cost more in dispatch than in arithmetic at
+// these sizes.
+// out (m) += A x
+inline void AddAx(const double* a, int m, int w, int stride, const double* x,
+                  double* out) {
+  for (int i = 0; i < m; ++i) {
+    const double* row = a + i * stride;
+    double sum = 0.0;
+    for (int j = 0; j < w; ++j) sum += row[j] * x[j];
+    out[i] += sum;
   }
-  std::vector<std::thread> workers;
-  for (int i = 1; i < threads; ++i) {
-    workers.emplace_back([&, i] { body(n * i / threads, n * (i + 1) / threads, i); });
-  }
-  body(0, n / threads, 0);
-  for (std::thread& w : workers) w.join();
 }
-template <typename Body>
-void ParallelFor(int n, int threads, const Body& body) {
-  ParallelForWorker(n, threads, [&](int begin, int end, int) { body(begin, end); });
+// out (w) += Aᵀ y
+inline void AddAty(const double* a, int m, int w, int stride, const double* y,
+                   double* out) {
+  for (int i = 0; i < m; ++i) {
+    const double* row = a + i * stride;
+    const double yi = y[i];
+    for (int j = 0; j < w; ++j) out[j] += row[j] * yi;
+  }
 }
 
 struct Block {
@@ -282,7 +291,7 @@ bool Solver::Evaluate(bool with_jacobian, double* cost) {
   const int threads = std::max(1, options_.num_threads);
   std::vector<double> partial(threads, 0.0);
   std::vector<char> ok(threads, 1);
-  ParallelForWorker(n, threads, [&](int begin, int end, int worker) {
+  ParallelForWorker(n, threads, kGrain, [&](int begin, int end, int worker) {
     std::vector<std::vector<double>> ambient;
     std::vector<double*> jacobians;
     double sum = 0.0;
@@ -360,19 +369,20 @@ bool Solver::Evaluate(bool with_jacobian, double* cost) {
 void Solver::MultiplyJ(const Eigen::VectorXd* reduced, const Eigen::VectorXd* eliminated,
                        Eigen::VectorXd* rows) const {
   rows->resize(num_rows_);
-  ParallelFor(static_cast<int>(residuals_.size()), options_.num_threads, [&](int begin, int end) {
+  ParallelFor(static_cast<int>(residuals_.size()), options_.num_threads, kGrain, [&](int begin, int end) {
     for (int i = begin; i < end; ++i) {
       const Residual& r = residuals_[i];
-      Eigen::Map<Eigen::VectorXd> out(rows->data() + r.row, r.m);
-      out.setZero();
+      double* out = rows->data() + r.row;
+      std::fill(out, out + r.m, 0.0);
       if (reduced != nullptr) {
         for (const Segment& s : r.reduced) {
-          out.noalias() += Cols(r, s.jcol, s.width) * reduced->segment(s.col, s.width);
+          AddAx(J(r) + s.jcol, r.m, s.width, r.width, reduced->data() + s.col, out);
         }
       }
       if (eliminated != nullptr && r.eliminated >= 0) {
         const Block& b = blocks_[r.eliminated];
-        out.noalias() += Cols(r, r.eliminated_jcol, b.size) * eliminated->segment(b.offset, b.size);
+        AddAx(J(r) + r.eliminated_jcol, r.m, b.size, r.width,
+              eliminated->data() + b.offset, out);
       }
     }
   });
@@ -381,13 +391,13 @@ void Solver::MultiplyJ(const Eigen::VectorXd* reduced, const Eigen::VectorXd* el
 void Solver::MultiplyJtReduced(const Eigen::VectorXd& rows, Eigen::VectorXd* out) const {
   out->setZero(num_reduced_);
   const int num_groups = static_cast<int>(group_refs_.size());
-  ParallelFor(num_groups, options_.num_threads, [&](int begin, int end) {
+  ParallelFor(num_groups, options_.num_threads, kGrain, [&](int begin, int end) {
     for (int g = begin; g < end; ++g) {
       for (const Ref& ref : group_refs_[g]) {
         const Residual& r = residuals_[ref.residual];
         const Segment& s = r.reduced[ref.segment];
-        out->segment(s.col, s.width).noalias() +=
-            Cols(r, s.jcol, s.width).transpose() * rows.segment(r.row, r.m);
+        AddAty(J(r) + s.jcol, r.m, s.width, r.width, rows.data() + r.row,
+               out->data() + s.col);
       }
     }
   });
@@ -403,14 +413,14 @@ void Solver::MultiplyJtReduced(const Eigen::VectorXd& rows, Eigen::VectorXd* out
 
 void Solver::MultiplyJtEliminated(const Eigen::VectorXd& rows, Eigen::VectorXd* out) const {
   out->setZero(num_eliminated_);
-  ParallelFor(static_cast<int>(eliminated_blocks_.size()), options_.num_threads,
+  ParallelFor(static_cast<int>(eliminated_blocks_.size()), options_.num_threads, kGrain,
               [&](int begin, int end) {
                 for (int k = begin; k < end; ++k) {
                   const Block& b = blocks_[eliminated_blocks_[k]];
                   for (const Ref& ref : eliminated_refs_[k]) {
                     const Residual& r = residuals_[ref.residual];
-                    out->segment(b.offset, b.size).noalias() +=
-                        Cols(r, r.eliminated_jcol, b.size).transpose() * rows.segment(r.row, r.m);
+                    AddAty(J(r) + r.eliminated_jcol, r.m, b.size, r.width,
+                           rows.data() + r.row, out->data() + b.offset);
                   }
                 }
               });
@@ -438,7 +448,7 @@ void Solver::ComputeGradientAndScaling() {
 
 void Solver::FactorEliminated(double mu) {
   eliminated_llt_.resize(eliminated_blocks_.size());
-  ParallelFor(static_cast<int>(eliminated_blocks_.size()), options_.num_threads,
+  ParallelFor(static_cast<int>(eliminated_blocks_.size()), options_.num_threads, kGrain,
               [&](int begin, int end) {
                 for (int k = begin; k < end; ++k) {
                   const Block& b = blocks_[eliminated_blocks_[k]];
@@ -472,7 +482,7 @@ void Solver::BuildPreconditioner(double mu) {
   for (std::size_t k = 0; k < eliminated_blocks_.size(); ++k) {
     eliminated_position[eliminated_blocks_[k]] = static_cast<int>(k);
   }
-  ParallelFor(num_groups, options_.num_threads, [&](int begin, int end) {
+  ParallelFor(num_groups, options_.num_threads, kGrain, [&](int begin, int end) {
     for (int g = begin; g < end; ++g) {
       for (int d = 0; d <= band_ && g - d >= 0; ++d) {
         blocks_band_[g][d] = Eigen::MatrixXd::Zero(GroupSize(g), GroupSize(g - d));
@@ -723,6 +733,8 @@ bool Solver::Run(StructuredSolverSummary* summary) {
     double new_cost = 0.0;
     const bool finite = Evaluate(false, &new_cost);
     const double ratio = finite && model_decrease > 0.0 ? (cost - new_cost) / model_decrease : -1.0;
+    VLOG(3) << "structured LM " << iteration << ": cost " << cost << " -> " << new_cost
+            << " ratio " << ratio << " radius " << radius << " step " << step_norm;
     if (ratio > 1e-3) {
       const double change = cost - new_cost;
       cost = new_cost;
