@@ -1,5 +1,6 @@
 #include "solvers/initialize.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -115,7 +116,7 @@ struct CameraZeroStart {
 };
 
 Status StartOnCameraZero(const StartOptions& options, const Measurements& camera0,
-                         CameraZeroStart* start) {
+                         int num_threads, CameraZeroStart* start) {
   switch (options.method) {
     case StartMethod::kFactorization: {
       FactorizationStartSummary summary;
@@ -134,7 +135,8 @@ Status StartOnCameraZero(const StartOptions& options, const Measurements& camera
     case StartMethod::kTriple: {
       TripleStartSummary summary;
       NRSFM_RETURN_IF_ERROR(TripleStart(camera0, options.num_bases, options.alternation,
-                                        options.seed, &start->model, &summary));
+                                        options.seed, num_threads, &start->model,
+                                        &summary));
       start->sign_segments = summary.triple.sign_segments;
       return Status::OK();
     }
@@ -165,7 +167,7 @@ Status StartOptions::Check() const {
 }
 
 Status Initialize(const StartOptions& options, const Measurements& measurements,
-                  Model* model, StartSummary* summary) {
+                  Model* model, StartSummary* summary, int num_threads) {
   CHECK(model != nullptr && summary != nullptr);
   const auto start_time = std::chrono::steady_clock::now();
   *summary = StartSummary();
@@ -182,7 +184,8 @@ Status Initialize(const StartOptions& options, const Measurements& measurements,
   NRSFM_RETURN_IF_ERROR(CenterData(options, measurements, &centered, summary));
   CameraZeroStart start;
   NRSFM_RETURN_IF_ERROR(
-      StartOnCameraZero(options, centered.camera0, &start).WithContext("initialize"));
+      StartOnCameraZero(options, centered.camera0, std::max(1, num_threads), &start)
+          .WithContext("initialize"));
   Model& result = start.model;
   const Eigen::Matrix2Xd camera0_translations = result.translations;
   if (measurements.num_cameras > 1) {

@@ -50,7 +50,8 @@ Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
   StartOptions start = options.start;
   start.method = method;
   NRSFM_RETURN_IF_ERROR(
-      Initialize(start, measurements, &result->model, &result->start));
+      Initialize(start, measurements, &result->model, &result->start,
+                 options.solver.num_threads));
   ProblemOptions problem = options.problem;
   result->priors = video;
   if (options.priors == PriorMode::kAuto) {

@@ -388,7 +388,7 @@ TEST(Initialize, TripleSignsLinkATimeSequenceButNotShuffledFrames) {
     Model model;
     TripleStartSummary summary;
     ASSERT_TRUE(
-        TripleStart(input.measurements, 3, AlternationOptions(), 1, &model, &summary).ok());
+        TripleStart(input.measurements, 3, AlternationOptions(), 1, 1, &model, &summary).ok());
     EXPECT_EQ(summary.triple.temporal_signs, !shuffle);
     EXPECT_EQ(summary.triple.sign_segments, shuffle ? 150 : 1);
     EXPECT_LT(RotationErrorUpToGauge(input.truth, model), 1e-6);
@@ -418,7 +418,7 @@ TEST(Initialize, TripleRotationsOfPickupWithinTwentyFiveDegrees) {
   }
   Model model;
   TripleStartSummary summary;
-  ASSERT_TRUE(TripleStart(measurements, 12, AlternationOptions(), 1, &model, &summary).ok());
+  ASSERT_TRUE(TripleStart(measurements, 12, AlternationOptions(), 1, 1, &model, &summary).ok());
   EXPECT_TRUE(summary.triple.temporal_signs);
   EXPECT_EQ(summary.triple.sign_segments, 1);
   // RotationErrorUpToGauge is a Frobenius norm: 2√2 sin(θ/2) for angle θ.
