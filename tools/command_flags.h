@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/read_measurements.h"
+#include "core/synthetic.h"
 #include "problems/extra_terms.h"
 #include "problems/problem_options.h"
 #include "solvers/initialize.h"
@@ -81,12 +82,31 @@
     "then P3_gt, then X).")                                                      \
   X(std::string, result, "",                                                     \
     "evaluate, view: result directory of a reconstruction.")                     \
-  X(std::string, dataset, "random", "synth: random|superquadric|shoe.")          \
+  X(std::string, dataset, "random",                                              \
+    "synth: random|superquadric|shoe|reproject (reproject: the 3-D truth of "     \
+    "--input re-projected under the camera path of --rotation, --axis, "         \
+    "--profile).")                                                               \
   X(int, frames, -1, "synth: frames F (default: the generator's).")              \
   X(int, points, -1, "synth: points P (default: the generator's).")              \
   X(double, noise, 0.0, "synth: Gaussian noise std on W, input units.")          \
   X(double, missing, 0.0,                                                        \
-    "synth: fraction of entries removed at random (random, superquadric).")      \
+    "synth: fraction of entries removed at random (random, superquadric, "       \
+    "reproject).")                                                               \
+  X(double, rotation, ::nrsfm::ReprojectOptions().total_rotation_deg,            \
+    "synth --dataset reproject: total camera rotation over the sequence, "       \
+    "degrees.")                                                                  \
+  X(std::string, axis, "0,1,0",                                                  \
+    "synth --dataset reproject: rotation axis x,y,z in the first camera's "      \
+    "frame (0,1,0: orbit about the image's vertical).")                          \
+  X(std::string, profile,                                                        \
+    ::nrsfm::SpeedProfileName(::nrsfm::ReprojectOptions().profile),              \
+    "synth --dataset reproject: speed profile constant|ramp|stopgo.")            \
+  X(double, noise_fraction, ::nrsfm::ReprojectOptions().noise_fraction,          \
+    "synth --dataset reproject: Gaussian noise std as a fraction of the image "  \
+    "size (the largest side of a frame's bounding box of the tracks).")          \
+  X(double, occlusion, ::nrsfm::ReprojectOptions().occlusion_radius,             \
+    "synth --dataset reproject: self-occlusion radius as a fraction of the "     \
+    "image size (a point is hidden by a nearer one within it); 0 = none.")       \
   X(bool, quiet, false, "reconstruct: no progress lines on stderr.")
 
 namespace nrsfm {

@@ -109,6 +109,41 @@ TEST_F(CliTest, RandomBasisRoundTrip) {
   EXPECT_LT(Evaluate("out", "out")["e3d"].get<double>(), 1e-12);
 }
 
+// synth --dataset reproject: a truth re-projected under a slow camera path is
+// written like the Akhter et al. files (W, S, Rs) and scored in its object
+// frame; noise-free exact-rank data are recovered in the camera frame.
+TEST_F(CliTest, ReprojectRoundTripAndBadFlags) {
+  ASSERT_EQ(Run("synth --dataset random --K 2 --frames 80 --points 25 --seed 3 "
+                "--output r.mat").exit_code, 0);
+  RunResult r = Run("synth --dataset reproject --input r.mat --rotation 120 "
+                    "--profile ramp --output rp.mat");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("rotation 120 deg (ramp)"), std::string::npos) << r.out;
+  r = Run("reconstruct --input rp.mat --K 2 --output out --truth rp.mat --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const nlohmann::json e = Evaluate("rp.mat", "out");
+  EXPECT_EQ(e["e3d_frame"].get<std::string>(), "object");
+  EXPECT_TRUE(e.contains("rotation_error"));
+  EXPECT_LT(e["e3d_camera"].get<double>(), 1e-6);
+  EXPECT_EQ(e["F"].get<int>(), 80);
+
+  ExpectFailure("synth --dataset reproject --output x.mat", "--input is required", "x.mat");
+  ExpectFailure("synth --dataset reproject --input r.mat --profile jerky --output x.mat",
+                "unknown value \"jerky\" (expected one of constant, ramp, stopgo)", "x.mat");
+  ExpectFailure("synth --dataset reproject --input r.mat --axis 1,2 --output x.mat",
+                "--axis must be three numbers x,y,z, got '1,2'", "x.mat");
+  ExpectFailure("synth --dataset reproject --input r.mat --axis 0,0,0 --output x.mat",
+                "axis must be a finite, non-zero direction", "x.mat");
+  ExpectFailure("synth --dataset reproject --input r.mat --noise 0.1 --output x.mat",
+                "give --noise_fraction", "x.mat");
+  ExpectFailure("synth --dataset reproject --input r.mat --K 3 --output x.mat",
+                "do not apply to --dataset reproject", "x.mat");
+  ExpectFailure("synth --dataset reproject --input r.mat --rotation -5 --output x.mat",
+                "total_rotation_deg", "x.mat");
+  ExpectFailure("synth --dataset reproject --input nope.mat --output x.mat",
+                "nope.mat: no such file", "x.mat");
+}
+
 TEST_F(CliTest, SuperquadricAndShoeRoundTrips) {
   ASSERT_EQ(Run("synth --dataset superquadric --frames 80 --points 60 --output q.mat")
                 .exit_code, 0);
