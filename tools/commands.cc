@@ -263,6 +263,7 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
     report.term_weights.emplace_back(name, weight);
   }
   report.diagnostics = {{"track_step", result.priors.track_step},
+                        {"track_order", result.priors.track_order},
                         {"path_acceleration_deg", result.priors.path_acceleration_deg},
                         {"largest_view_angle_deg", result.largest_view_angle_deg},
                         {"refine_converged", result.refine.converged ? 1.0 : 0.0}};
@@ -295,10 +296,10 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
   }
   out << " (priors " << PriorModeName(options.priors);
   if (options.priors == PriorMode::kAuto) {
-    out << ": track step " << std::setprecision(3) << result.priors.track_step
+    out << ": track order " << std::setprecision(3) << result.priors.track_order
         << (result.priors.video ? ", video" : ", not a video");
     if (result.priors.path_acceleration_deg >= 0) {
-      out << ", start's angular acceleration " << result.priors.path_acceleration_deg
+      out << ", start's path acceleration " << result.priors.path_acceleration_deg
           << " deg/frame^2";
     }
   }
