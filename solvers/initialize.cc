@@ -10,6 +10,7 @@
 #include "core/enum_names.h"
 #include "core/metrics.h"
 #include "core/option_checker.h"
+#include "core/random.h"
 #include "solvers/factorization_start.h"
 #include "solvers/low_rank_completion.h"
 #include "solvers/multi_camera_start.h"
@@ -63,6 +64,40 @@ Status CheckData(const StartOptions& options, const Measurements& data) {
     return Status::Error(msg.str());
   }
   return Status::OK();
+}
+
+// The largest K' ≤ K the start can be computed with: with missing entries
+// the completion of rank 3K' needs every view to see 3K' + 1 points and
+// every point to be seen in ⌈3K' / 2⌉ views (solvers/low_rank_completion.h);
+// complete data allow K. At least 1 (the completion then reports what is
+// missing for K' = 1).
+int StartBases(int num_bases, const Measurements& data) {
+  if (data.IsComplete()) return num_bases;
+  const int fewest_points = data.VisiblePerView().minCoeff();
+  const int fewest_views = data.VisiblePerPoint().minCoeff();
+  int k = num_bases;
+  while (k > 1 && (fewest_points < 3 * k + 1 || 2 * fewest_views < 3 * k)) --k;
+  return k;
+}
+
+// Extends a start of K' bases to `num_bases`: the new basis shapes are zero
+// and their weights small (1 % of the RMS weight of the start, seeded), so
+// the refinement's Jacobian reaches them and grows the ones the data need.
+void ExtendBases(int num_bases, std::uint64_t seed, Model* model) {
+  const int k = model->num_bases;
+  const double scale = 0.01 * std::sqrt(model->weights.squaredNorm() /
+                                        std::max<Eigen::Index>(1, model->weights.size()));
+  Model extended = *model;
+  extended.num_bases = num_bases;
+  extended.weights.resize(num_bases, model->num_frames);
+  extended.weights.topRows(k) = model->weights;
+  Random random(seed, /*stream=*/0xB45E5);
+  for (int t = 0; t < model->num_frames; ++t) {
+    for (int b = k; b < num_bases; ++b) extended.weights(b, t) = scale * random.NormalUnpaired();
+  }
+  extended.basis = Eigen::MatrixXd::Zero(3 * num_bases, model->num_points);
+  extended.basis.topRows(3 * k) = model->basis;
+  *model = std::move(extended);
 }
 
 Status CenterData(const StartOptions& options, const Measurements& data,
@@ -180,12 +215,30 @@ Status Initialize(const StartOptions& options, const Measurements& measurements,
   NRSFM_RETURN_IF_ERROR(measurements.Validate().WithContext("initialize"));
   NRSFM_RETURN_IF_ERROR(CheckData(options, measurements));
 
+  // Missing entries may allow the start fewer bases than K (StartBases).
+  StartOptions reduced = options;
+  reduced.num_bases = StartBases(options.num_bases, measurements);
+  if (reduced.num_bases < options.num_bases) {
+    std::ostringstream msg;
+    msg << "the missing entries allow a start with at most K = " << reduced.num_bases
+        << " (a view sees only " << measurements.VisiblePerView().minCoeff()
+        << " points, a point is seen in only " << measurements.VisiblePerPoint().minCoeff()
+        << " views; K = " << options.num_bases << " needs " << 3 * options.num_bases + 1
+        << " and " << (3 * options.num_bases + 1) / 2
+        << "): the start has K = " << reduced.num_bases << " and "
+        << options.num_bases - reduced.num_bases
+        << " more bases, zero at first, that the refinement fits";
+    summary->warnings.push_back(msg.str());
+  }
   CenteredData centered;
-  NRSFM_RETURN_IF_ERROR(CenterData(options, measurements, &centered, summary));
+  NRSFM_RETURN_IF_ERROR(CenterData(reduced, measurements, &centered, summary));
   CameraZeroStart start;
   NRSFM_RETURN_IF_ERROR(
-      StartOnCameraZero(options, centered.camera0, std::max(1, num_threads), &start)
+      StartOnCameraZero(reduced, centered.camera0, std::max(1, num_threads), &start)
           .WithContext("initialize"));
+  if (reduced.num_bases < options.num_bases) {
+    ExtendBases(options.num_bases, options.seed, &start.model);
+  }
   Model& result = start.model;
   const Eigen::Matrix2Xd camera0_translations = result.translations;
   if (measurements.num_cameras > 1) {
