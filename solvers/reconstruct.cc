@@ -47,6 +47,9 @@ namespace {
 Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
                       const Measurements& measurements, const PriorDecision& video,
                       ReconstructResult* result) {
+  if (options.solver.stop_requested && options.solver.stop_requested()) {
+    return Status::Error("stopped on request");
+  }
   StartOptions start = options.start;
   start.method = method;
   NRSFM_RETURN_IF_ERROR(
