@@ -91,7 +91,7 @@ Status BuildReconstructOptions(const CommandFlags& flags,
       return Status::Error(flag + " must be a finite number >= 0, got " +
                            FormatDouble(weight));
     }
-    if (weight > 0.0 && flags.cameras < terms[i].min_cameras) {
+    if (weight > 0.0 && flags.cameras != 0 && flags.cameras < terms[i].min_cameras) {
       return Status::Error(flag + " needs synchronised cameras: --cameras must be >= " +
                            std::to_string(terms[i].min_cameras) + ", got " +
                            std::to_string(flags.cameras));
@@ -160,8 +160,9 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
   if (!auto_k && (!ParseInt(flags.K, &num_bases) || num_bases < 1)) {
     return Status::Error("--K must be an integer >= 1 or 'auto', got '" + flags.K + "'");
   }
-  if (flags.cameras < 1) {
-    return Status::Error("--cameras must be >= 1, got " + std::to_string(flags.cameras));
+  if (flags.cameras < 0) {
+    return Status::Error("--cameras must be >= 1 (or 0: from the file), got " +
+                         std::to_string(flags.cameras));
   }
   ReconstructOptions options;
   NRSFM_RETURN_IF_ERROR(BuildReconstructOptions(flags, &options));
@@ -185,6 +186,16 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
   input_options.format = flags.format;
   Measurements measurements;
   NRSFM_RETURN_IF_ERROR(ReadMeasurements(flags.input, input_options, &measurements));
+  for (std::size_t i = 0; i < ExtraTerms().size(); ++i) {
+    if (flags.term_weights[i] > 0.0 &&
+        measurements.num_cameras < ExtraTerms()[i].min_cameras) {
+      return Status::Error(std::string("--") + ExtraTerms()[i].flag +
+                           " needs synchronised cameras: M must be >= " +
+                           std::to_string(ExtraTerms()[i].min_cameras) + ", but " +
+                           flags.input + " has M = " +
+                           std::to_string(measurements.num_cameras));
+    }
+  }
 
   GroundTruth truth;
   if (!flags.truth.empty()) {
@@ -393,7 +404,7 @@ Status RunSynth(const CommandFlags& flags, std::ostream& out) {
     ShoeOptions o;
     if (flags.frames != -1) o.num_frames = flags.frames;
     if (flags.points != -1) o.num_points = flags.points;
-    o.num_cameras = flags.cameras;
+    o.num_cameras = flags.cameras == 0 ? 1 : flags.cameras;
     o.noise_stddev = flags.noise;
     o.seed = flags.seed;
     NRSFM_RETURN_IF_ERROR(GenerateShoe(o, &sequence));

@@ -130,9 +130,32 @@ TEST_F(CliTest, SuperquadricAndShoeRoundTrips) {
   EXPECT_LT(Evaluate("s.mat", "s")["error3d_pct"].get<double>(), 5.0);
 }
 
+// The camera count comes from the file when it records one (synth writes
+// `cameras`): a one-camera shoe read with --cameras 2 is an error naming
+// both counts, not 250 frames of two cameras; a two-camera file needs no flag.
+TEST_F(CliTest, CamerasComeFromTheFile) {
+  ASSERT_EQ(Run("synth --dataset shoe --frames 40 --output one.mat").exit_code, 0);
+  ExpectFailure("reconstruct --input one.mat --K 2 --cameras 2 --output o",
+                "one.mat: the file records cameras = 1 (variable 'cameras') but 2 camera(s) "
+                "were asked for",
+                "o");
+  ASSERT_EQ(Run("synth --dataset shoe --frames 40 --cameras 2 --output two.mat").exit_code, 0);
+  const RunResult r = Run("reconstruct --input two.mat --K 2 --output t --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("F = 40, M = 2"), std::string::npos) << r.out;
+  const nlohmann::json result = nlohmann::json::parse(ReadFile(Path("t/result.json")));
+  EXPECT_EQ(result["num_cameras"], 2);
+  EXPECT_EQ(result["options"]["cameras"], "0");  // as given: from the file
+}
+
 TEST_F(CliTest, ExtraTermFlags) {
   ASSERT_EQ(Run("synth --dataset shoe --frames 40 --cameras 2 --output s.mat").exit_code, 0);
-  ExpectFailure("reconstruct --input s.mat --K 2 --rigidity 10 --output o", "--cameras", "o");
+  ASSERT_EQ(Run("synth --dataset shoe --frames 40 --output s1.mat").exit_code, 0);
+  ExpectFailure("reconstruct --input s1.mat --K 2 --rigidity 10 --output o",
+                "--rigidity needs synchronised cameras: M must be >= 2, but s1.mat has M = 1",
+                "o");
+  ExpectFailure("reconstruct --input s.mat --K 2 --cameras 1 --rigidity 10 --output o",
+                "--rigidity needs synchronised cameras: --cameras must be >= 2, got 1", "o");
   ExpectFailure("reconstruct --input s.mat --cameras 2 --K 2 --temporal -1 --output o",
                 ">= 0", "o");
   ExpectFailure("reconstruct --input s.mat --K 2 --temporal_shape -1 --output o", ">= 0", "o");
