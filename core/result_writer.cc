@@ -187,6 +187,8 @@ Status WriteJson(const fs::path& dir, const Measurements& measurements,
   json["reprojection_rms"] = report.reprojection_rms;
   json["solution_usable"] = report.solution_usable;
   json["warnings"] = report.warnings;
+  json["dropped_points"] = report.dropped_points;
+  json["dropped_frames"] = report.dropped_frames;
   Json term_weights = Json::object();
   for (const auto& [name, value] : report.term_weights) term_weights[name] = value;
   json["term_weights"] = term_weights;
@@ -316,8 +318,9 @@ Status WriteReconstruction(const std::string& dir,
                            const Measurements& measurements, const Model& model,
                            const ReconstructionReport& report,
                            const WriteOptions& options) {
+  const bool dropped = !report.dropped_points.empty() || !report.dropped_frames.empty();
   NRSFM_RETURN_IF_ERROR(
-      model.Validate().WithContext("WriteReconstruction: model"));
+      model.Validate(/*allow_nan=*/dropped).WithContext("WriteReconstruction: model"));
   if (measurements.num_frames != model.num_frames ||
       measurements.num_cameras != model.num_cameras ||
       measurements.num_points != model.num_points) {

@@ -270,6 +270,8 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
   report.warnings = result.start.warnings;
   report.warnings.insert(report.warnings.end(), result.warnings.begin(),
                          result.warnings.end());
+  report.dropped_points = result.dropped_points;
+  report.dropped_frames = result.dropped_frames;
   for (const auto& [name, weight] : result.priors.term_weights) {
     report.term_weights.emplace_back(name, weight);
   }
@@ -361,6 +363,8 @@ Status RunEvaluate(const CommandFlags& flags, std::ostream& out) {
   line["e3d_frame"] = EvaluationFrameName(errors.e3d_frame);
   line["F"] = errors.num_frames;
   line["P"] = errors.num_points;
+  if (!errors.unscored_frames.empty()) line["unscored_frames"] = errors.unscored_frames;
+  if (!errors.unscored_points.empty()) line["unscored_points"] = errors.unscored_points;
   out << line.dump() << "\n";
   return Status::OK();
 }

@@ -140,12 +140,46 @@ TEST_F(CliTest, CamerasComeFromTheFile) {
                 "were asked for",
                 "o");
   ASSERT_EQ(Run("synth --dataset shoe --frames 40 --cameras 2 --output two.mat").exit_code, 0);
-  const RunResult r = Run("reconstruct --input two.mat --K 2 --output t --quiet");
+  const RunResult r =
+      Run("reconstruct --input two.mat --K 2 --max_iterations 3 --output t --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("F = 40, M = 2"), std::string::npos) << r.out;
   const nlohmann::json result = nlohmann::json::parse(ReadFile(Path("t/result.json")));
   EXPECT_EQ(result["num_cameras"], 2);
   EXPECT_EQ(result["options"]["cameras"], "0");  // as given: from the file
+}
+
+// Seeds 6 and 7 of the one-camera shoe have points seen in too few frames
+// for the start (measured on the default 500 frames and on the 100 used
+// here: seed 6 points 40, 41, 85 seen once; seed 7 points 41, 42): they are
+// left out, named, NaN in the result, and the rest is exact; evaluate scores
+// the rest and lists what it did not score.
+TEST_F(CliTest, ShoeSeedsWithPointsSeenTooRarelyReconstruct) {
+  const std::vector<std::vector<int>> dropped = {{40, 41, 85}, {41, 42}};
+  // Under the sanitizers seed 6 alone (the same code path).
+  const std::vector<int> seeds =
+      testing_util::kSanitizedBuild ? std::vector<int>{6} : std::vector<int>{6, 7};
+  for (int seed : seeds) {
+    SCOPED_TRACE(seed);
+    const std::string name = "shoe" + std::to_string(seed);
+    ASSERT_EQ(Run("synth --dataset shoe --frames 100 --seed " + std::to_string(seed) +
+                  " --output " + name + ".mat")
+                  .exit_code,
+              0);
+    const RunResult r = Run("reconstruct --input " + name + ".mat --K 4 --output " + name +
+                            " --truth " + name + ".mat --quiet");
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    EXPECT_NE(r.out.find("warning: left out of the reconstruction"), std::string::npos) << r.out;
+    const nlohmann::json result =
+        nlohmann::json::parse(ReadFile(Path(name + "/result.json")));
+    EXPECT_EQ(result["dropped_points"].get<std::vector<int>>(), dropped[seed - 6]);
+    EXPECT_TRUE(result["dropped_frames"].empty());
+    EXPECT_LT(result["metrics"]["e3d"].get<double>(), 1e-6);
+    const nlohmann::json e = Evaluate(name + ".mat", name);
+    EXPECT_LT(e["error3d_pct"].get<double>(), 1e-4);
+    EXPECT_EQ(e["unscored_points"].get<std::vector<int>>(), dropped[seed - 6]);
+    EXPECT_EQ(e["P"].get<int>(), 110);
+  }
 }
 
 TEST_F(CliTest, ExtraTermFlags) {
