@@ -160,8 +160,10 @@ Status WritePly(const fs::path& dir, const Model& model) {
   return Status::OK();
 }
 
-Status WriteJson(const fs::path& dir, const Measurements& measurements,
-                 const Model& model, const ReconstructionReport& report) {
+}  // namespace
+
+std::string ReconstructionJson(const Measurements& measurements, const Model& model,
+                               const ReconstructionReport& report) {
   using Json = nlohmann::ordered_json;
   Json json;
   json["input"] = report.input;
@@ -210,12 +212,17 @@ Status WriteJson(const fs::path& dir, const Measurements& measurements,
                               std::to_string(NLOHMANN_JSON_VERSION_MINOR) +
                               "." + std::to_string(NLOHMANN_JSON_VERSION_PATCH);
   json["versions"] = versions;
+  // Invalid UTF-8 (e.g. in a path) is replaced instead of throwing.
+  return json.dump(2, ' ', false, Json::error_handler_t::replace);
+}
 
+namespace {
+
+Status WriteJson(const fs::path& dir, const Measurements& measurements,
+                 const Model& model, const ReconstructionReport& report) {
   OutputFile out;
   NRSFM_RETURN_IF_ERROR(out.Open(dir / "result.json"));
-  // Invalid UTF-8 (e.g. in a path) is replaced instead of throwing.
-  const std::string text =
-      json.dump(2, ' ', false, Json::error_handler_t::replace);
+  const std::string text = ReconstructionJson(measurements, model, report);
   std::fputs(text.c_str(), out.get());
   std::fputc('\n', out.get());
   return out.Close();

@@ -79,6 +79,11 @@ struct WriteOptions {
   bool overwrite = true;
 };
 
+// The text of result.json (indented JSON, NaN → null) for a model of
+// `measurements` and its report: what WriteReconstruction writes.
+std::string ReconstructionJson(const Measurements& measurements, const Model& model,
+                               const ReconstructionReport& report);
+
 // Fails (writing nothing) when the model is invalid or its sizes differ from
 // the measurements', when DIR is a file, when DIR is non-empty and overwrite
 // is false or DIR holds no result.json, and when the parent of DIR cannot be
