@@ -1,5 +1,6 @@
 #include "solvers/drop_unobserved.h"
 
+#include <algorithm>
 #include <limits>
 #include <sstream>
 
@@ -37,12 +38,14 @@ Status FindUnobserved(const Measurements& measurements, int num_bases,
   *unobserved = Unobserved();
   unobserved->num_bases = num_bases;
   const Measurements& m = measurements;
-  const int needed_points = 3 * num_bases + 1;       // per view
-  const int needed_views = (3 * num_bases + 1) / 2;  // ⌈3K / 2⌉ per point
-  if (m.IsComplete() || m.num_frames < 2 || 2 * m.num_frames < needed_points ||
-      m.num_points < needed_points) {
+  // Too small for K (also keeps 3K + 1 below the int range).
+  if (m.IsComplete() || m.num_frames < 2 ||
+      static_cast<long long>(num_bases) * 3 + 1 >
+          std::min(2LL * m.num_frames, static_cast<long long>(m.num_points))) {
     return Status::OK();
   }
+  const int needed_points = 3 * num_bases + 1;       // per view
+  const int needed_views = (3 * num_bases + 1) / 2;  // ⌈3K / 2⌉ per point
   std::vector<bool> point_kept(m.num_points, true), frame_kept(m.num_frames, true);
   for (bool changed = true; changed;) {
     changed = false;
