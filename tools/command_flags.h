@@ -71,7 +71,7 @@
     "reconstruct: solver threads.")                                              \
   X(std::string, linear_solver,                                                  \
     ::nrsfm::LinearSolverName(::nrsfm::SolverOptions().linear_solver),           \
-    "reconstruct: auto|dense_schur|sparse_schur|iterative_schur|"                \
+    "reconstruct: auto|structured|dense_schur|sparse_schur|iterative_schur|"     \
     "sparse_normal_cholesky|cgnr|dense_qr.")                                     \
   X(std::uint64_t, seed, ::nrsfm::StartOptions().seed,                           \
     "reconstruct: seed of the rigid and triple starts; synth: seed.")            \

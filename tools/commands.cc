@@ -176,10 +176,7 @@ Status RunEvaluate(const CommandFlags& flags, std::ostream& out) {
 }
 
 Status RunSynth(const CommandFlags& flags, std::ostream& out) {
-  if (flags.output.empty()) return Status::Error("--output PATH.mat is required");
-  if (std::filesystem::path(flags.output).extension() != ".mat") {
-    return Status::Error("--output must name a .mat file, got '" + flags.output + "'");
-  }
+  NRSFM_RETURN_IF_ERROR(CheckSynthOutput(flags.output));
   SyntheticSequence sequence;
   NRSFM_RETURN_IF_ERROR(Synthesize(flags, &sequence));
   NRSFM_RETURN_IF_ERROR(WriteMat(flags.output, MatVersion::kV5, SyntheticVariables(sequence)));

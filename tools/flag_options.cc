@@ -104,6 +104,19 @@ std::string FlagHelpFor(const std::string& help, const std::string& command) {
   return out;
 }
 
+std::string TermFlagHelp(const ExtraTerm& term) {
+  return std::string("reconstruct: weight of the ") + term.meaning + "; " + term.units +
+         ", 0 = off (docs/problem.md).";
+}
+
+Status CheckSynthOutput(const std::string& output) {
+  if (output.empty()) return Status::Error("--output PATH.mat is required");
+  if (std::filesystem::path(output).extension() != ".mat") {
+    return Status::Error("--output must name a .mat file, got '" + output + "'");
+  }
+  return Status::OK();
+}
+
 Status ParseNumBasesFlag(const std::string& value, bool* auto_k, int* num_bases) {
   *auto_k = value == "auto";
   if (*auto_k) return Status::OK();
@@ -139,6 +152,15 @@ Status BuildReconstructOptions(const CommandFlags& flags, ReconstructOptions* op
                            std::to_string(flags.cameras));
     }
     if (weight > 0.0) options->problem.term_weights[terms[i].name] = weight;
+  }
+  if (flags.K == "auto") {
+    if (flags.K_max < 2) {
+      return Status::Error("--K_max must be >= 2, got " + std::to_string(flags.K_max));
+    }
+    if (!(std::isfinite(flags.K_threshold) && flags.K_threshold >= 1.0)) {
+      return Status::Error("--K_threshold must be a finite number >= 1, got " +
+                           FormatDouble(flags.K_threshold));
+    }
   }
   // A weight given on the command line is a manual choice of the terms.
   if (!options->problem.term_weights.empty()) options->priors = PriorMode::kManual;

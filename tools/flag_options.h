@@ -18,6 +18,7 @@
 #include "core/result_writer.h"
 #include "core/status.h"
 #include "core/synthetic.h"
+#include "problems/extra_terms.h"
 #include "solvers/reconstruct.h"
 #include "solvers/select_num_bases.h"
 #include "tools/command_flags.h"
@@ -36,13 +37,18 @@ const char* VersionString();
 // "(--K auto) largest K tried." for "reconstruct".
 std::string FlagHelpFor(const std::string& help, const std::string& command);
 
+// The help of an extra term's weight flag (--smoothness, …): "reconstruct:
+// weight of the <meaning>; <units>, 0 = off (docs/problem.md)."
+std::string TermFlagHelp(const ExtraTerm& term);
+
 // Parses --K of reconstruct: an integer >= 1 or "auto".
 Status ParseNumBasesFlag(const std::string& value, bool* auto_k, int* num_bases);
 
 // Every reconstruct flag that sets a library option (--init, --priors,
 // --robust, --robust_scale, --linear_solver, --max_iterations, --threads,
-// --seed and the extra terms' weights; not --K, --K_max, --K_threshold,
-// which RunReconstruction reads). Errors name the flag and value.
+// --seed and the extra terms' weights; with --K auto it checks --K_max and
+// --K_threshold, which RunReconstruction reads). Errors name the flag and
+// value.
 Status BuildReconstructOptions(const CommandFlags& flags, ReconstructOptions* options);
 
 // --var, --mask_var, --format and --cameras.
@@ -91,6 +97,9 @@ std::vector<std::pair<std::string, double>> MetricList(const ShapeErrors& errors
 // The one JSON line `nrsfm evaluate` prints: MetricList, e3d_frame, F, P
 // and, when not empty, unscored_frames / unscored_points.
 std::string EvaluationJson(const ShapeErrors& errors);
+
+// --output of synth: a path ending in .mat.
+Status CheckSynthOutput(const std::string& output);
 
 // `nrsfm synth` without its output: --dataset, --frames, --points, --K,
 // --cameras, --noise, --missing, --seed checked and the generator run.
