@@ -234,7 +234,9 @@ const std::vector<Flag>& Flags() {
     const std::vector<ExtraTerm>& terms = ExtraTerms();
     for (std::size_t i = 0; i < terms.size(); ++i) {
       list.push_back({terms[i].flag, "float", tools::TermFlagHelp(terms[i]),
-                      [i](const CommandFlags& f) { return py::object(py::float_(f.term_weights[i])); },
+                      [i](const CommandFlags& f) {
+                        return py::object(py::float_(f.term_weights[i]));
+                      },
                       [i, name = std::string(terms[i].flag)](CommandFlags* f, py::handle v) {
                         f->term_weights[i] = FlagType<double>::FromPython(v, name);
                       }});
@@ -962,6 +964,12 @@ GroundTruth ShapesForEvaluation(py::handle object, bool is_truth, const std::str
     return shapes;
   }
   const std::string name = is_truth ? "truth" : "result";
+  // The Tracks of synth carry their truth.
+  if (is_truth && py::isinstance<Tracks>(object)) {
+    py::object truth = object.cast<const Tracks&>().truth;
+    if (truth.is_none()) ThrowValueError("truth: these Tracks have no truth (only synth's do)");
+    return ShapesForEvaluation(truth, is_truth, variable);
+  }
   if (py::hasattr(object, "points_camera") || py::isinstance<py::dict>(object)) {
     py::object points_camera = Field(object, "points_camera");
     if (points_camera.is_none()) ThrowValueError(name + " has no points_camera");
@@ -1095,8 +1103,8 @@ std::string EvaluateDoc() {
          "rotation_error (when both have rotations), e3d_frame, F, P, and\n"
          "unscored_frames / unscored_points when the result holds NaN there.\n"
          "truth: a path as --truth (.mat with S + Rs, P3_gt or X; a result directory),\n"
-         "an array (F, 3, P) of camera-frame shapes, or an object with points_camera\n"
-         "(camera 0). result: a result directory or points_camera.csv, an array\n"
+         "an array (F, 3, P) of camera-frame shapes, an object with points_camera\n"
+         "(camera 0), or the Tracks of synth (their truth). result: a result directory or points_camera.csv, an array\n"
          "(F, 3, P), or a Reconstruction (camera 0 and its object frame, so a truth\n"
          "with S + Rs is scored in the object frame, as the tool does).\n"
          "\n"

@@ -68,6 +68,19 @@ def test_evaluate_gives_the_tools_numbers(tmp_path):
     assert nrsfm.evaluate(r.points_camera[:, 0], r)["e3d"] < 1e-12
 
 
+def test_evaluate_takes_synths_tracks_as_the_truth(tmp_path):
+    path = str(tmp_path / "s.mat")
+    s = nrsfm.synth(dataset="random", frames=30, points=12, K=1, seed=9, output=path)
+    r = nrsfm.reconstruct(s.W, 1)
+    assert nrsfm.evaluate(s, r) == nrsfm.evaluate(s.truth, r)
+    # P3_gt (3F, P), rows x of every frame, then y, then z: the same truth.
+    p3 = s.P3_gt.reshape(3, 30, 12).transpose(1, 0, 2)
+    assert nrsfm.evaluate(p3, r)["e3d"] == pytest.approx(nrsfm.evaluate(s, r)["e3d"], rel=1e-9)
+    assert nrsfm.evaluate(path, r)["e3d"] == pytest.approx(nrsfm.evaluate(s, r)["e3d"], rel=1e-9)
+    with pytest.raises(ValueError, match="these Tracks have no truth"):
+        nrsfm.evaluate(nrsfm.read(path), r)
+
+
 def tool_flags():
     """{flag: (type, default)} from `nrsfm --help`."""
     text = subprocess.run([cli(), "--help"], capture_output=True, text=True).stdout
