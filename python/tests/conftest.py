@@ -1,4 +1,4 @@
-"""Shared helpers of the tests of the Python module nrsfm (python/)."""
+"""What the tests of the Python module nrsfm (python/) share."""
 import os
 import subprocess
 
@@ -28,7 +28,7 @@ def reprojection(result):
     return x.reshape(f * m * 2, p)
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="module")
 def random_sequence():
     """Noise-free random-basis data with 10 % missing, K = 3."""
     return nrsfm.synth(dataset="random", frames=80, points=30, K=3, missing=0.1, seed=4)
