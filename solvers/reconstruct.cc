@@ -9,6 +9,7 @@
 
 #include "core/enum_names.h"
 #include "core/option_checker.h"
+#include "solvers/drop_unobserved.h"
 
 namespace nrsfm {
 namespace {
@@ -47,6 +48,9 @@ namespace {
 Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
                       const Measurements& measurements, const PriorDecision& video,
                       ReconstructResult* result) {
+  if (options.solver.stop_requested && options.solver.stop_requested()) {
+    return Status::Error("stopped on request");
+  }
   StartOptions start = options.start;
   start.method = method;
   NRSFM_RETURN_IF_ERROR(
@@ -80,6 +84,21 @@ Status Reconstruct(const ReconstructOptions& options,
   *result = ReconstructResult();
   NRSFM_RETURN_IF_ERROR(options.Check());
   NRSFM_RETURN_IF_ERROR(measurements.Validate());
+  Unobserved unobserved;
+  NRSFM_RETURN_IF_ERROR(
+      FindUnobserved(measurements, options.start.num_bases, &unobserved));
+  if (!unobserved.empty()) {
+    NRSFM_RETURN_IF_ERROR(
+        Reconstruct(options, WithoutUnobserved(measurements, unobserved), result));
+    result->model = ExpandModel(result->model, measurements, unobserved);
+    result->dropped_points = unobserved.points;
+    result->dropped_frames = unobserved.frames;
+    result->warnings.insert(result->warnings.begin(),
+                            UnobservedWarning(measurements, unobserved));
+    result->total_seconds = std::chrono::duration<double>(
+        std::chrono::steady_clock::now() - start).count();
+    return Status::OK();
+  }
   PriorDecision video;
   if (options.priors == PriorMode::kAuto) {
     DecideVideoPriors(options.prior_rule, measurements, options.start.num_bases,

@@ -38,6 +38,14 @@ struct SolverOptions {
   double initial_trust_region_radius = 1e2;
   int verbosity = 0;  // 0 silent, ≥ 1 one VLOG(1) line per iteration
   std::function<void(const IterationReport&)> progress;  // optional, per iteration
+  // Optional: asked after every LM iteration (after `progress`; also after
+  // iteration 0, before the first step). Returning true ends the solve
+  // there: Refine() keeps the last accepted iterate (usable as after any
+  // stop), RefineSummary::stopped is true and converged false. Reconstruct()
+  // also asks before each start and then returns the error "stopped on
+  // request" instead of computing another start. Called on the thread that
+  // called Refine()/Reconstruct().
+  std::function<bool()> stop_requested;
 
   // Errors on a negative count, tolerance or time, num_threads < 1 and an
   // initial_trust_region_radius that is not positive and finite.

@@ -714,6 +714,11 @@ bool Solver::Run(StructuredSolverSummary* summary) {
       summary->message = "time limit";
       break;
     }
+    if (options_.stop_requested && options_.stop_requested()) {
+      summary->message = "stopped on request";
+      summary->stopped = true;
+      break;
+    }
     ++iteration;
     const double mu = 1.0 / radius;
     summary->cg_iterations += SolveStep(mu, &step_reduced, &step_eliminated);

@@ -36,7 +36,9 @@
     "reconstruct, view: input format auto|mat|text|list.")                       \
   X(int, cameras, ::nrsfm::InputOptions().num_cameras,                           \
     "reconstruct: number of synchronised cameras M of a W input with 2FM rows; " \
-    "synth: cameras of the shoe (1 or 2).")                                      \
+    "0 = what the file records (a .mat file's 'cameras' variable, an "          \
+    "observation list's camera indices), else 1; a count that disagrees with "  \
+    "the file is an error. synth: cameras of the shoe (1 or 2; 0 = 1).")         \
   X(std::string, K, "",                                                          \
     "reconstruct: number of basis shapes, an integer >= 1 or 'auto'; synth: "    \
     "basis shapes of the random generator (default 5).")                         \
@@ -70,7 +72,7 @@
     "reconstruct: solver threads.")                                              \
   X(std::string, linear_solver,                                                  \
     ::nrsfm::LinearSolverName(::nrsfm::SolverOptions().linear_solver),           \
-    "reconstruct: auto|dense_schur|sparse_schur|iterative_schur|"                \
+    "reconstruct: auto|structured|dense_schur|sparse_schur|iterative_schur|"     \
     "sparse_normal_cholesky|cgnr|dense_qr.")                                     \
   X(std::uint64_t, seed, ::nrsfm::StartOptions().seed,                           \
     "reconstruct: seed of the rigid and triple starts; synth: seed.")            \
