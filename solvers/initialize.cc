@@ -37,14 +37,15 @@ struct CenteredData {
 Status CheckData(const StartOptions& options, const Measurements& data) {
   const int f = data.num_frames;
   const int p = data.num_points;
-  const int needed = 3 * options.num_bases + 1;
+  // 64 bits: K comes from the user and 3K + 1 may not fit an int.
+  const long long needed = 3LL * options.num_bases + 1;
   std::ostringstream msg;
   msg << "initialize: ";
   if (f < 2) {
     msg << "needs at least 2 frames, got F = " << f;
     return Status::Error(msg.str());
   }
-  if (p < needed || 2 * f < needed) {
+  if (p < needed || 2LL * f < needed) {
     msg << "K = " << options.num_bases << " needs 3K + 1 = " << needed
         << " points and 2F >= " << needed << "; got P = " << p << ", F = " << f;
     return Status::Error(msg.str());

@@ -189,6 +189,9 @@ TEST_F(BadInputTest, KTooLarge) {
   WriteW("small.mat", RotatingW(10, 8));
   // 3K + 1 = 10 > P = 8.
   ExpectRejected("small.mat", "--K 3", {"small.mat", "K"});
+  // 3K + 1 beyond the range of an int: counted in 64 bits, not wrapped.
+  ExpectRejected("small.mat", "--K 1000000000",
+                 {"small.mat", "K = 1000000000 needs 3K + 1 = 3000000001 points"});
 }
 
 TEST_F(BadInputTest, CorruptFiles) {
