@@ -6,6 +6,7 @@
 
 #include <iomanip>
 #include <sstream>
+#include <string>
 
 #include "core/enum_names.h"
 #include "core/option_checker.h"
@@ -135,6 +136,14 @@ Status Reconstruct(const ReconstructOptions& options,
           std::string(keep_rigid ? "factorization" : "rigid") +
           " start failed: " + other.message());
     }
+  }
+  if (result->refine.usable && !result->refine.converged && !result->refine.stopped &&
+      result->refine.iterations >= options.solver.max_iterations) {
+    result->warnings.push_back(
+        "the refinement stopped at its iteration limit (" +
+        std::to_string(options.solver.max_iterations) +
+        ") before its tolerances were met; more iterations (max_iterations) may "
+        "still change the result");
   }
   result->largest_view_angle_deg = LargestViewAngleDeg(result->model);
   if (result->largest_view_angle_deg < kLittleRotationDeg) {

@@ -51,7 +51,8 @@ struct ReconstructResult {
   // (with priors = kManual: only term_weights, the caller's).
   PriorDecision priors;
   // The largest angle between two frames' camera-0 rotations of the result,
-  // degrees, and the warnings about the result as a whole (little rotation).
+  // degrees, and the warnings about the result as a whole (left-out points
+  // or frames, the iteration limit reached, little rotation).
   double largest_view_angle_deg = 0;
   std::vector<std::string> warnings;
   // Points and frames with too few observations, left out of the solve and

@@ -22,7 +22,10 @@ struct IterationReport {
 };
 
 struct SolverOptions {
-  int max_iterations = 100;            // LM iterations, ≥ 0
+  // LM iterations, ≥ 0: a safety limit; a solve normally ends by a tolerance
+  // (docs/performance.md: 44–88 iterations on the real sequences, up to ~320
+  // on slowly turning, noisy ones). Reconstruct() warns when it is reached.
+  int max_iterations = 500;
   double function_tolerance = 1e-10;   // stop when |Δcost| / cost < this, ≥ 0
   double gradient_tolerance = 1e-12;   // stop when max|projected gradient| < this, ≥ 0
   double parameter_tolerance = 1e-10;  // stop when |Δx| < this · (|x| + this), ≥ 0

@@ -142,6 +142,8 @@ class Solver {
   std::vector<Residual> residuals_;
   std::vector<std::vector<Ref>> group_refs_, shared_refs_, eliminated_refs_;
   std::vector<int> residuals_with_shared_;
+  std::vector<int> residuals_without_eliminated_;
+  int max_rows_per_residual_ = 0;
   std::vector<double> jacobian_;
   Eigen::VectorXd r_, gradient_reduced_, gradient_eliminated_, d_reduced_, d_eliminated_;
   std::vector<Eigen::LLT<Eigen::MatrixXd>> eliminated_llt_;  // per eliminated block
@@ -280,7 +282,10 @@ bool Solver::Setup(const StructuredLayout& layout, std::string* error) {
     if (with_shared) residuals_with_shared_.push_back(static_cast<int>(i));
     if (r.eliminated >= 0) {
       eliminated_refs_[eliminated_position[r.eliminated]].push_back({static_cast<int>(i), -1});
+    } else {
+      residuals_without_eliminated_.push_back(static_cast<int>(i));
     }
+    max_rows_per_residual_ = std::max(max_rows_per_residual_, r.m);
   }
   return true;
 }
@@ -600,14 +605,69 @@ void Solver::ApplyPreconditioner(const Eigen::VectorXd& in, Eigen::VectorXd* out
 }
 
 void Solver::ApplyReduced(const Eigen::VectorXd& v, double mu, Eigen::VectorXd* out) const {
-  // S v = J_fᵀ (J_f v − J_p C̃⁻¹ J_pᵀ J_f v) + μ D_f v.
-  Eigen::VectorXd rows, projected, solved, correction;
-  MultiplyJ(&v, nullptr, &rows);
-  MultiplyJtEliminated(rows, &projected);
+  // S v = J_fᵀ (J_f v − J_p C̃⁻¹ J_pᵀ J_f v) + μ D_f v, in two passes over the
+  // Jacobian (it does not fit in the caches, so reading it is the cost):
+  // per point, rows = J_f v of its residuals and J_pᵀ rows; then per frame
+  // group, J_fᵀ (rows − J_p C̃⁻¹ J_pᵀ rows).
+  Eigen::VectorXd rows(num_rows_), projected(num_eliminated_), solved;
+  const auto rows_of = [&](const Residual& r) {
+    double* y = rows.data() + r.row;
+    std::fill(y, y + r.m, 0.0);
+    for (const Segment& s : r.reduced) {
+      AddAx(J(r) + s.jcol, r.m, s.width, r.width, v.data() + s.col, y);
+    }
+  };
+  ParallelFor(static_cast<int>(eliminated_blocks_.size()), options_.num_threads, kGrain,
+              [&](int begin, int end) {
+                for (int k = begin; k < end; ++k) {
+                  const Block& b = blocks_[eliminated_blocks_[k]];
+                  std::fill(projected.data() + b.offset, projected.data() + b.offset + b.size,
+                            0.0);
+                  for (const Ref& ref : eliminated_refs_[k]) {
+                    const Residual& r = residuals_[ref.residual];
+                    rows_of(r);
+                    AddAty(J(r) + r.eliminated_jcol, r.m, b.size, r.width,
+                           rows.data() + r.row, projected.data() + b.offset);
+                  }
+                }
+              });
+  for (int i : residuals_without_eliminated_) rows_of(residuals_[i]);
   SolveEliminated(projected, &solved);
-  MultiplyJ(nullptr, &solved, &correction);
-  rows -= correction;
-  MultiplyJtReduced(rows, out);
+  out->setZero(num_reduced_);
+  // rows − J_p C̃⁻¹ J_pᵀ rows of one residual, into `y` (r.m values).
+  const auto corrected = [&](const Residual& r, double* y) {
+    std::copy(rows.data() + r.row, rows.data() + r.row + r.m, y);
+    if (r.eliminated < 0) return;
+    const Block& b = blocks_[r.eliminated];
+    const double* jp = J(r) + r.eliminated_jcol;
+    const double* z = solved.data() + b.offset;
+    for (int i = 0; i < r.m; ++i) {
+      double sum = 0.0;
+      for (int j = 0; j < b.size; ++j) sum += jp[i * r.width + j] * z[j];
+      y[i] -= sum;
+    }
+  };
+  const int num_groups = static_cast<int>(group_refs_.size());
+  ParallelFor(num_groups, options_.num_threads, kGrain, [&](int begin, int end) {
+    std::vector<double> y(max_rows_per_residual_);
+    for (int g = begin; g < end; ++g) {
+      for (const Ref& ref : group_refs_[g]) {
+        const Residual& r = residuals_[ref.residual];
+        const Segment& s = r.reduced[ref.segment];
+        corrected(r, y.data());
+        AddAty(J(r) + s.jcol, r.m, s.width, r.width, y.data(), out->data() + s.col);
+      }
+    }
+  });
+  std::vector<double> y(max_rows_per_residual_);
+  for (std::size_t k = 0; k < shared_refs_.size(); ++k) {
+    for (const Ref& ref : shared_refs_[k]) {
+      const Residual& r = residuals_[ref.residual];
+      const Segment& s = r.reduced[ref.segment];
+      corrected(r, y.data());
+      AddAty(J(r) + s.jcol, r.m, s.width, r.width, y.data(), out->data() + s.col);
+    }
+  }
   out->array() += mu * d_reduced_.array() * v.array();
 }
 
