@@ -893,6 +893,22 @@ Tracks Synth(const py::kwargs& kwargs) {
     }
   }
   if (!flags.output.empty()) Check(tools::CheckSynthOutput(flags.output));
+  if (flags.dataset == "reproject") {
+    // Its truth is an object frame with rotations (S + Rs), read back from
+    // the file by evaluate(), so the file is needed.
+    if (flags.output.empty()) {
+      ThrowValueError("synth: dataset 'reproject' needs output= (a .mat path): its truth "
+                      "(S and Rs) is scored from that file");
+    }
+    ReprojectedSequence reprojected;
+    std::vector<MatVariable> variables;
+    Check(tools::SynthesizeReprojection(flags, &reprojected, &variables));
+    const Status status = WriteMat(flags.output, MatVersion::kV5, variables);
+    if (!status.ok()) ThrowFileError(flags.output, status);
+    Tracks tracks = TracksOf(reprojected.measurements);
+    tracks.truth = py::str(flags.output);
+    return tracks;
+  }
   SyntheticSequence sequence;
   Check(tools::Synthesize(flags, &sequence));
   const std::vector<MatVariable> variables = tools::SyntheticVariables(sequence);
@@ -1168,7 +1184,9 @@ PYBIND11_MODULE(nrsfm, m) {
       .def_readonly("W", &Tracks::W, "(2FM, P) float64, NaN = missing")
       .def_readonly("mask", &Tracks::mask, "(FM, P) bool, True = visible")
       .def_readonly("cameras", &Tracks::cameras, "M")
-      .def_readonly("truth", &Tracks::truth, "synth: a Reconstruction of the truth; else None")
+      .def_readonly("truth", &Tracks::truth,
+                    "synth: a Reconstruction of the truth (reproject: the path of the "
+                    "written file, scored in its object frame); else None")
       .def_readonly("P3_gt", &Tracks::P3_gt, "synth: (3F, P) camera 0's truth; else None")
       .def("__repr__", [](const Tracks& t) {
         const py::array w = t.W;

@@ -25,7 +25,8 @@
 #define NRSFM_COMMAND_FLAGS(X)                                                   \
   X(std::string, input, "",                                                      \
     "reconstruct, view: input file (.mat v4/v5/v7.3, text/CSV W, or an "         \
-    "observation list .obs/.list 'frame camera point u v').")                    \
+    "observation list .obs/.list 'frame camera point u v'); synth --dataset "   \
+    "reproject: the source truth (.mat with S+Rs, P3_gt or X).")                 \
   X(std::string, var, ::nrsfm::InputOptions().variable,                          \
     "reconstruct, view: variable of a .mat input (default: W, then P3_gt, "      \
     "then X).")                                                                  \
@@ -81,7 +82,8 @@
     "or a result directory).")                                                   \
   X(std::string, truth_var, "",                                                  \
     "reconstruct, evaluate, view: variable of the truth .mat (default: S+Rs, "   \
-    "then P3_gt, then X).")                                                      \
+    "then P3_gt, then X); synth --dataset reproject: variable of the source "  \
+    "--input.")                                                                  \
   X(std::string, result, "",                                                     \
     "evaluate, view: result directory of a reconstruction.")                     \
   X(std::string, dataset, "random",                                              \

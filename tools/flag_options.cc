@@ -311,6 +311,81 @@ std::string EvaluationJson(const ShapeErrors& errors) {
   return line.dump();
 }
 
+namespace {
+
+// Parses "x,y,z" into a vector; false on anything else.
+bool ParseVector3(const std::string& text, Eigen::Vector3d* v) {
+  std::stringstream in(text);
+  std::string item;
+  int i = 0;
+  while (std::getline(in, item, ',')) {
+    if (i == 3) return false;
+    try {
+      std::size_t used = 0;
+      (*v)(i) = std::stod(item, &used);
+      if (used != item.size()) return false;
+    } catch (...) {
+      return false;
+    }
+    ++i;
+  }
+  return i == 3;
+}
+
+}  // namespace
+
+Status SynthesizeReprojection(const CommandFlags& flags, ReprojectedSequence* sequence,
+                              std::vector<MatVariable>* variables) {
+  if (flags.input.empty()) {
+    return Status::Error("--input is required for --dataset reproject (a .mat "
+                         "with S + Rs, P3_gt or X)");
+  }
+  if (!flags.K.empty() || flags.frames != -1 || flags.points != -1) {
+    return Status::Error("--K, --frames and --points do not apply to --dataset "
+                         "reproject (the source fixes them)");
+  }
+  if (flags.noise != 0.0) {
+    return Status::Error("--noise does not apply to --dataset reproject; give "
+                         "--noise_fraction (of the image size)");
+  }
+  ReprojectOptions options;
+  options.total_rotation_deg = flags.rotation;
+  if (!ParseVector3(flags.axis, &options.axis)) {
+    return Status::Error("--axis must be three numbers x,y,z, got '" + flags.axis + "'");
+  }
+  NRSFM_RETURN_IF_ERROR(
+      ParseSpeedProfile(flags.profile, &options.profile).WithContext("--profile"));
+  options.noise_fraction = flags.noise_fraction;
+  options.missing_fraction = flags.missing;
+  options.occlusion_radius = flags.occlusion;
+  options.seed = flags.seed;
+  GroundTruth source;
+  NRSFM_RETURN_IF_ERROR(ReadTruth(flags.input, flags.truth_var, &source));
+  NRSFM_RETURN_IF_ERROR(GenerateReprojection(source, options, sequence)
+                            .WithContext("--input " + flags.input));
+  const Measurements& m = sequence->measurements;
+  const int f = m.num_frames, p = m.num_points;
+  Eigen::MatrixXd w = m.W, s(3 * f, p), rs(2 * f, 3);
+  for (int t = 0; t < f; ++t) {
+    s.middleRows(3 * t, 3) = sequence->truth.points_in_object[t];
+    rs.middleRows(2 * t, 2) = sequence->truth.rotations[t].topRows<2>();
+  }
+  *variables = {
+      {"W", w, {}},
+      {"S", s, {}},
+      {"Rs", rs, {}},
+      {"cameras", Eigen::MatrixXd::Constant(1, 1, 1.0), {}},
+      {"image_size", Eigen::MatrixXd::Constant(1, 1, sequence->image_size), {}},
+      {"noise_stddev", Eigen::MatrixXd::Constant(1, 1, sequence->noise_stddev), {}}};
+  // The skeleton edges of the source, for nrsfm view.
+  Eigen::MatrixXd list;
+  if (std::filesystem::path(flags.input).extension() == ".mat" &&
+      ReadMatVariable(flags.input, "list", &list).ok()) {
+    variables->push_back({"list", list, {}});
+  }
+  return Status::OK();
+}
+
 Status Synthesize(const CommandFlags& flags, SyntheticSequence* sequence) {
   int k = -1;
   if (!flags.K.empty() && (!ParseInt(flags.K, &k) || k < 1)) {

@@ -105,6 +105,17 @@ Status CheckSynthOutput(const std::string& output);
 // --cameras, --noise, --missing, --seed checked and the generator run.
 Status Synthesize(const CommandFlags& flags, SyntheticSequence* sequence);
 
+// `nrsfm synth --dataset reproject` without its output: the truth of
+// --input (read as --truth is) under the camera path of --rotation, --axis,
+// --profile, with --noise_fraction, --missing, --occlusion and --seed
+// (core/synthetic.h GenerateReprojection), and the variables of its .mat
+// file, written like the Akhter et al. files: W (NaN where missing), S
+// (object frame, rows x_t, y_t, z_t), Rs (2F × 3), cameras, image_size,
+// noise_stddev and the source's skeleton `list` when it has one. Errors on
+// flags that do not apply (--K, --frames, --points, --noise) and bad values.
+Status SynthesizeReprojection(const CommandFlags& flags, ReprojectedSequence* sequence,
+                              std::vector<MatVariable>* variables);
+
 // What `nrsfm synth` writes into its .mat file: W (NaN where missing),
 // P3_gt (camera 0's truth, block layout), rotations_gt, weights_gt,
 // basis_gt and cameras.

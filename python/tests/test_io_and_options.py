@@ -141,3 +141,23 @@ def test_reconstruct_takes_what_read_gives(tmp_path):
     t = nrsfm.read(path)
     r = nrsfm.reconstruct(t.W, 4, mask=t.mask, cameras=t.cameras)
     assert nrsfm.evaluate(path, r)["error3d_pct"] < 5.0
+
+
+def test_synth_reproject_writes_its_truth_and_evaluate_scores_the_object_frame(tmp_path):
+    source = nrsfm.synth(dataset="random", frames=60, points=20, K=2, seed=3,
+                         output=str(tmp_path / "r.mat"))
+    assert source.truth is not None
+    tracks = nrsfm.synth(dataset="reproject", input=str(tmp_path / "r.mat"), rotation=120,
+                         profile="ramp", output=str(tmp_path / "rp.mat"))
+    assert tracks.W.shape == (120, 20)
+    assert tracks.truth == str(tmp_path / "rp.mat")
+    result = nrsfm.reconstruct(tracks.W, 2)
+    scores = nrsfm.evaluate(tracks, result)
+    assert scores["e3d_frame"] == "object"
+    assert "rotation_error" in scores
+    assert scores["e3d_camera"] < 1e-6
+    with pytest.raises(ValueError, match="needs output="):
+        nrsfm.synth(dataset="reproject", input=str(tmp_path / "r.mat"))
+    with pytest.raises(ValueError, match="--axis must be three numbers"):
+        nrsfm.synth(dataset="reproject", input=str(tmp_path / "r.mat"), axis="1,2",
+                    output=str(tmp_path / "x.mat"))
