@@ -23,6 +23,7 @@
 #include <Eigen/Core>
 
 #include "core/read_measurements.h"
+#include "problems/extra_terms.h"
 
 namespace nrsfm {
 namespace bench {
@@ -43,7 +44,7 @@ ReconstructOptions DefaultReconstructOptions(int num_bases, int threads) {
 
 bool EnableTwoCameraRigidity(ReconstructOptions* options) {
   options->priors = PriorMode::kManual;
-  options->problem.term_weights["rigidity"] = kTwoCameraRigidityWeight;
+  options->problem.term_weights[kRigidityTerm] = kTwoCameraRigidityWeight;
   return true;
 }
 

@@ -37,8 +37,7 @@ struct BenchConfig {
   std::string mocap_sequences;  // comma-separated file stems to run ("" = all)
   double max_seconds = 0;     // wall-time cap of each shoe and mocap refinement, 0 = none
   int jobs = 1;               // reconstructions run at once (the scale suite: always 1)
-  int max_iterations = 0;       // LM iterations per refinement, 0 = the library default
-  std::string strategy = "triple+ts";  // mocap: plain | triple, ts joined by '+' | all
+  std::string strategy = "default";  // mocap: default | plain | triple, ts joined by '+' | all
 };
 
 // The options every suite uses unless it says otherwise: Reconstruct()'s

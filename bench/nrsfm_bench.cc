@@ -99,7 +99,6 @@ int main(int argc, char** argv) {
   config.plots = FLAGS_plots;
   config.strategy = FLAGS_strategy;
   config.mocap_sequences = FLAGS_mocap_sequences;
-  config.max_iterations = FLAGS_max_iterations;
   config.quick = FLAGS_suite == "default" && !FLAGS_full;
   config.max_seconds = FLAGS_max_seconds;
   if (!config.quick &&

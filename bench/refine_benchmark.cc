@@ -119,8 +119,9 @@ void SolveOnce(const SyntheticSequence& sequence, const Model& start,
   std::fflush(stdout);
 }
 
-// The start Reconstruct()'s `auto` rule keeps without refining it (0 LM
-// iterations: the lower initial cost, i.e. the lower start RMS).
+// The start Reconstruct()'s `auto` rule gives these measurements, not
+// refined (0 LM iterations): the triple start for a video with 3K >= P/2,
+// else of the factorization and rigid starts the lower initial cost.
 Model StartKeptByAuto(int num_bases, const Measurements& measurements) {
   ReconstructOptions options;
   options.start.num_bases = num_bases;

@@ -19,6 +19,8 @@
 #include "bench/suites.h"
 #include "core/ground_truth.h"
 #include "core/read_measurements.h"
+#include "solvers/prior_rule.h"
+#include "problems/extra_terms.h"
 
 namespace nrsfm {
 namespace bench {
@@ -51,7 +53,7 @@ using Sequence = MocapSequence;
 // solvers/triple_start.h) and "ts" (the object-frame temporal shape prior,
 // λ_S = kTemporalShapeWeight, problems/temporal_error.h). "all" runs the
 // ablation list below.
-constexpr double kTemporalShapeWeight = 1.0;
+const double kTemporalShapeWeight = PriorRuleOptions().temporal_shape_weight;
 
 std::vector<std::string> Strategies(const BenchConfig& config) {
   if (config.strategy == "all") {
@@ -72,7 +74,7 @@ RunOutcome RunStrategy(const std::string& strategy, int num_bases,
   options.solver.max_seconds = config.max_seconds;
   if (strategy != "default") options.priors = PriorMode::kManual;
   if (HasPart(strategy, "triple")) options.start.method = StartMethod::kTriple;
-  if (HasPart(strategy, "ts")) options.problem.term_weights["temporal_shape"] = kTemporalShapeWeight;
+  if (HasPart(strategy, "ts")) options.problem.term_weights[kTemporalShapeTerm] = kTemporalShapeWeight;
   return ReconstructAndEvaluate(options, sequence.measurements, sequence.truth);
 }
 

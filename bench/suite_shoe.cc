@@ -17,6 +17,7 @@
 #include "bench/bench_common.h"
 #include "bench/suites.h"
 #include "core/synthetic.h"
+#include "problems/extra_terms.h"
 
 namespace nrsfm {
 namespace bench {
@@ -56,7 +57,7 @@ Status RunShoeSuite(const BenchConfig& config, Json* out) {
     const auto options = [&config, cameras](int k) {
       ReconstructOptions o = DefaultReconstructOptions(k, config.threads);
       o.priors = PriorMode::kManual;
-      o.problem.term_weights["smoothness"] = kShoeSmoothnessWeight;
+      o.problem.term_weights[kSmoothnessTerm] = kShoeSmoothnessWeight;
       o.solver.max_seconds = config.max_seconds;
       if (cameras == 2) EnableTwoCameraRigidity(&o);
       return o;

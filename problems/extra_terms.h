@@ -18,6 +18,15 @@
 
 namespace nrsfm {
 
+// The names of the terms (ExtraTerm::name, keys of
+// ProblemOptions::term_weights), for code that sets a weight.
+inline constexpr char kSmoothnessTerm[] = "smoothness";
+inline constexpr char kRigidityTerm[] = "rigidity";
+inline constexpr char kTemporalWeightsTerm[] = "temporal_weights";
+inline constexpr char kTemporalRotationsTerm[] = "temporal_rotations";
+inline constexpr char kTemporalShapeTerm[] = "temporal_shape";
+inline constexpr char kRotationAccelerationTerm[] = "rotation_acceleration";
+
 struct ExtraTerm {
   // Adds the residual blocks of the term with weight `weight` > 0 to the
   // builder's problem and returns how many; errors (e.g. data the term cannot

@@ -81,9 +81,15 @@ struct StartSummary {
 // rig_scales estimated). Errors (never NaN output) on invalid options, on
 // method = auto, on invalid measurements, F < 2, P < 3K + 1 or 2F < 3K + 1,
 // a view or point with no visible entry (named), a view with fewer than
-// 3K + 1 visible points or a point seen in fewer than ⌈3K / 2⌉ views when
-// entries are missing, tracks with no rotation (rank < 3, or orthonormality
-// equations that do not determine the metric), and when the start fails.
+// 4 visible points or a point seen in fewer than 2 views when entries are
+// missing (what K' = 1 needs), tracks with no rotation (rank < 3, or
+// orthonormality equations that do not determine the metric), and when the
+// start fails.
+// Missing entries: the rank-3K completion needs every view to see 3K + 1
+// points and every point to be seen in ⌈3K / 2⌉ views. When they allow only
+// K' < K, the start is computed with K' bases and extended by K − K' zero
+// basis shapes whose weights are small (1 % of the start's RMS weight,
+// seeded), for the refinement to fit; summary->warnings says so.
 // The parts of a start that run in parallel (the corrective triple's
 // starts) use up to `num_threads` threads; the start does not depend on it.
 Status Initialize(const StartOptions& options, const Measurements& measurements,

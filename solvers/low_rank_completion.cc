@@ -249,8 +249,6 @@ Status CompleteLowRankAffine(const Measurements& measurements, int rank,
       }
     }
   }
-  completion->row_factors = std::move(a);
-  completion->column_factors = std::move(b);
   completion->residual_rms = residual;
   completion->iterations = iteration;
   completion->converged = converged;

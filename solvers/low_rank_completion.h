@@ -73,8 +73,6 @@ struct LowRankCompletion {
   // that sees every point it is the plain mean of its two rows (the
   // Tomasi-Kanade centring); otherwise the affine term t_i of the fit.
   Eigen::VectorXd translations;
-  Eigen::MatrixXd row_factors;     // A, (2·F·M) × r
-  Eigen::MatrixXd column_factors;  // B, r × P, rows centred and orthonormal
   double residual_rms = 0.0;       // RMS of W − (A B + t 1ᵀ) over visible entries
   int iterations = 0;              // ALS rounds run
   bool converged = false;          // stopped by a tolerance, not the limit

@@ -7,6 +7,7 @@
 
 #include "core/option_checker.h"
 #include "core/rotation.h"
+#include "problems/extra_terms.h"
 
 namespace nrsfm {
 namespace {
@@ -98,19 +99,19 @@ void DecideVideoPriors(const PriorRuleOptions& options,
   decision->basis_absorbs_rotation =
       3.0 * num_bases >= options.min_basis_fraction * measurements.num_points;
   if (decision->video && decision->basis_absorbs_rotation) {
-    decision->term_weights["temporal_shape"] = options.temporal_shape_weight;
+    decision->term_weights[kTemporalShapeTerm] = options.temporal_shape_weight;
   }
 }
 
 void DecidePathPrior(const PriorRuleOptions& options, const Model& start,
                      PriorDecision* decision) {
-  if (decision->term_weights.count("temporal_shape") == 0) return;
+  if (decision->term_weights.count(kTemporalShapeTerm) == 0) return;
   decision->path_acceleration_deg = PathAccelerationDeg(start);
   decision->constant_angular_velocity =
       decision->path_acceleration_deg >= 0.0 &&
       decision->path_acceleration_deg < options.max_path_acceleration_deg;
   if (decision->constant_angular_velocity) {
-    decision->term_weights["rotation_acceleration"] =
+    decision->term_weights[kRotationAccelerationTerm] =
         options.rotation_acceleration_weight;
   }
 }

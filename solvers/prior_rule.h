@@ -1,5 +1,5 @@
 // The rule that chooses the extra terms of a reconstruction from the data
-// when the caller does not (ReconstructOptions::priors = kAuto). Two facts
+// when the caller does not (ReconstructOptions::priors = kAuto). Three facts
 // about the input decide it, each measured, not assumed:
 //
 // 1. Are the tracks a video (frames in time order)? With m_L the median
@@ -12,11 +12,13 @@
 //    frames are a video when it is at least min_track_order. Frames in no
 //    order are as far apart at every lag (the medians agree to a few % for
 //    F ≥ 100); noise adds the same to every m_L, so a noisy video shows its
-//    order only at long lags. Measured: motion capture 8–15 (face 8.5),
-//    frames in random order 0.96–1.0, the random-basis data (smooth
-//    rotations, deformation drawn anew in every frame) 1.40; slowly turning
-//    (120°) motion capture with noise of 1 / 3 / 5 % of the image size 4.6 /
-//    2.0 / 1.5–1.8. track_step = m_1 / spread is reported as well.
+//    order only at long lags. Measured (docs/priors.md): the four motion
+//    capture sequences 14–23 (face 14.0), frames in random order 0.96–1.0,
+//    the random-basis data (smooth rotations, deformation drawn anew in
+//    every frame) 1.40; the Akhter et al. sequences re-projected under a
+//    120° orbit with noise of 1 / 3 / 5 % of the image size 5.0–7.5 /
+//    1.9–2.7 / 1.4–1.8 (face 17.7 / 7.0 / 4.4). m_1 / spread (track_step)
+//    is reported as a diagnostic.
 // 2. Can the basis absorb a rotation error? When 3K ≥ min_basis_fraction · P
 //    the shape space spans most of what P points can do, and a slow drift of
 //    the rotations is fitted as well by the basis: the rotations drift by
@@ -30,7 +32,7 @@
 //    the temporal_shape term is on (2.). The start's camera path (camera 0):
 //    with a_L the median over t of
 //      |log(R_(t+L) R_tᵀ) − log(R_t R_(t−L)ᵀ)| / L²   (degrees per frame²),
-//    the path's acceleration is a_4 − a_1 / 16: jitter of the start's
+//    the path's acceleration is a_4 − a_1 / 16, clamped at 0: jitter of the start's
 //    rotations from frame to frame (noise in the tracks) adds about a_1 to
 //    a_1 and a_1 / L² to a_L, so the difference keeps the acceleration of the
 //    path itself. When it is below max_path_acceleration_deg (a turntable or
@@ -76,16 +78,17 @@ struct PriorDecision {
   std::map<std::string, double> term_weights;  // the weights chosen (empty: none)
 };
 
-// Fact 1: m_L / spread, the median track motion between frames L apart
-// over the image spread; -1 when no such pair of frames shares a visible
+// Diagnostic (track_step for L = 1): m_L / spread, the median track motion
+// between frames L apart over the image spread; -1 when no such pair of frames shares a visible
 // point or the spread is 0.
 double MedianTrackStep(const Measurements& measurements, int lag = 1);
-// max over L = 2, 4, 8, … ≤ F / 2 of m_L / m_1; -1 when F < 8 or m_1 ≤ 0.
+// Fact 1: max over L = 2, 4, 8, … ≤ F / 2 of m_L / m_1; -1 when F < 8 or
+// m_1 ≤ 0.
 double TrackOrder(const Measurements& measurements);
 // Fact 3: a_L of camera 0's path in `model`, degrees per frame²; -1 when
 // F < 2L + 1.
 double MedianPathAccelerationDeg(const Model& model, int lag = 1);
-// a_4 − a_1 / 16 (header), degrees per frame²; -1 when F < 9.
+// max(0, a_4 − a_1 / 16) (fact 3 above), degrees per frame²; -1 when F < 9.
 double PathAccelerationDeg(const Model& model);
 
 // Facts 1 and 2 for K = num_bases and the temporal_shape weight they imply

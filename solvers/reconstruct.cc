@@ -10,6 +10,7 @@
 
 #include "core/enum_names.h"
 #include "core/option_checker.h"
+#include "problems/extra_terms.h"
 #include "solvers/drop_unobserved.h"
 
 namespace nrsfm {
@@ -108,7 +109,7 @@ Status Reconstruct(const ReconstructOptions& options,
   if (options.start.method != StartMethod::kAuto) {
     NRSFM_RETURN_IF_ERROR(StartAndRefine(options, options.start.method,
                                          measurements, video, result));
-  } else if (video.term_weights.count("temporal_shape") > 0) {
+  } else if (video.term_weights.count(kTemporalShapeTerm) > 0) {
     NRSFM_RETURN_IF_ERROR(
         StartAndRefine(options, StartMethod::kTriple, measurements, video, result));
   } else {

@@ -100,20 +100,13 @@ bool SolveWithStructuredSolver(const SolverOptions& options,
                                ProblemBuilder* builder, RefineSummary* summary,
                                std::string* error) {
   StructuredSolverOptions structured;
-  structured.max_iterations = options.max_iterations;
-  structured.function_tolerance = options.function_tolerance;
-  structured.gradient_tolerance = options.gradient_tolerance;
-  structured.parameter_tolerance = options.parameter_tolerance;
-  structured.max_seconds = options.max_seconds;
-  structured.initial_trust_region_radius = options.initial_trust_region_radius;
-  structured.num_threads = options.num_threads;
-  structured.stop_requested = options.stop_requested;
-  structured.progress = [&options](int iteration, double cost, double seconds) {
+  structured.solver = options;
+  structured.solver.progress = [&options](const IterationReport& report) {
     if (options.verbosity >= 1) {
-      VLOG(1) << "refine: iteration " << iteration << " cost " << cost
-              << " time " << seconds << " s";
+      VLOG(1) << "refine: iteration " << report.iteration << " cost " << report.cost
+              << " time " << report.seconds << " s";
     }
-    if (options.progress) options.progress(IterationReport{iteration, cost, seconds});
+    if (options.progress) options.progress(report);
   };
   StructuredSolverSummary result;
   if (!SolveStructured(structured, MakeStructuredLayout(builder),

@@ -293,7 +293,7 @@ bool Solver::Setup(const StructuredLayout& layout, std::string* error) {
 bool Solver::Evaluate(bool with_jacobian, double* cost) {
   const Clock::time_point start = Clock::now();
   const int n = static_cast<int>(residuals_.size());
-  const int threads = std::max(1, options_.num_threads);
+  const int threads = std::max(1, options_.solver.num_threads);
   std::vector<double> partial(threads, 0.0);
   std::vector<char> ok(threads, 1);
   ParallelForWorker(n, threads, kGrain, [&](int begin, int end, int worker) {
@@ -374,7 +374,7 @@ bool Solver::Evaluate(bool with_jacobian, double* cost) {
 void Solver::MultiplyJ(const Eigen::VectorXd* reduced, const Eigen::VectorXd* eliminated,
                        Eigen::VectorXd* rows) const {
   rows->resize(num_rows_);
-  ParallelFor(static_cast<int>(residuals_.size()), options_.num_threads, kGrain, [&](int begin, int end) {
+  ParallelFor(static_cast<int>(residuals_.size()), options_.solver.num_threads, kGrain, [&](int begin, int end) {
     for (int i = begin; i < end; ++i) {
       const Residual& r = residuals_[i];
       double* out = rows->data() + r.row;
@@ -396,7 +396,7 @@ void Solver::MultiplyJ(const Eigen::VectorXd* reduced, const Eigen::VectorXd* el
 void Solver::MultiplyJtReduced(const Eigen::VectorXd& rows, Eigen::VectorXd* out) const {
   out->setZero(num_reduced_);
   const int num_groups = static_cast<int>(group_refs_.size());
-  ParallelFor(num_groups, options_.num_threads, kGrain, [&](int begin, int end) {
+  ParallelFor(num_groups, options_.solver.num_threads, kGrain, [&](int begin, int end) {
     for (int g = begin; g < end; ++g) {
       for (const Ref& ref : group_refs_[g]) {
         const Residual& r = residuals_[ref.residual];
@@ -418,7 +418,7 @@ void Solver::MultiplyJtReduced(const Eigen::VectorXd& rows, Eigen::VectorXd* out
 
 void Solver::MultiplyJtEliminated(const Eigen::VectorXd& rows, Eigen::VectorXd* out) const {
   out->setZero(num_eliminated_);
-  ParallelFor(static_cast<int>(eliminated_blocks_.size()), options_.num_threads, kGrain,
+  ParallelFor(static_cast<int>(eliminated_blocks_.size()), options_.solver.num_threads, kGrain,
               [&](int begin, int end) {
                 for (int k = begin; k < end; ++k) {
                   const Block& b = blocks_[eliminated_blocks_[k]];
@@ -453,7 +453,7 @@ void Solver::ComputeGradientAndScaling() {
 
 void Solver::FactorEliminated(double mu) {
   eliminated_llt_.resize(eliminated_blocks_.size());
-  ParallelFor(static_cast<int>(eliminated_blocks_.size()), options_.num_threads, kGrain,
+  ParallelFor(static_cast<int>(eliminated_blocks_.size()), options_.solver.num_threads, kGrain,
               [&](int begin, int end) {
                 for (int k = begin; k < end; ++k) {
                   const Block& b = blocks_[eliminated_blocks_[k]];
@@ -487,7 +487,7 @@ void Solver::BuildPreconditioner(double mu) {
   for (std::size_t k = 0; k < eliminated_blocks_.size(); ++k) {
     eliminated_position[eliminated_blocks_[k]] = static_cast<int>(k);
   }
-  ParallelFor(num_groups, options_.num_threads, kGrain, [&](int begin, int end) {
+  ParallelFor(num_groups, options_.solver.num_threads, kGrain, [&](int begin, int end) {
     for (int g = begin; g < end; ++g) {
       for (int d = 0; d <= band_ && g - d >= 0; ++d) {
         blocks_band_[g][d] = Eigen::MatrixXd::Zero(GroupSize(g), GroupSize(g - d));
@@ -617,7 +617,7 @@ void Solver::ApplyReduced(const Eigen::VectorXd& v, double mu, Eigen::VectorXd* 
       AddAx(J(r) + s.jcol, r.m, s.width, r.width, v.data() + s.col, y);
     }
   };
-  ParallelFor(static_cast<int>(eliminated_blocks_.size()), options_.num_threads, kGrain,
+  ParallelFor(static_cast<int>(eliminated_blocks_.size()), options_.solver.num_threads, kGrain,
               [&](int begin, int end) {
                 for (int k = begin; k < end; ++k) {
                   const Block& b = blocks_[eliminated_blocks_[k]];
@@ -648,7 +648,7 @@ void Solver::ApplyReduced(const Eigen::VectorXd& v, double mu, Eigen::VectorXd* 
     }
   };
   const int num_groups = static_cast<int>(group_refs_.size());
-  ParallelFor(num_groups, options_.num_threads, kGrain, [&](int begin, int end) {
+  ParallelFor(num_groups, options_.solver.num_threads, kGrain, [&](int begin, int end) {
     std::vector<double> y(max_rows_per_residual_);
     for (int g = begin; g < end; ++g) {
       for (const Ref& ref : group_refs_[g]) {
@@ -754,9 +754,9 @@ bool Solver::Run(StructuredSolverSummary* summary) {
     return true;
   }
   summary->initial_cost = cost;
-  if (options_.progress) options_.progress(0, cost, SecondsSince(start));
+  if (options_.solver.progress) options_.solver.progress(IterationReport{0, cost, SecondsSince(start)});
   ComputeGradientAndScaling();
-  double radius = options_.initial_trust_region_radius, decrease = 2.0;
+  double radius = options_.solver.initial_trust_region_radius, decrease = 2.0;
   int iteration = 0;
   summary->message = "iteration limit";
   Eigen::VectorXd step_reduced, step_eliminated, j_step;
@@ -764,17 +764,17 @@ bool Solver::Run(StructuredSolverSummary* summary) {
     const double gradient_max =
         std::max(gradient_reduced_.size() ? gradient_reduced_.cwiseAbs().maxCoeff() : 0.0,
                  gradient_eliminated_.size() ? gradient_eliminated_.cwiseAbs().maxCoeff() : 0.0);
-    if (gradient_max <= options_.gradient_tolerance) {
+    if (gradient_max <= options_.solver.gradient_tolerance) {
       summary->message = "gradient tolerance";
       summary->converged = true;
       break;
     }
-    if (iteration >= options_.max_iterations) break;
-    if (options_.max_seconds > 0.0 && SecondsSince(start) >= options_.max_seconds) {
+    if (iteration >= options_.solver.max_iterations) break;
+    if (options_.solver.max_seconds > 0.0 && SecondsSince(start) >= options_.solver.max_seconds) {
       summary->message = "time limit";
       break;
     }
-    if (options_.stop_requested && options_.stop_requested()) {
+    if (options_.solver.stop_requested && options_.solver.stop_requested()) {
       summary->message = "stopped on request";
       summary->stopped = true;
       break;
@@ -787,8 +787,8 @@ bool Solver::Run(StructuredSolverSummary* summary) {
     const double model_decrease = -(j_step.dot(r_) + 0.5 * j_step.squaredNorm());
     const std::vector<double> saved = Save();
     const double step_norm = std::sqrt(step_reduced.squaredNorm() + step_eliminated.squaredNorm());
-    if (step_norm <= options_.parameter_tolerance *
-                         (ParameterNorm() + options_.parameter_tolerance)) {
+    if (step_norm <= options_.solver.parameter_tolerance *
+                         (ParameterNorm() + options_.solver.parameter_tolerance)) {
       summary->message = "parameter tolerance";
       summary->converged = true;
       break;
@@ -807,8 +807,8 @@ bool Solver::Run(StructuredSolverSummary* summary) {
       decrease = 2.0;
       Evaluate(true, &new_cost);
       ComputeGradientAndScaling();
-      if (options_.progress) options_.progress(iteration, cost, SecondsSince(start));
-      if (change <= options_.function_tolerance * cost) {
+      if (options_.solver.progress) options_.solver.progress(IterationReport{iteration, cost, SecondsSince(start)});
+      if (change <= options_.solver.function_tolerance * cost) {
         summary->message = "function tolerance";
         summary->converged = true;
         break;
@@ -818,7 +818,7 @@ bool Solver::Run(StructuredSolverSummary* summary) {
       r_ = saved_r;
       radius /= decrease;
       decrease *= 2.0;
-      if (options_.progress) options_.progress(iteration, cost, SecondsSince(start));
+      if (options_.solver.progress) options_.solver.progress(IterationReport{iteration, cost, SecondsSince(start)});
       if (radius < 1e-32) {
         summary->message = "trust region below 1e-32";
         break;

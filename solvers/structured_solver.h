@@ -28,6 +28,8 @@
 
 #include <ceres/problem.h>
 
+#include "solvers/solver_options.h"
+
 namespace nrsfm {
 
 struct StructuredLayout {
@@ -41,19 +43,14 @@ struct StructuredLayout {
 };
 
 struct StructuredSolverOptions {
-  int max_iterations = 100;
-  double function_tolerance = 1e-10;   // |Δcost| / cost of an accepted step
-  double gradient_tolerance = 1e-12;   // max |gradient|
-  double parameter_tolerance = 1e-10;  // |δ| ≤ tol (|x| + tol)
-  double max_seconds = 0.0;            // 0 = none
-  double initial_trust_region_radius = 1e2;
-  int num_threads = 1;                 // results are identical for any count
+  // Iterations, tolerances, time limit, first radius, threads (results are
+  // identical for any count), progress (iteration 0 = the start) and
+  // stop_requested (asked before every step; true ends the solve,
+  // summary.stopped), as for Ceres; linear_solver and verbosity are not
+  // read.
+  SolverOptions solver;
   double cg_relative_tolerance = 0.1;  // ||residual|| ≤ this · ||rhs||
   int max_cg_iterations = 500;
-  // Called after every iteration (iteration 0 = the start): iteration, cost, seconds.
-  std::function<void(int, double, double)> progress;
-  // Asked before every step; true ends the solve (summary.stopped).
-  std::function<bool()> stop_requested;
 };
 
 struct StructuredSolverSummary {

@@ -42,7 +42,7 @@
     "the file is an error. synth: cameras of the shoe (1 or 2; 0 = 1).")         \
   X(std::string, K, "",                                                          \
     "reconstruct: number of basis shapes, an integer >= 1 or 'auto'; synth: "    \
-    "basis shapes of the random generator (default 5).")                         \
+    "basis shapes of the random generator (default: the generator's).")         \
   X(int, K_max, ::nrsfm::SelectNumBasesOptions().max_num_bases,                  \
     "reconstruct --K auto: largest K tried.")                                    \
   X(double, K_threshold, ::nrsfm::SelectNumBasesOptions().threshold,             \
@@ -55,8 +55,9 @@
     "reconstruct: replace an earlier result directory; view: replace the page.") \
   X(bool, ply, false, "reconstruct: also write one PLY file per frame.")         \
   X(std::string, init, ::nrsfm::StartMethodName(::nrsfm::StartOptions().method), \
-    "reconstruct: start auto|factorization|rigid|triple (auto refines the "      \
-    "factorization and rigid starts and keeps the lower cost).")                 \
+    "reconstruct: start auto|factorization|rigid|triple (auto: the triple "      \
+    "start for a video with 3K >= P/2, else the factorization and rigid "        \
+    "starts both refined, the lower cost kept; docs/priors.md).")                \
   X(std::string, priors,                                                         \
     ::nrsfm::PriorModeName(::nrsfm::ReconstructOptions().priors),                \
     "reconstruct: auto|manual. auto chooses the temporal terms from the data "   \

@@ -427,7 +427,7 @@ Status Synthesize(const CommandFlags& flags, SyntheticSequence* sequence) {
     o.seed = flags.seed;
     return GenerateShoe(o, sequence);
   }
-  return Status::Error("--dataset must be random, superquadric or shoe, got '" +
+  return Status::Error("--dataset must be random, superquadric, shoe or reproject, got '" +
                        flags.dataset + "'");
 }
 

@@ -3,6 +3,7 @@
 //   nrsfm reconstruct --input PATH --K N|auto --output DIR [options]
 //   nrsfm evaluate --truth PATH --result DIR
 //   nrsfm synth --dataset random|superquadric|shoe --output PATH.mat [options]
+//   nrsfm synth --dataset reproject --input TRUTH.mat --output PATH.mat [options]
 //   nrsfm view --result DIR [--truth PATH] [--input PATH] --output FILE.html
 //
 // Flags may also come from a file: --flagfile=PATH. Logs go to stderr. The
@@ -27,13 +28,15 @@ constexpr char kUsage[] =
     "  nrsfm reconstruct --input PATH --K N|auto --output DIR [options]\n"
     "  nrsfm evaluate --truth PATH --result DIR\n"
     "  nrsfm synth --dataset random|superquadric|shoe --output PATH.mat [options]\n"
+    "  nrsfm synth --dataset reproject --input TRUTH.mat --output PATH.mat [options]\n"
     "  nrsfm view --result DIR [--truth PATH] [--input PATH] --output FILE.html\n"
     "\n"
     "reconstruct reads W (2F x P, rows u_t, v_t interleaved; 2FM x P for M\n"
     "cameras), NaN = missing, and writes points_camera.csv, points_object.csv,\n"
     "rotations.csv, weights.csv, basis.csv and result.json into DIR.\n"
     "evaluate prints one JSON line with e3d, frob_zsign, error3d_pct, zerror_pct,\n"
-    "F and P. synth writes a .mat with W and the ground truth P3_gt.\n"
+    "F and P. synth writes a .mat with W and the ground truth P3_gt (reproject:\n"
+    "the truth of --input seen by another camera path, with S and Rs).\n"
     "view writes one self-contained HTML page (works offline): the 3D points\n"
     "animated over the frames, the truth (--truth, --truth_var) aligned as for\n"
     "e3D with the per-frame error, and the 2D tracks (--input, --var, --mask_var,\n"

@@ -20,6 +20,7 @@
 #include "core/result_reader.h"
 #include "core/text_io.h"
 #include "problems/delaunay_edges.h"
+#include "tools/flag_options.h"
 
 namespace nrsfm {
 namespace tools {
@@ -123,13 +124,6 @@ Status ReadResultJson(const std::string& dir, ViewData* data) {
     }
   }
   return Status::OK();
-}
-
-// Ground truth from a .mat file or a result directory, as `nrsfm evaluate`.
-Status ReadTruth(const std::string& path, const std::string& variable, GroundTruth* truth) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) return ReadPointsCameraCsv(path, /*camera=*/0, truth);
-  return ReadGroundTruth(path, variable, truth);
 }
 
 bool IsMatFile(const std::string& path) {
