@@ -271,8 +271,9 @@ std::string DimsString(const matvar_t& var) {
 }
 
 // Checks class, flags, rank (2..max_rank) and size of a variable header and
-// returns its element count. `file_size` bounds the data size: zlib/deflate
-// never compresses better than ~1032:1.
+// returns its element count. `file_size` bounds the data size, and each
+// dimension, of an empty array too: zlib/deflate never compresses better
+// than ~1032:1.
 Status CheckHeader(const std::string& what, const matvar_t& var, int max_rank,
                    std::uintmax_t file_size, std::size_t* numel) {
   if (!IsNumericClass(var.class_type)) {
@@ -293,7 +294,10 @@ Status CheckHeader(const std::string& what, const matvar_t& var, int max_rank,
   const std::uintmax_t max_elements = file_size * 1100 + (1u << 20);
   std::uintmax_t count = 1;
   for (int i = 0; i < var.rank; ++i) {
-    if (var.dims[i] > 0 && count > max_elements / var.dims[i]) {
+    // Each dimension on its own too: an empty array (a zero dimension) has
+    // no data to bound the others, and 0 x 2^60 is no real variable.
+    if (var.dims[i] > max_elements ||
+        (var.dims[i] > 0 && count > max_elements / var.dims[i])) {
       return Status::Error(what + " claims a size of " + DimsString(var) +
                            ", more than the file can hold (corrupt file?)");
     }

@@ -28,14 +28,18 @@ namespace nrsfm {
 // Reads a 2-D numeric variable as double. Fails when the file is missing, is
 // a directory, is empty, is not a .mat file or is truncated/corrupt; when the
 // variable does not exist (the message lists the variables that do); when it
-// is not numeric (char, struct, cell, object, sparse, complex) or not 2-D.
-// An empty variable (0 rows or 0 columns) is returned as such.
+// is not numeric (char, struct, cell, object, sparse, complex) or not 2-D;
+// when a dimension or the element count is more than the file can hold.
+// An empty variable (0 rows or 0 columns) is returned as such: callers must
+// check the size before they index it.
 Status ReadMatVariable(const std::string& path, const std::string& name,
                        Eigen::MatrixXd* value);
 
 // Reads a 3-D numeric array A (d0 × d1 × d2, e.g. X = 3 × P × F) as d2
 // matrices of size d0 × d1: (*slices)[k] = A(:, :, k). A 2-D variable is
-// one slice (d2 = 1).
+// one slice (d2 = 1). Fails as ReadMatVariable, and on more than 3
+// dimensions. An empty array is returned as such: d2 = 0 gives no slice at
+// all (*slices is empty), d0 = 0 or d1 = 0 gives d2 empty slices.
 Status ReadMatArray3(const std::string& path, const std::string& name,
                      std::vector<Eigen::MatrixXd>* slices);
 

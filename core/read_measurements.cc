@@ -83,6 +83,10 @@ Status ReadWFromMat(const std::string& path, const std::string& variable,
   }
   std::vector<Eigen::MatrixXd> slices;
   NRSFM_RETURN_IF_ERROR(ReadMatArray3(path, variable, &slices));
+  // A d0 x d1 x 0 array has no slice at all (an X too: no frame).
+  if (slices.empty()) {
+    return Status::Error(name + " is empty (its third dimension is 0)");
+  }
   if (variable == "X" || slices.size() > 1) {
     std::vector<Eigen::Matrix3Xd> frames;
     NRSFM_RETURN_IF_ERROR(FramesFromArray3(slices, name, &frames));

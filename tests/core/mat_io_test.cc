@@ -137,6 +137,107 @@ TEST(MatIo, EmptyVariableReadsAsEmpty) {
   }
 }
 
+// Empty arrays of every shape, including the 3-D ones WriteMat cannot write
+// from an empty matrix: returned as such, the slices as documented.
+TEST(MatIo, EmptyArraysOfEveryShapeReadAsDocumented) {
+  const std::string path = MakeTempDir("mat_io_empty_nd") + "/empty.mat";
+  WriteBytes(
+      path, Header() + Double("a_0x3", {0, 3}, {}) +
+                Double("a_4x0", {4, 0}, {}) + Double("a_4x3x0", {4, 3, 0}, {}) +
+                Double("a_0x3x2", {0, 3, 2}, {}) +
+                Double("a_3x0x2", {3, 0, 2}, {}) + Double("ok", {1, 1}, {7.0}));
+  struct Case {
+    std::string name;
+    int rows, cols;
+    std::size_t num_slices;
+  };
+  for (const Case& c : std::vector<Case>{{"a_0x3", 0, 3, 1},
+                                         {"a_4x0", 4, 0, 1},
+                                         {"a_4x3x0", 4, 3, 0},
+                                         {"a_0x3x2", 0, 3, 2},
+                                         {"a_3x0x2", 3, 0, 2}}) {
+    SCOPED_TRACE(c.name);
+    std::vector<Eigen::MatrixXd> slices(5, Eigen::MatrixXd::Ones(1, 1));
+    const Status s = ReadMatArray3(path, c.name, &slices);
+    ASSERT_TRUE(s.ok()) << s.message();
+    ASSERT_EQ(slices.size(), c.num_slices);
+    for (const Eigen::MatrixXd& slice : slices) {
+      EXPECT_EQ(slice.rows(), c.rows);
+      EXPECT_EQ(slice.cols(), c.cols);
+    }
+    Eigen::MatrixXd m = Eigen::MatrixXd::Ones(1, 1);
+    if (c.num_slices == 1) {
+      ASSERT_TRUE(ReadMatVariable(path, c.name, &m).ok());
+      EXPECT_EQ(m.rows(), c.rows);
+      EXPECT_EQ(m.cols(), c.cols);
+    } else {
+      EXPECT_EQ(ReadMatVariable(path, c.name, &m).message(),
+                path + ": variable '" + c.name + "' is 3-D (" +
+                    std::to_string(c.rows) + " x " + std::to_string(c.cols) +
+                    " x " + std::to_string(c.num_slices) +
+                    "); expected a 2-D matrix");
+    }
+  }
+}
+
+// An empty array has no data to bound its other dimensions, so each one is
+// bounded by the file size itself: a 0 x 2^31-1 x 2^31-1 array would
+// otherwise ask for 2^31 slices.
+TEST(MatIo, EmptyArrayWithAHugeDimensionIsRejected) {
+  const std::string path = MakeTempDir("mat_io_empty_huge") + "/huge.mat";
+  const int huge = 2147483647;
+  WriteBytes(path, Header() + Double("W", {0, huge}, {}) +
+                       Double("X", {0, huge, huge}, {}) +
+                       Double("Y", {2, 3, huge}, {}));
+  Eigen::MatrixXd m;
+  Status s = ReadMatVariable(path, "W", &m);
+  EXPECT_EQ(s.message(), path +
+                             ": variable 'W' claims a size of 0 x 2147483647, "
+                             "more than the file can hold (corrupt file?)");
+  std::vector<Eigen::MatrixXd> slices;
+  s = ReadMatArray3(path, "X", &slices);
+  EXPECT_EQ(s.message(),
+            path +
+                ": variable 'X' claims a size of 0 x 2147483647 x 2147483647, "
+                "more than the file can hold (corrupt file?)");
+  s = ReadMatArray3(path, "Y", &slices);
+  EXPECT_EQ(s.message(), path +
+                             ": variable 'Y' claims a size of 2 x 3 x "
+                             "2147483647, more than the file can hold "
+                             "(corrupt file?)");
+}
+
+// Cells and structs, empty or holding empty fields, are listed and named in
+// the error; the numeric variable after them still reads.
+TEST(MatIo, EmptyCellsAndStructFieldsAreNamedNotRead) {
+  const std::string path = MakeTempDir("mat_io_empty_cells") + "/cells.mat";
+  WriteBytes(path,
+             Header() + Cell("c0", {0, 0}, {}) +
+                 Cell("c1", {1, 2}, {EmptyMatrix(), Double("", {0, 0}, {})}) +
+                 Struct("st", {"empty", "zero"},
+                        {EmptyMatrix(), Double("", {3, 0}, {})}) +
+                 Double("ok", {1, 1}, {42.0}));
+  std::vector<std::string> names;
+  ASSERT_TRUE(ListMatVariables(path, &names).ok());
+  EXPECT_EQ(names, (std::vector<std::string>{"c0", "c1", "st", "ok"}));
+  for (const auto& [name, what] :
+       std::vector<std::pair<std::string, std::string>>{{"c0", "a cell array"},
+                                                        {"c1", "a cell array"},
+                                                        {"st", "a struct"}}) {
+    Eigen::MatrixXd m;
+    EXPECT_EQ(ReadMatVariable(path, name, &m).message(),
+              path + ": variable '" + name + "' is " + what +
+                  ", not a numeric array");
+    std::vector<Eigen::MatrixXd> slices;
+    EXPECT_EQ(ReadMatArray3(path, name, &slices).message(),
+              path + ": variable '" + name + "' is " + what +
+                  ", not a numeric array");
+  }
+  Eigen::MatrixXd m;
+  ASSERT_TRUE(ReadMatVariable(path, "ok", &m).ok());
+  EXPECT_EQ(m(0, 0), 42.0);
+}
+
 // --- Numeric classes other than double (hand-made files).
 
 TEST(MatIo, ReadsEveryNumericClassOfV4AsDouble) {
