@@ -116,9 +116,10 @@ Status ParseRow(const std::string& line, const std::string& where,
 }
 
 // Reads numeric rows of `num_columns` fields (the first row sets it when
-// num_columns < 0) until the end of the file.
+// num_columns < 0) until the end of the file; no row at all is the error
+// "<path>: <no_rows>".
 Status ReadRows(const std::string& path, std::ifstream* in, int* line_number,
-                int num_columns, Eigen::MatrixXd* matrix) {
+                int num_columns, const char* no_rows, Eigen::MatrixXd* matrix) {
   std::vector<double> values;  // row-major
   std::vector<std::string_view> fields;
   std::vector<double> row;
@@ -143,7 +144,7 @@ Status ReadRows(const std::string& path, std::ifstream* in, int* line_number,
     ++rows;
   }
   if (in->bad()) return Status::Error(path + ": read error");
-  if (rows == 0) return Status::Error(path + ": no numbers in the file");
+  if (rows == 0) return Status::Error(path + ": " + no_rows);
   *matrix = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic,
                                            Eigen::Dynamic, Eigen::RowMajor>>(
       values.data(), rows, num_columns);
@@ -189,7 +190,8 @@ Status ReadTextMatrix(const std::string& path, Eigen::MatrixXd* matrix) {
   std::ifstream in;
   NRSFM_RETURN_IF_ERROR(OpenTextFile(path, &in));
   int line_number = 0;
-  return ReadRows(path, &in, &line_number, /*num_columns=*/-1, matrix);
+  return ReadRows(path, &in, &line_number, /*num_columns=*/-1,
+                  "no numbers in the file", matrix);
 }
 
 Status WriteTextMatrix(const std::string& path, const Eigen::MatrixXd& matrix) {
@@ -230,7 +232,7 @@ Status ReadCsvTable(const std::string& path,
                          expected);
   }
   return ReadRows(path, &in, &line_number, static_cast<int>(header.size()),
-                  table);
+                  "no data rows after the header", table);
 }
 
 Status ReadObservationList(const std::string& path,

@@ -33,6 +33,7 @@ Status WriteTextMatrix(const std::string& path, const Eigen::MatrixXd& matrix);
 // Reads a CSV table whose first (non-comment) line is a header that must
 // equal `header` (field by field, e.g. {"frame", "point", "x"}), followed by
 // numeric rows of header.size() fields. `table` gets one row per data line.
+// Fails on an empty file, another header, a bad row and on no data row.
 Status ReadCsvTable(const std::string& path,
                     const std::vector<std::string>& header,
                     Eigen::MatrixXd* table);
