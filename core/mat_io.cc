@@ -472,18 +472,32 @@ Status ReadMatVariable(const std::string& path, const std::string& name,
 }
 
 Status ReadMatArray3(const std::string& path, const std::string& name,
-                     std::vector<Eigen::MatrixXd>* slices) {
-  std::vector<std::size_t> dims;
+                     std::vector<Eigen::MatrixXd>* slices,
+                     std::vector<std::size_t>* dims) {
+  std::vector<std::size_t> size;
   std::vector<double> data;
-  NRSFM_RETURN_IF_ERROR(ReadNumeric(path, name, /*max_rank=*/3, &dims, &data));
-  const std::size_t slice_size = dims[0] * dims[1];
+  NRSFM_RETURN_IF_ERROR(ReadNumeric(path, name, /*max_rank=*/3, &size, &data));
   slices->clear();
-  slices->reserve(dims[2]);
-  for (std::size_t k = 0; k < dims[2]; ++k) {
+  if (dims != nullptr) *dims = size;
+  // An empty array has no slice: a 0 x 0 x d2 array does not make d2 empty
+  // matrices (d2 is bounded by the file size only, which allows millions).
+  if (data.empty()) return Status::OK();
+  const std::size_t slice_size = size[0] * size[1];
+  slices->reserve(size[2]);
+  for (std::size_t k = 0; k < size[2]; ++k) {
     slices->push_back(Eigen::Map<const Eigen::MatrixXd>(
-        data.data() + k * slice_size, dims[0], dims[1]));
+        data.data() + k * slice_size, size[0], size[1]));
   }
   return Status::OK();
+}
+
+std::string MatDimsString(const std::vector<std::size_t>& dims) {
+  std::string text;
+  for (std::size_t i = 0; i < dims.size(); ++i) {
+    if (i == 2 && dims[i] == 1) break;
+    text += (i ? " x " : "") + std::to_string(dims[i]);
+  }
+  return text;
 }
 
 Status ListMatVariables(const std::string& path,

@@ -38,10 +38,16 @@ Status ReadMatVariable(const std::string& path, const std::string& name,
 // Reads a 3-D numeric array A (d0 × d1 × d2, e.g. X = 3 × P × F) as d2
 // matrices of size d0 × d1: (*slices)[k] = A(:, :, k). A 2-D variable is
 // one slice (d2 = 1). Fails as ReadMatVariable, and on more than 3
-// dimensions. An empty array is returned as such: d2 = 0 gives no slice at
-// all (*slices is empty), d0 = 0 or d1 = 0 gives d2 empty slices.
+// dimensions. An empty array (d0, d1 or d2 is 0) gives no slice at all:
+// *slices is empty, and callers must check that before they index it.
+// `dims`, when given, gets {d0, d1, d2} (d2 = 1 for a 2-D variable).
 Status ReadMatArray3(const std::string& path, const std::string& name,
-                     std::vector<Eigen::MatrixXd>* slices);
+                     std::vector<Eigen::MatrixXd>* slices,
+                     std::vector<std::size_t>* dims = nullptr);
+
+// "d0 x d1" or "d0 x d1 x d2" (when d2 != 1): the size of ReadMatArray3's
+// `dims` as error messages show it.
+std::string MatDimsString(const std::vector<std::size_t>& dims);
 
 // The names of the variables in a .mat file, in file order (v7.3: in
 // HDF5 order, i.e. sorted by name).

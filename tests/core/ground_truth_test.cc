@@ -230,11 +230,11 @@ TEST(GroundTruth, EmptyVariablesGiveTheOneLineError) {
   };
   const std::vector<Case> cases = {
       {"x_3xpx0", v5::Double("X", {3, 4, 0}, {}),
-       "X is empty; expected a 3 x P x F array"},
+       "X is empty (3 x 4 x 0); expected a 3 x P x F array"},
       {"x_3x0xf", v5::Double("X", {3, 0, 2}, {}),
-       "X is empty; expected a 3 x P x F array"},
+       "X is empty (3 x 0 x 2); expected a 3 x P x F array"},
       {"x_0xpxf", v5::Double("X", {0, 4, 2}, {}),
-       "X is empty; expected a 3 x P x F array"},
+       "X is empty (0 x 4 x 2); expected a 3 x P x F array"},
       {"p3_0xp", v5::Double("P3_gt", {0, 4}, {}), "P3_gt is empty (0 x 4)"},
       {"p3_3fx0", v5::Double("P3_gt", {3, 0}, {}), "P3_gt is empty (3 x 0)"},
       {"s_0xp", v5::Double("S", {0, 4}, {}) + rs, "S is empty (0 x 4)"},

@@ -207,7 +207,7 @@ TEST(ReadMeasurements, BadInputsGiveClearErrors) {
        path + ": one_nan: only one coordinate of the observation at rows 3-4, "
               "column 2"},
       {"inf", "", 1, path + ": inf: infinite value at row 4, column 3"},
-      {"empty", "", 1, path + ": empty: matrix is empty (0 x 0)"},
+      {"empty", "", 1, path + ": empty is empty (0 x 0)"},
       {"P3_gt", "", 1, path + ": P3_gt has 8 rows, not a multiple of 3"},
       {"X", "", 1, path + ": X is 4 x 3 x 2; expected 3 x P x F"},
       {"nope", "", 1,
@@ -296,24 +296,22 @@ TEST(ReadMeasurements, EmptyVariablesGiveTheOneLineError) {
     std::string file, variable_bytes, variable, expected;
   };
   const std::vector<Case> cases = {
-      {"w_0xp", v5::Double("W", {0, 3}, {}), "W", "W: matrix is empty (0 x 3)"},
-      {"w_2fx0", v5::Double("W", {4, 0}, {}), "W",
-       "W: matrix is empty (4 x 0)"},
+      {"w_0xp", v5::Double("W", {0, 3}, {}), "W", "W is empty (0 x 3)"},
+      {"w_2fx0", v5::Double("W", {4, 0}, {}), "W", "W is empty (4 x 0)"},
       // The crash of issue 18: a 3-D W with no slice.
       {"w_4x3x0", v5::Double("W", {4, 3, 0}, {}), "W",
-       "W is empty (its third dimension is 0)"},
+       "W is empty (4 x 3 x 0)"},
       {"w_0x0x0", v5::Double("W", {0, 0, 0}, {}), "W",
-       "W is empty (its third dimension is 0)"},
+       "W is empty (0 x 0 x 0)"},
       {"w_0x3x2", v5::Double("W", {0, 3, 2}, {}), "W",
-       "W is empty; expected a 3 x P x F array"},
+       "W is empty (0 x 3 x 2)"},
       {"x_3xpx0", v5::Double("X", {3, 4, 0}, {}), "X",
-       "X is empty (its third dimension is 0)"},
+       "X is empty (3 x 4 x 0)"},
       {"x_3x0xf", v5::Double("X", {3, 0, 2}, {}), "X",
-       "X is empty; expected a 3 x P x F array"},
+       "X is empty (3 x 0 x 2)"},
       {"x_0xpxf", v5::Double("X", {0, 4, 2}, {}), "X",
-       "X is empty; expected a 3 x P x F array"},
-      {"x_3x0", v5::Double("X", {3, 0}, {}), "X",
-       "X is empty; expected a 3 x P x F array"},
+       "X is empty (0 x 4 x 2)"},
+      {"x_3x0", v5::Double("X", {3, 0}, {}), "X", "X is empty (3 x 0)"},
       {"p3_0xp", v5::Double("P3_gt", {0, 4}, {}), "P3_gt",
        "P3_gt is empty (0 x 4)"},
       {"p3_3fx0", v5::Double("P3_gt", {6, 0}, {}), "P3_gt",
@@ -369,8 +367,7 @@ TEST(ReadMeasurements, EmptyVariablesGiveTheOneLineError) {
   empty_w.variable = "W_empty";
   empty_w.mask_variable = "m_0x0";
   Measurements m;
-  EXPECT_EQ(Read(path, empty_w, &m),
-            path + ": W_empty: matrix is empty (0 x 3)");
+  EXPECT_EQ(Read(path, empty_w, &m), path + ": W_empty is empty (0 x 3)");
 }
 
 }  // namespace

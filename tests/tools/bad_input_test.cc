@@ -198,13 +198,13 @@ TEST_F(BadInputTest, EmptyThreeDimensionalWIsAnErrorNotACrash) {
   const RunResult r = Run("reconstruct --input crash.mat --K 1 --output out");
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_EQ(r.err,
-            "nrsfm reconstruct: error: crash.mat: W is empty (its third dimension is 0)\n");
+            "nrsfm reconstruct: error: crash.mat: W is empty (4 x 3 x 0)\n");
   EXPECT_FALSE(fs::exists(Path("out")));
 
   for (MatVersion version : {MatVersion::kV5, MatVersion::kV73}) {
     const std::string name = version == MatVersion::kV5 ? "zlib.mat" : "hdf5.mat";
     ASSERT_TRUE(WriteMat(Path(name), version, {{"W", Eigen::MatrixXd(0, 0), {4, 3, 0}}}).ok());
-    ExpectRejected(name, "--K 1", {name + ": W is empty (its third dimension is 0)"});
+    ExpectRejected(name, "--K 1", {name + ": W is empty (4 x 3 x 0)"});
   }
 }
 
@@ -218,14 +218,14 @@ TEST_F(BadInputTest, EmptyVariablesOfEveryKindAreOneLineErrors) {
     std::ofstream(Path(name), std::ios::binary).write(bytes.data(), bytes.size());
   };
   write("w_0xp.mat", v5::Double("W", {0, 8}, {}));
-  ExpectRejected("w_0xp.mat", "--K 1", {"w_0xp.mat: W: matrix is empty (0 x 8)"});
+  ExpectRejected("w_0xp.mat", "--K 1", {"w_0xp.mat: W is empty (0 x 8)"});
   write("w_2fx0.mat", v5::Double("W", {20, 0}, {}));
-  ExpectRejected("w_2fx0.mat", "--K 1", {"w_2fx0.mat: W: matrix is empty (20 x 0)"});
+  ExpectRejected("w_2fx0.mat", "--K 1", {"w_2fx0.mat: W is empty (20 x 0)"});
   write("x_3xpx0.mat", v5::Double("X", {3, 8, 0}, {}));
-  ExpectRejected("x_3xpx0.mat", "--K 1", {"x_3xpx0.mat: X is empty (its third dimension is 0)"});
+  ExpectRejected("x_3xpx0.mat", "--K 1", {"x_3xpx0.mat: X is empty (3 x 8 x 0)"});
   write("x_3x0xf.mat", v5::Double("X", {3, 0, 10}, {}));
   ExpectRejected("x_3x0xf.mat", "--K 1",
-                 {"x_3x0xf.mat: X is empty; expected a 3 x P x F array"});
+                 {"x_3x0xf.mat: X is empty (3 x 0 x 10)"});
   write("p3_0xp.mat", v5::Double("P3_gt", {0, 8}, {}));
   ExpectRejected("p3_0xp.mat", "--K 1", {"p3_0xp.mat: P3_gt is empty (0 x 8)"});
   write("cell.mat", v5::Cell("W", {1, 1}, {v5::EmptyMatrix()}));
@@ -246,14 +246,15 @@ TEST_F(BadInputTest, EmptyVariablesOfEveryKindAreOneLineErrors) {
         v5::Double("S", {0, 8}, {}) + v5::Double("Rs", {20, 3}, std::vector<double>(60, 0.0)));
   WriteW("w.mat", w);
   ExpectRejected("w.mat", "--K 1 --truth truth_x.mat",
-                 {"truth_x.mat: X is empty; expected a 3 x P x F array"});
+                 {"truth_x.mat: X is empty (3 x 8 x 0); expected a 3 x P x F array"});
   ExpectRejected("w.mat", "--K 1 --truth truth_s.mat", {"truth_s.mat: S is empty (0 x 8)"});
   const RunResult good = Run("reconstruct --input w.mat --K 1 --output o --quiet");
   ASSERT_EQ(good.exit_code, 0) << good.err;
   const RunResult evaluated = Run("evaluate --truth truth_x.mat --result o");
   EXPECT_EQ(evaluated.exit_code, 1) << evaluated.err;
   EXPECT_EQ(evaluated.err,
-            "nrsfm evaluate: error: truth_x.mat: X is empty; expected a 3 x P x F array\n");
+            "nrsfm evaluate: error: truth_x.mat: X is empty (3 x 8 x 0); expected a 3 x P x F "
+            "array\n");
 }
 
 TEST_F(BadInputTest, WrongVariableOrFormat) {
