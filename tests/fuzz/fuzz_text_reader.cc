@@ -1,5 +1,8 @@
-// libFuzzer target: the text/CSV readers (text matrix W, CSV tables and
-// points_camera.csv of a result directory) on arbitrary bytes.
+// libFuzzer target: the text/CSV readers (text matrix W, CSV tables,
+// points_camera.csv and a whole result directory) on arbitrary bytes. For
+// the directory the input is split at form feeds into points_camera.csv,
+// points_object.csv and rotations.csv (fuzz_input_file.h).
+#include <Eigen/Core>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -37,8 +40,28 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data,
 
   nrsfm::GroundTruth truth;
   if (nrsfm::ReadPointsCameraCsv(path, 0, &truth).ok()) {
+    if (truth.NumFrames() < 1 || truth.NumPoints() < 1) std::abort();
     for (const Eigen::Matrix3Xd& frame : truth.points_in_camera) {
       if (frame.cols() != truth.NumPoints() || !frame.allFinite())
+        std::abort();
+    }
+  }
+
+  const std::string dir = nrsfm::fuzz::WriteInputDirectory(
+      data, size, {"points_camera.csv", "points_object.csv", "rotations.csv"});
+  nrsfm::GroundTruth shapes;
+  if (nrsfm::ReadResultShapes(dir, 0, &shapes).ok()) {
+    if (shapes.NumFrames() < 1 || shapes.NumPoints() < 1 ||
+        !shapes.HasObjectFrame())
+      std::abort();
+    for (int t = 0; t < shapes.NumFrames(); ++t) {
+      const Eigen::Matrix3d& r = shapes.rotations[t];
+      if (shapes.points_in_camera[t].cols() != shapes.NumPoints() ||
+          shapes.points_in_object[t].cols() != shapes.NumPoints() ||
+          !shapes.points_in_object[t].allFinite() ||
+          !((r * r.transpose() - Eigen::Matrix3d::Identity())
+                .cwiseAbs()
+                .maxCoeff() <= 1e-6))
         std::abort();
     }
   }
