@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <new>
 #include <string_view>
 #include <system_error>
 
@@ -289,10 +290,21 @@ Status ReadObservationList(const std::string& path,
   m.num_frames = static_cast<int>(num_frames);
   m.num_cameras = static_cast<int>(num_cameras);
   m.num_points = static_cast<int>(num_points);
-  m.W.setConstant(2 * m.NumViews(), m.num_points, std::nan(""));
-  m.visible.setConstant(m.NumViews(), m.num_points, false);
-  Eigen::MatrixXi first_line =
-      Eigen::MatrixXi::Zero(m.NumViews(), m.num_points);
+  Eigen::MatrixXi first_line;
+  // The dense W of a sparse list can be far larger than the file (one line
+  // may imply gigabytes): memory it cannot get is the file's error.
+  try {
+    m.W.setConstant(2 * m.NumViews(), m.num_points, std::nan(""));
+    m.visible.setConstant(m.NumViews(), m.num_points, false);
+    first_line.setZero(m.NumViews(), m.num_points);
+  } catch (const std::bad_alloc&) {
+    return Status::Error(
+        path + ": the largest indices (F = " + std::to_string(num_frames) +
+        ", M = " + std::to_string(num_cameras) +
+        ", P = " + std::to_string(num_points) + ") imply a W of " +
+        std::to_string(2 * views * num_points) +
+        " entries, more than can be allocated");
+  }
   for (const Observation& o : observations) {
     const int view =
         m.View(static_cast<int>(o.frame), static_cast<int>(o.camera));

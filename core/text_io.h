@@ -46,7 +46,8 @@ Status ReadCsvTable(const std::string& path,
 // result can be reconstructed is for the solvers to judge). Fails on a line
 // with other than 5 fields, a negative or non-integer index, non-finite u or
 // v, the same (frame, camera, point) twice (naming both lines), no
-// observation at all, or sizes whose W would exceed 2^28 entries.
+// observation at all, or sizes whose W would exceed 2^28 entries or more
+// memory than can be allocated.
 Status ReadObservationList(const std::string& path, Measurements* measurements);
 
 // Writes the visible observations of `measurements` as an observation list

@@ -257,6 +257,26 @@ TEST_F(BadInputTest, EmptyVariablesOfEveryKindAreOneLineErrors) {
             "array\n");
 }
 
+// Two lines of an observation list whose indices imply a W of 2.6e8 entries
+// (2 GB, inside the 2^28-entry limit) in a process limited to 1 GB of
+// address space (ulimit -v): an error naming the sizes, not an uncaught
+// std::bad_alloc (found by fuzz_observation_list).
+TEST_F(BadInputTest, ListImplyingMoreMemoryThanThereIsIsAnError) {
+  if (testing_util::kSanitizedBuild) {
+    GTEST_SKIP() << "the sanitizers reserve far more than 1 GB of address space";
+  }
+  std::ofstream(Path("huge.obs")) << "0 0 0 1 2\n9999 0 13000 3 4\n";
+  const RunResult r = testing_util::RunInDirectory(
+      dir_, "/bin/sh",
+      std::string("-c 'ulimit -v 1000000 && exec ") + NRSFM_CLI +
+          " reconstruct --input huge.obs --K 1 --output o --quiet'");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.err,
+            "nrsfm reconstruct: error: huge.obs: the largest indices (F = 10000, M = 1, "
+            "P = 13001) imply a W of 260020000 entries, more than can be allocated\n");
+  EXPECT_FALSE(fs::exists(Path("o")));
+}
+
 TEST_F(BadInputTest, WrongVariableOrFormat) {
   ASSERT_TRUE(WriteMat(Path("vars.mat"), MatVersion::kV5,
                        {{"A", RotatingW(10, 8), {}}, {"B", RotatingW(4, 8), {}}})
