@@ -69,6 +69,8 @@ struct RunOutcome {
   double seconds_per_iteration = 0;  // minimizer time / iterations
   double reprojection_rms = 0;  // refined, input units
   std::string linear_solver;
+  bool converged = false;       // the refinement ended by a tolerance
+  std::vector<std::string> warnings;  // the start's and the result's
   Model model;                  // the reconstruction
 };
 
@@ -106,6 +108,22 @@ SweepResult SweepK(
 // Calls body(0) … body(count − 1) on min(jobs, count) threads (jobs ≤ 1: in
 // order on this thread). Each call must write only its own outputs.
 void ParallelFor(int count, int jobs, const std::function<void(int)>& body);
+
+// A real sequence with ground truth (the mocap and robustness suites).
+struct MocapSequence {
+  std::string name;  // file stem
+  Measurements measurements;
+  GroundTruth truth;
+};
+// Every .mat of config.datasets_dir with measurements and ground truth,
+// sorted by name, restricted to config.mocap_sequences when given. Files
+// that cannot be read are skipped with a line on stdout. Returns false with
+// `why` when there is no such folder or no such file.
+bool LoadMocapSequences(const BenchConfig& config, std::vector<MocapSequence>* sequences,
+                        std::string* why);
+// K of the published numbers for a sequence (drink 12, pickup 12, yoga 10,
+// face 7; 8 for any other).
+int PublishedNumBases(const std::string& name);
 
 // Camera-0 ground truth of a synthetic model (ShapeInCamera(t, 0)).
 GroundTruth TruthShapes(const Model& truth);

@@ -1,9 +1,10 @@
 // nrsfm_bench: the benchmark suites (docs/benchmark.md). With no flags it runs the
 // reduced default (a few minutes on 2 cores, --jobs=2): paper-random with R = 1,
 // superquadric, shoe at K = 4 (monocular and two cameras), mocap at the published K
-// when ../shared/datasets exists, and a small scale sweep.
+// and robustness on yoga and face (four cases) when ../shared/datasets exists,
+// and a small scale sweep.
 //
-//   --suite=default|paper-random|superquadric|shoe|mocap|scale|all
+//   --suite=default|paper-random|superquadric|shoe|mocap|robustness|scale|all
 //   --full            paper-sized runs (R = 30, full K ranges, K sweeps)
 //   --runs=R          random runs per setting (overrides the suite default)
 //   --datasets_dir    folder of the mocap .mat files
@@ -11,7 +12,7 @@
 //   --threads         Ceres threads
 //   --plots           write plots (gnuplot, SVG); skipped with a note if absent
 //   --mocap_sequences comma-separated .mat stems (default: every file)
-//   --max_seconds     wall-time cap of each shoe and mocap refinement (default
+//   --max_seconds     wall-time cap of each shoe, mocap and robustness refinement (default
 //                     run: 30; one suite alone or --full: none)
 //   --jobs            reconstructions run at once (default 2)
 //   --max_iterations  LM iterations per refinement (default: the library's)
@@ -33,7 +34,7 @@
 #include "bench/suites.h"
 
 DEFINE_string(suite, "default",
-              "default | paper-random | superquadric | shoe | mocap | scale | all");
+              "default | paper-random | superquadric | shoe | mocap | robustness | scale | all");
 DEFINE_bool(full, false, "paper-sized runs (R = 30, full K ranges, K sweeps)");
 DEFINE_int32(runs, 0, "random runs per setting (0 = the suite's default)");
 DEFINE_string(datasets_dir, "../shared/datasets",
@@ -75,6 +76,7 @@ const std::vector<Suite>& AllSuites() {
       {"superquadric", nrsfm::bench::RunSuperquadricSuite},
       {"shoe", nrsfm::bench::RunShoeSuite},
       {"mocap", nrsfm::bench::RunMocapSuite},
+      {"robustness", nrsfm::bench::RunRobustnessSuite},
       {"scale", nrsfm::bench::RunScaleSuite},
   };
   return suites;
@@ -144,7 +146,7 @@ int main(int argc, char** argv) {
   if (selected.empty()) {
     std::cerr << "error: unknown --suite '" << FLAGS_suite
               << "' (default | paper-random | superquadric | shoe | mocap | "
-                 "scale | all)\n";
+                 "robustness | scale | all)\n";
     return 2;
   }
   std::error_code error;

@@ -29,25 +29,20 @@ namespace {
 // R-BMM (Kumar, WACV 2020), and the best we know of (Kumar & Van Gool,
 // ECCV 2022).
 struct PublishedNumbers {
-  int num_bases;  // K of the published numbers
   double pta, bmm, rbmm, best;
 };
 
 const std::map<std::string, PublishedNumbers>& Published() {
   static const std::map<std::string, PublishedNumbers> table = {
-      {"drink", {12, 0.0250, 0.0266, 0.0119, 0.0071}},
-      {"pickup", {12, 0.2369, 0.1731, 0.0198, 0.0152}},
-      {"yoga", {10, 0.1625, 0.1150, 0.0129, 0.0122}},
-      {"face", {7, -1, 0.0303, 0.0179, 0.0145}},
+      {"drink", {0.0250, 0.0266, 0.0119, 0.0071}},
+      {"pickup", {0.2369, 0.1731, 0.0198, 0.0152}},
+      {"yoga", {0.1625, 0.1150, 0.0129, 0.0122}},
+      {"face", {-1, 0.0303, 0.0179, 0.0145}},
   };
   return table;
 }
 
-struct Sequence {
-  std::string name;
-  Measurements measurements;
-  GroundTruth truth;
-};
+using Sequence = MocapSequence;
 
 // Strategies: "default" (Reconstruct() with default options: the prior rule
 // of solvers/prior_rule.h chooses start and terms), "plain" (no extra term,
@@ -105,42 +100,11 @@ Json OutcomeJson(const RunOutcome& o) {
 }  // namespace
 
 Status RunMocapSuite(const BenchConfig& config, Json* out) {
-  namespace fs = std::filesystem;
   std::cout << "\n== mocap: real motion-capture sequences ==\n";
-  std::error_code error;
-  if (config.datasets_dir.empty() || !fs::is_directory(config.datasets_dir, error)) {
-    const std::string why = "no datasets directory '" + config.datasets_dir +
-                            "' (set --datasets_dir); mocap suite skipped";
-    std::cout << why << "\n";
-    (*out)["skipped"] = why;
-    return Status::OK();
-  }
-  std::vector<std::string> files;
-  for (const auto& entry : fs::directory_iterator(config.datasets_dir, error)) {
-    if (entry.path().extension() == ".mat") files.push_back(entry.path().string());
-  }
-  std::sort(files.begin(), files.end());
   std::vector<Sequence> sequences;
-  for (const std::string& file : files) {
-    Sequence sequence;
-    sequence.name = fs::path(file).stem().string();
-    if (!config.mocap_sequences.empty() &&
-        ("," + config.mocap_sequences + ",").find("," + sequence.name + ",") ==
-            std::string::npos) {
-      continue;
-    }
-    Status status = ReadMeasurements(file, InputOptions(), &sequence.measurements);
-    GroundTruth truth;
-    if (status.ok()) status = ReadGroundTruth(file, "", &truth);
-    if (!status.ok()) {
-      std::cout << "skip " << file << ": " << status.message() << "\n";
-      continue;
-    }
-    sequence.truth = std::move(truth);
-    sequences.push_back(std::move(sequence));
-  }
-  if (sequences.empty()) {
-    const std::string why = "no .mat with ground truth in " + config.datasets_dir;
+  std::string why;
+  if (!LoadMocapSequences(config, &sequences, &why)) {
+    why += "; mocap suite skipped";
     std::cout << why << "\n";
     (*out)["skipped"] = why;
     return Status::OK();
@@ -151,23 +115,19 @@ Status RunMocapSuite(const BenchConfig& config, Json* out) {
                "frob_z", "rms", "start", "iters", "init s", "refine s",
                "total s"});
   Json runs = Json::array();
-  const auto num_bases_of = [](const Sequence& sequence) {
-    const auto published = Published().find(sequence.name);
-    return published == Published().end() ? 8 : published->second.num_bases;
-  };
   // Every (sequence, strategy) run, --jobs at a time, reported in order.
   const std::vector<std::string> strategies = Strategies(config);
   std::vector<RunOutcome> outcomes(sequences.size() * strategies.size());
   ParallelFor(static_cast<int>(outcomes.size()), config.jobs, [&](int index) {
     const Sequence& sequence = sequences[index / strategies.size()];
     outcomes[index] = RunStrategy(strategies[index % strategies.size()],
-                                  num_bases_of(sequence), config, sequence);
+                                  PublishedNumBases(sequence.name), config, sequence);
     outcomes[index].model = Model();
   });
   int index = 0;
   for (const Sequence& sequence : sequences) {
     const auto published = Published().find(sequence.name);
-    const int num_bases = num_bases_of(sequence);
+    const int num_bases = PublishedNumBases(sequence.name);
     for (const std::string& strategy : strategies) {
       const RunOutcome& o = outcomes[index++];
       const auto pub = [&](double PublishedNumbers::*field) -> std::string {

@@ -177,6 +177,78 @@ Status CheckShapes(const std::vector<Eigen::Matrix3Xd>& truth,
   return Status::OK();
 }
 
+// Whether truth and estimate have the same F and P in every frame (what
+// CheckShapes reports otherwise).
+bool SameSizes(const GroundTruth& truth, const GroundTruth& estimate) {
+  const auto& x = truth.points_in_camera;
+  const auto& x_hat = estimate.points_in_camera;
+  if (x.empty() || x.size() != x_hat.size()) return false;
+  for (std::size_t t = 0; t < x.size(); ++t) {
+    if (x[t].cols() != x[0].cols() || x_hat[t].cols() != x[0].cols()) return false;
+  }
+  return true;
+}
+
+// The frames whose estimated points are all NaN and the points NaN in any
+// other frame of the estimate (camera frame, or object frame when it has
+// one): what a reconstruction left out.
+void FindUnscored(const GroundTruth& estimate, std::vector<int>* frames,
+                  std::vector<int>* points) {
+  const auto& x_hat = estimate.points_in_camera;
+  const int num_points = static_cast<int>(x_hat[0].cols());
+  std::vector<bool> point_nan(num_points, false);
+  for (std::size_t t = 0; t < x_hat.size(); ++t) {
+    const bool object = estimate.HasObjectFrame();
+    auto nan = x_hat[t].array().isNaN();
+    if (nan.all() && (!object || estimate.points_in_object[t].array().isNaN().all())) {
+      frames->push_back(static_cast<int>(t));
+      continue;
+    }
+    for (int p = 0; p < num_points; ++p) {
+      point_nan[p] = point_nan[p] || nan.col(p).any() ||
+                     (object && estimate.points_in_object[t].col(p).array().isNaN().any());
+    }
+  }
+  for (int p = 0; p < num_points; ++p) {
+    if (point_nan[p]) points->push_back(p);
+  }
+}
+
+// `shapes` without the frames and points listed (ascending).
+GroundTruth Without(const GroundTruth& shapes, const std::vector<int>& frames,
+                    const std::vector<int>& points) {
+  const int num_points = shapes.NumPoints();
+  std::vector<int> kept_points;
+  for (int p = 0, i = 0; p < num_points; ++p) {
+    if (i < static_cast<int>(points.size()) && points[i] == p) {
+      ++i;
+    } else {
+      kept_points.push_back(p);
+    }
+  }
+  auto columns = [&](const Eigen::Matrix3Xd& x) {
+    Eigen::Matrix3Xd out(3, kept_points.size());
+    for (std::size_t j = 0; j < kept_points.size(); ++j) out.col(j) = x.col(kept_points[j]);
+    return out;
+  };
+  GroundTruth out;
+  out.source = shapes.source;
+  for (int t = 0, i = 0; t < shapes.NumFrames(); ++t) {
+    if (i < static_cast<int>(frames.size()) && frames[i] == t) {
+      ++i;
+      continue;
+    }
+    out.points_in_camera.push_back(columns(shapes.points_in_camera[t]));
+    if (t < static_cast<int>(shapes.points_in_object.size())) {
+      out.points_in_object.push_back(columns(shapes.points_in_object[t]));
+    }
+    if (t < static_cast<int>(shapes.rotations.size())) {
+      out.rotations.push_back(shapes.rotations[t]);
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 const char* EvaluationFrameName(EvaluationFrame frame) {
@@ -213,6 +285,24 @@ Status EvaluateShapes(const GroundTruth& truth, const GroundTruth& estimate,
                       ShapeErrors* errors) {
   CHECK(errors != nullptr);
   *errors = ShapeErrors();
+  // What the estimate left out (NaN) is not scored.
+  if (SameSizes(truth, estimate)) {
+    std::vector<int> frames, points;
+    FindUnscored(estimate, &frames, &points);
+    if (!frames.empty() || !points.empty()) {
+      if (frames.size() == truth.points_in_camera.size() ||
+          points.size() == static_cast<std::size_t>(truth.NumPoints())) {
+        return Status::Error("evaluation: every frame or every point of the estimate is NaN");
+      }
+      NRSFM_RETURN_IF_ERROR(EvaluateShapes(Without(truth, frames, points),
+                                           Without(estimate, frames, points), errors));
+      errors->num_frames = truth.NumFrames();
+      errors->num_points = truth.NumPoints();
+      errors->unscored_frames = frames;
+      errors->unscored_points = points;
+      return Status::OK();
+    }
+  }
   NRSFM_RETURN_IF_ERROR(
       CheckShapes(truth.points_in_camera, estimate.points_in_camera, ""));
   const std::vector<Eigen::Matrix3Xd>& x = truth.points_in_camera;

@@ -117,6 +117,10 @@ struct ShapeErrors {
   double rotation_error = std::numeric_limits<double>::quiet_NaN();
   int num_frames = 0;        // F
   int num_points = 0;        // P
+  // Frames and points the estimate holds as NaN (left out of a
+  // reconstruction), 0-based; the errors above are of the others.
+  std::vector<int> unscored_frames;
+  std::vector<int> unscored_points;
 };
 
 // All of the above, after checking user data: same F ≥ 1 in both, the same
@@ -125,6 +129,11 @@ struct ShapeErrors {
 // The object-frame e3D is used when truth.HasObjectFrame(); the estimate must
 // then have its object frame too (an error says so otherwise). Every shape is
 // centred per frame before it is compared.
+// NaN in the estimate marks what a reconstruction left out: a frame whose
+// points are all NaN and a point NaN in any other frame are not scored
+// (errors->unscored_frames / unscored_points list them; num_frames and
+// num_points stay those of the sequence); an error when that is every frame
+// or every point. NaN in the truth, and ±Inf anywhere, are errors.
 Status EvaluateShapes(const GroundTruth& truth, const GroundTruth& estimate,
                       ShapeErrors* errors);
 

@@ -62,7 +62,7 @@ Eigen::Matrix2Xd Model::Project(int frame, int camera) const {
   return projected;
 }
 
-Status Model::Validate() const {
+Status Model::Validate(bool allow_nan) const {
   std::ostringstream msg;
   if (num_frames < 1 || num_cameras < 1 || num_points < 1 || num_bases < 1) {
     msg << "model: need F, M, P, K >= 1; got F = " << num_frames
@@ -78,9 +78,9 @@ Status Model::Validate() const {
         << ", expected " << rows << " x " << cols;
       return Status::Error(s.str());
     }
-    if (!m.allFinite()) {
+    if (allow_nan ? m.array().isInf().any() : !m.allFinite()) {
       return Status::Error(std::string("model: ") + name +
-                           " has a NaN or infinite value");
+                           (allow_nan ? " has an infinite value" : " has a NaN or infinite value"));
     }
     return Status::OK();
   };

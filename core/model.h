@@ -64,7 +64,9 @@ struct Model {
   Eigen::Matrix2Xd Project(int frame, int camera) const;
 
   // Checks that every block has the size Resize() gives and finite values.
-  Status Validate() const;
+  // With allow_nan, NaN is accepted (never ±Inf): the mark of a point or
+  // frame left out of a reconstruction (solvers/drop_unobserved.h).
+  Status Validate(bool allow_nan = false) const;
 };
 
 }  // namespace nrsfm

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <sstream>
 #include <vector>
 
 #include "core/mat_io.h"
@@ -65,16 +66,18 @@ Status ChooseVariable(const std::string& path, const std::string& requested,
       (joined.empty() ? "(none)" : joined) + "); name one");
 }
 
-// Reads the chosen variable as a (2FM) × P matrix W.
+// Reads the chosen variable as a (2FM) × P matrix W; *monocular says it
+// was read from a 3-D variable (P3_gt, X), M = 1.
 Status ReadWFromMat(const std::string& path, const std::string& variable,
-                    int num_cameras, Eigen::MatrixXd* w) {
+                    int num_cameras, Eigen::MatrixXd* w, bool* monocular) {
+  *monocular = true;
   const std::string name = path + ": " + variable;
   if (variable == "P3_gt") {
     Eigen::MatrixXd block;
     NRSFM_RETURN_IF_ERROR(ReadMatVariable(path, variable, &block));
     std::vector<Eigen::Matrix3Xd> frames;
     NRSFM_RETURN_IF_ERROR(FramesFromBlockLayout(block, name, &frames));
-    if (num_cameras != 1) {
+    if (num_cameras > 1) {
       return Status::Error(name +
                            " holds monocular data; num_cameras must be 1");
     }
@@ -91,7 +94,7 @@ Status ReadWFromMat(const std::string& path, const std::string& variable,
   if (variable == "X" || slices.size() > 1) {
     std::vector<Eigen::Matrix3Xd> frames;
     NRSFM_RETURN_IF_ERROR(FramesFromArray3(slices, name, &frames));
-    if (num_cameras != 1) {
+    if (num_cameras > 1) {
       return Status::Error(name +
                            " holds monocular data; num_cameras must be 1");
     }
@@ -99,15 +102,54 @@ Status ReadWFromMat(const std::string& path, const std::string& variable,
     return Status::OK();
   }
   *w = std::move(slices[0]);
+  *monocular = false;
   return Status::OK();
 }
 
-// Sets W to NaN where the mask variable says not visible.
-Status ApplyMask(const std::string& path, const std::string& mask_variable,
-                 int num_cameras, Eigen::MatrixXd* w) {
-  const std::string name = path + ": mask " + mask_variable;
-  Eigen::MatrixXd mask;
-  NRSFM_RETURN_IF_ERROR(ReadMatVariable(path, mask_variable, &mask));
+// The number of cameras of a W read from a .mat file (see the header).
+Status CamerasOfMatFile(const std::string& path, const Eigen::MatrixXd& w,
+                        int requested, int* num_cameras) {
+  std::vector<std::string> names;
+  NRSFM_RETURN_IF_ERROR(ListMatVariables(path, &names));
+  *num_cameras = requested == 0 ? 1 : requested;
+  if (std::find(names.begin(), names.end(), "cameras") == names.end()) {
+    return Status::OK();
+  }
+  const std::string name = path + ": variable 'cameras'";
+  Eigen::MatrixXd value;
+  NRSFM_RETURN_IF_ERROR(ReadMatVariable(path, "cameras", &value));
+  if (value.rows() != 1 || value.cols() != 1) {
+    return Status::Error(name + " must be a scalar (the number of cameras M), got a " +
+                         std::to_string(value.rows()) + " x " +
+                         std::to_string(value.cols()) + " matrix");
+  }
+  const double cameras = value(0, 0);
+  if (!(std::isfinite(cameras) && cameras >= 1.0 && cameras <= 1e6 &&
+        cameras == std::floor(cameras))) {
+    std::ostringstream got;
+    got << cameras;
+    return Status::Error(name + " must be a positive integer (the number of cameras M), got " +
+                         got.str());
+  }
+  const int file_cameras = static_cast<int>(cameras);
+  if (w.rows() > 0 && w.rows() % (2 * file_cameras) != 0) {
+    return Status::Error(name + " = " + std::to_string(file_cameras) +
+                         " does not divide the " + std::to_string(w.rows()) +
+                         " rows of W into 2 rows per frame and camera");
+  }
+  if (requested != 0 && requested != file_cameras) {
+    return Status::Error(path + ": the file records cameras = " +
+                         std::to_string(file_cameras) + " (variable 'cameras') but " +
+                         std::to_string(requested) + " camera(s) were asked for");
+  }
+  *num_cameras = file_cameras;
+  return Status::OK();
+}
+
+}  // namespace
+
+Status ApplyVisibilityMask(const Eigen::MatrixXd& mask, const std::string& name,
+                           int num_cameras, Eigen::MatrixXd* w) {
   const Eigen::Index views = w->rows() / 2;
   if (mask.cols() != w->cols() ||
       (mask.rows() != w->rows() && mask.rows() != views)) {
@@ -140,28 +182,37 @@ Status ApplyMask(const std::string& path, const std::string& mask_variable,
   return Status::OK();
 }
 
+namespace {
+
 Status ReadMatMeasurements(const std::string& path, const InputOptions& options,
                            Measurements* measurements) {
   std::string variable;
   NRSFM_RETURN_IF_ERROR(ChooseVariable(path, options.variable, &variable));
   Eigen::MatrixXd w;
-  NRSFM_RETURN_IF_ERROR(ReadWFromMat(path, variable, options.num_cameras, &w));
+  bool monocular = true;
+  NRSFM_RETURN_IF_ERROR(
+      ReadWFromMat(path, variable, options.num_cameras, &w, &monocular));
+  int num_cameras = 1;
+  if (!monocular) {
+    NRSFM_RETURN_IF_ERROR(CamerasOfMatFile(path, w, options.num_cameras, &num_cameras));
+  }
   const std::string name = path + ": " + variable;
   // A W of the wrong shape is reported by FromMatrixWithNaN, not by the mask.
   if (!options.mask_variable.empty() && w.size() > 0 &&
-      w.rows() % (2 * options.num_cameras) == 0) {
-    NRSFM_RETURN_IF_ERROR(
-        ApplyMask(path, options.mask_variable, options.num_cameras, &w));
+      w.rows() % (2 * num_cameras) == 0) {
+    Eigen::MatrixXd mask;
+    NRSFM_RETURN_IF_ERROR(ReadMatVariable(path, options.mask_variable, &mask));
+    NRSFM_RETURN_IF_ERROR(ApplyVisibilityMask(
+        mask, path + ": mask " + options.mask_variable, num_cameras, &w));
   }
-  return Measurements::FromMatrixWithNaN(w, options.num_cameras, name,
-                                         measurements);
+  return Measurements::FromMatrixWithNaN(w, num_cameras, name, measurements);
 }
 
 }  // namespace
 
 Status InputOptions::Check() const {
-  if (num_cameras < 1) {
-    return Status::Error("input options: num_cameras must be >= 1, got " +
+  if (num_cameras < 0) {
+    return Status::Error("input options: num_cameras must be >= 1 (or 0: from the file), got " +
                          std::to_string(num_cameras));
   }
   if (format != "auto" && format != "mat" && format != "text" &&
@@ -193,10 +244,10 @@ Status ReadMeasurements(const std::string& path, const InputOptions& options,
     Eigen::MatrixXd w;
     NRSFM_RETURN_IF_ERROR(ReadTextMatrix(path, &w));
     NRSFM_RETURN_IF_ERROR(
-        Measurements::FromMatrixWithNaN(w, options.num_cameras, path, &m));
+        Measurements::FromMatrixWithNaN(w, std::max(options.num_cameras, 1), path, &m));
   } else {
     NRSFM_RETURN_IF_ERROR(ReadObservationList(path, &m));
-    if (options.num_cameras != 1 && options.num_cameras != m.num_cameras) {
+    if (options.num_cameras != 0 && options.num_cameras != m.num_cameras) {
       return Status::Error(path + ": the list has " +
                            std::to_string(m.num_cameras) +
                            " camera(s) but num_cameras is " +

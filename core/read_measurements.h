@@ -14,6 +14,11 @@
 //   X      3 × P × F (a 3 × P matrix is one frame), W_t = rows 0, 1 of X_t.
 // A variable named with options.variable is read as P3_gt when so named, as
 // X when named X or 3-D, as W otherwise.
+// The number of cameras M of a W variable is the file's variable `cameras`
+// when it has one (nrsfm synth writes it): a positive integer scalar that
+// divides W's rows into 2 per frame and camera; otherwise
+// options.num_cameras, 1 when that is 0. A num_cameras other than 0 that
+// disagrees with the file's `cameras` is an error naming both counts.
 // NaN marks a missing entry (both coordinates of a point or neither).
 // options.mask_variable optionally names a (2FM) × P (rows u, v, which must
 // agree) or (FM) × P variable of the same file: nonzero = visible. An entry
@@ -23,6 +28,8 @@
 #define NRSFM_CORE_READ_MEASUREMENTS_H_
 
 #include <string>
+
+#include <Eigen/Core>
 
 #include "core/measurements.h"
 #include "core/status.h"
@@ -34,10 +41,11 @@ struct InputOptions {
   std::string variable;
   // .mat variable with the visibility mask, nonzero = visible; "" = none.
   std::string mask_variable;
-  // M, the number of synchronised cameras of a W with 2FM rows (W input).
-  // An observation list sets M from its largest camera index; a value other
-  // than 1 here must then agree with it. P3_gt and X are monocular (M = 1).
-  int num_cameras = 1;
+  // M, the number of synchronised cameras of a W with 2FM rows; 0 = from
+  // the input: a .mat file's `cameras` variable, an observation list's
+  // largest camera index + 1, else 1. A value >= 1 must agree with what the
+  // file records (an error names both). P3_gt and X are monocular (M = 1).
+  int num_cameras = 0;
   // "auto" (by extension) | "mat" | "text" | "list".
   std::string format = "auto";
 
@@ -46,6 +54,14 @@ struct InputOptions {
 
 Status ReadMeasurements(const std::string& path, const InputOptions& options,
                         Measurements* measurements);
+
+// Sets `*w` (2FM × P, M = num_cameras) to NaN where `mask` says an entry is
+// not visible (0 = not visible, any other number = visible). `mask` is
+// 2FM × P (rows u and v of a view must agree) or FM × P. Errors name `name`
+// (e.g. "drink.mat: mask M") on another size, NaN or Inf, and rows u and v
+// that differ. The mask variable of ReadMeasurements goes through this.
+Status ApplyVisibilityMask(const Eigen::MatrixXd& mask, const std::string& name,
+                           int num_cameras, Eigen::MatrixXd* w);
 
 }  // namespace nrsfm
 

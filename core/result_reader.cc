@@ -34,6 +34,13 @@ Status CheckIndexColumns(const Eigen::MatrixXd& table, int num_index_columns,
   return Status::OK();
 }
 
+// Three finite coordinates, or three NaN (a point or frame left out of a
+// reconstruction); the text reader has already refused ±Inf.
+Status CheckCoordinates(const Eigen::Vector3d& x, const std::string& where) {
+  if (x.allFinite() || x.array().isNaN().all()) return Status::OK();
+  return Status::Error(where + ": coordinates are not finite (NaN in some but not all)");
+}
+
 // points_object.csv: F × P shapes, every (frame, point) exactly once.
 Status ReadPointsObjectCsv(const std::string& file, int num_frames,
                            int num_points,
@@ -60,7 +67,7 @@ Status ReadPointsObjectCsv(const std::string& file, int num_frames,
                                          " appears twice");
     seen(t, p) = true;
     const Eigen::Vector3d x = table.block<1, 3>(r, 2).transpose();
-    if (!x.allFinite()) return Status::Error(where + ": coordinates are not finite");
+    NRSFM_RETURN_IF_ERROR(CheckCoordinates(x, where));
     (*shapes)[t].col(p) = x;
   }
   if (!seen.all()) {
@@ -97,11 +104,13 @@ Status ReadRotationsCsv(const std::string& file, int num_frames, int camera,
     seen[t] = true;
     Eigen::Matrix3d rotation;
     for (int i = 0; i < 9; ++i) rotation(i / 3, i % 3) = table(r, 2 + i);
-    if (!rotation.allFinite() ||
+    // A frame left out of a reconstruction has a NaN rotation.
+    const bool left_out = rotation.array().isNaN().all();
+    if (!left_out && (!rotation.allFinite() ||
         (rotation * rotation.transpose() - Eigen::Matrix3d::Identity())
                 .cwiseAbs()
                 .maxCoeff() > 1e-6 ||
-        rotation.determinant() < 0.0) {
+        rotation.determinant() < 0.0)) {
       return Status::Error(where + ": not a rotation matrix");
     }
     (*rotations)[t] = rotation;
@@ -164,8 +173,7 @@ Status ReadPointsCameraCsv(const std::string& path, int camera,
     if (seen(t, p)) return Status::Error(where + " appears twice");
     seen(t, p) = true;
     const Eigen::Vector3d x = table.block<1, 3>(r, 3).transpose();
-    if (!x.allFinite())
-      return Status::Error(where + ": coordinates are not finite");
+    NRSFM_RETURN_IF_ERROR(CheckCoordinates(x, where));
     result.points_in_camera[t].col(p) = x;
   }
   *truth = std::move(result);

@@ -16,7 +16,9 @@ namespace nrsfm {
 // every (frame, point) of that camera must appear exactly once. Sets
 // truth->source to "points_camera.csv". Fails on a missing file, a wrong
 // header or field, non-integer or negative indices, a duplicate or missing
-// (frame, point), non-finite coordinates, or no row for `camera`.
+// (frame, point), coordinates of which some but not all are NaN (all three
+// NaN: a point or frame left out of the reconstruction, kept as NaN), or no
+// row for `camera`.
 Status ReadPointsCameraCsv(const std::string& path, int camera,
                            GroundTruth* truth);
 
@@ -25,8 +27,8 @@ Status ReadPointsCameraCsv(const std::string& path, int camera,
 // S_t of points_object.csv (header frame,point,x,y,z; every (frame, point)
 // of the camera's F and P exactly once) and camera `camera`'s rotations of
 // rotations.csv (header frame,camera,r11..r33; every frame once; each a
-// rotation to 1e-6). Sets shapes->source to "result". Fails, naming the
-// file and row, like ReadPointsCameraCsv.
+// rotation to 1e-6, or all NaN for a left-out frame). Sets shapes->source
+// to "result". Fails, naming the file and row, like ReadPointsCameraCsv.
 Status ReadResultShapes(const std::string& dir, int camera, GroundTruth* shapes);
 
 }  // namespace nrsfm

@@ -160,8 +160,10 @@ Status WritePly(const fs::path& dir, const Model& model) {
   return Status::OK();
 }
 
-Status WriteJson(const fs::path& dir, const Measurements& measurements,
-                 const Model& model, const ReconstructionReport& report) {
+}  // namespace
+
+std::string ReconstructionJson(const Measurements& measurements, const Model& model,
+                               const ReconstructionReport& report) {
   using Json = nlohmann::ordered_json;
   Json json;
   json["input"] = report.input;
@@ -187,6 +189,8 @@ Status WriteJson(const fs::path& dir, const Measurements& measurements,
   json["reprojection_rms"] = report.reprojection_rms;
   json["solution_usable"] = report.solution_usable;
   json["warnings"] = report.warnings;
+  json["dropped_points"] = report.dropped_points;
+  json["dropped_frames"] = report.dropped_frames;
   Json term_weights = Json::object();
   for (const auto& [name, value] : report.term_weights) term_weights[name] = value;
   json["term_weights"] = term_weights;
@@ -208,12 +212,17 @@ Status WriteJson(const fs::path& dir, const Measurements& measurements,
                               std::to_string(NLOHMANN_JSON_VERSION_MINOR) +
                               "." + std::to_string(NLOHMANN_JSON_VERSION_PATCH);
   json["versions"] = versions;
+  // Invalid UTF-8 (e.g. in a path) is replaced instead of throwing.
+  return json.dump(2, ' ', false, Json::error_handler_t::replace);
+}
 
+namespace {
+
+Status WriteJson(const fs::path& dir, const Measurements& measurements,
+                 const Model& model, const ReconstructionReport& report) {
   OutputFile out;
   NRSFM_RETURN_IF_ERROR(out.Open(dir / "result.json"));
-  // Invalid UTF-8 (e.g. in a path) is replaced instead of throwing.
-  const std::string text =
-      json.dump(2, ' ', false, Json::error_handler_t::replace);
+  const std::string text = ReconstructionJson(measurements, model, report);
   std::fputs(text.c_str(), out.get());
   std::fputc('\n', out.get());
   return out.Close();
@@ -316,8 +325,9 @@ Status WriteReconstruction(const std::string& dir,
                            const Measurements& measurements, const Model& model,
                            const ReconstructionReport& report,
                            const WriteOptions& options) {
+  const bool dropped = !report.dropped_points.empty() || !report.dropped_frames.empty();
   NRSFM_RETURN_IF_ERROR(
-      model.Validate().WithContext("WriteReconstruction: model"));
+      model.Validate(/*allow_nan=*/dropped).WithContext("WriteReconstruction: model"));
   if (measurements.num_frames != model.num_frames ||
       measurements.num_cameras != model.num_cameras ||
       measurements.num_points != model.num_points) {

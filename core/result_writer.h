@@ -14,6 +14,9 @@
 //   basis.csv          k,point,x,y,z              S_k, k = 0..K-1.
 //   result.json        the report below plus F, M, P, K, the number of
 //                      visible entries and library versions (NaN → null).
+// Points and frames left out of a reconstruction (report.dropped_points /
+// dropped_frames) are NaN in the model and written as "nan" in the CSV and
+// PLY files; any other NaN in the model is an error.
 //   ply/frame_00000.ply …  with WriteOptions::write_ply: ASCII PLY of each
 //                      frame's points in camera 0's frame (P vertices).
 //
@@ -52,6 +55,10 @@ struct ReconstructionReport {
   double reprojection_rms = 0;  // final, input units
   bool solution_usable = true;
   std::vector<std::string> warnings;
+  // Points and frames left out of the solve (solvers/drop_unobserved.h),
+  // written as "dropped_points" and "dropped_frames" (0-based indices).
+  std::vector<int> dropped_points;
+  std::vector<int> dropped_frames;
   // The extra terms' weights the refinement used, e.g. {"temporal_shape", 1}
   // (chosen by the prior rule or given), and what the data measured for the
   // rule and the warnings, e.g. {"track_step", 0.08} (solvers/prior_rule.h).
@@ -71,6 +78,11 @@ struct WriteOptions {
   // result.json (an earlier result) is replaced, never another directory.
   bool overwrite = true;
 };
+
+// The text of result.json (indented JSON, NaN → null) for a model of
+// `measurements` and its report: what WriteReconstruction writes.
+std::string ReconstructionJson(const Measurements& measurements, const Model& model,
+                               const ReconstructionReport& report);
 
 // Fails (writing nothing) when the model is invalid or its sizes differ from
 // the measurements', when DIR is a file, when DIR is non-empty and overwrite

@@ -1,9 +1,11 @@
 // Synthetic sequences with full ground truth: random basis shapes and the
 // deforming superquadric (the synthetic experiments of Torresani et al.
-// 2001), and a shoe-style two-camera sequence with self-occlusion. One
-// generator per file (core/synthetic_random_basis.cc,
+// 2001), a shoe-style two-camera sequence with self-occlusion, and real 3-D
+// ground truth re-projected under a chosen camera path (the robustness
+// tests). One generator per file (core/synthetic_random_basis.cc,
 // core/synthetic_superquadric.cc, core/synthetic_shoe.cc with
-// core/shoe_geometry.h; shared pieces in core/synthetic_common.h).
+// core/shoe_geometry.h, core/synthetic_reproject.cc; shared pieces in
+// core/synthetic_common.h).
 //
 // Every generator is seeded and deterministic: the same options give
 // bit-identical output on any run of the same build (core/random.h). Each
@@ -19,7 +21,11 @@
 #define NRSFM_CORE_SYNTHETIC_H_
 
 #include <cstdint>
+#include <string>
 
+#include <Eigen/Core>
+
+#include "core/ground_truth.h"
 #include "core/measurements.h"
 #include "core/model.h"
 #include "core/status.h"
@@ -129,6 +135,69 @@ struct ShoeOptions {
   Status Check() const;
 };
 Status GenerateShoe(const ShoeOptions& options, SyntheticSequence* sequence);
+
+// How the camera's angle θ_t grows over the frames (τ = t / (F − 1)):
+enum class SpeedProfile {
+  kConstant,   // θ_t = Θ τ: constant angular velocity
+  kRamp,       // θ_t = Θ τ²: the speed grows linearly from rest
+  kStopAndGo,  // eight equal segments, moving at constant speed and standing
+               // still in turn (moving first); θ_t continuous
+};
+// "constant", "ramp", "stopgo"; the error lists them.
+const char* SpeedProfileName(SpeedProfile profile);
+Status ParseSpeedProfile(const std::string& name, SpeedProfile* profile);
+
+// Re-projection of real 3-D ground truth (a motion-capture sequence) under a
+// chosen orthographic camera path, for robustness tests: slow rotation,
+// uneven speed, noise, missing data. The object frame of the source (its
+// world-frame S when it has S + Rs, else its camera-frame points) is kept:
+// S_t is the source's shape of frame t, unchanged. The camera of frame t is
+//   R_t = Rot(axis, θ_t) R_0,   w_tp = Π R_t S_t[:, p] + noise,
+// with R_0 the source's first camera (identity when it has none), `axis` a
+// direction in R_0's camera frame ((0, 1, 0), the image's vertical, makes
+// the camera orbit the object as the Akhter et al. sequences do) and θ_t
+// from `profile`, θ_{F−1} = Θ = total_rotation_deg. The image size is the
+// object's size in the image: the largest side of a frame's bounding box of
+// the noise-free tracks, over the frames; noise is i.i.d.
+// Gaussian of std noise_fraction · image size on every coordinate.
+// Missing entries: first self-occlusion (occlusion_radius > 0): point p is
+// hidden in frame t when another point lies within occlusion_radius · image
+// size of it in the image and at least that much nearer the camera (a limb
+// in front of it); then round(missing_fraction · F · P) entries removed at
+// random. Neither leaves a frame or a point with fewer than 2 entries
+// (occluded entries of such a point or frame are shown again, the least
+// hidden first; random removals that would do it are skipped).
+// A source without an object frame (P3_gt, X) gives its camera-frame shapes
+// as the object frame: any rotation of the object in them is then motion of
+// the object, which a reconstruction may explain as camera motion; compare
+// such sequences in the camera frame (e3d_camera, frob_zsign).
+struct ReprojectOptions {
+  double total_rotation_deg = 90.0;      // Θ, degrees, (0, 3600]
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitY();  // non-zero, R_0's camera frame
+  SpeedProfile profile = SpeedProfile::kConstant;
+  double noise_fraction = 0.0;    // noise std / image size, [0, 1)
+  double missing_fraction = 0.0;  // fraction of entries removed at random, [0, 1)
+  double occlusion_radius = 0.0;  // self-occlusion radius / image size, [0, 1); 0 = none
+  std::uint64_t seed = 1;         // noise and random missing entries
+
+  // Errors name the field and value.
+  Status Check() const;
+};
+
+struct ReprojectedSequence {
+  Measurements measurements;  // M = 1, W of 2F rows
+  // The source's object-frame shapes with the new rotations R_t (camera
+  // from object) and points_in_camera = R_t S_t (source "S+Rs").
+  GroundTruth truth;
+  double image_size = 0.0;      // input units
+  double noise_stddev = 0.0;    // noise_fraction · image_size
+};
+
+// Errors on invalid options and on a source with fewer than 2 frames or 1
+// point.
+Status GenerateReprojection(const GroundTruth& source,
+                            const ReprojectOptions& options,
+                            ReprojectedSequence* sequence);
 
 }  // namespace nrsfm
 

@@ -67,26 +67,33 @@ VisibilityMask RandomMissing(int num_views, int num_points, double fraction,
                              Random* random) {
   VisibilityMask visible =
       VisibilityMask::Constant(num_views, num_points, true);
+  RemoveAtRandom(fraction, random, &visible);
+  return visible;
+}
+
+void RemoveAtRandom(double fraction, Random* random, VisibilityMask* visible) {
+  const int num_views = static_cast<int>(visible->rows());
+  const int num_points = static_cast<int>(visible->cols());
   const int total = num_views * num_points;
   const int target = static_cast<int>(std::lround(fraction * total));
-  if (target == 0) return visible;
+  if (target == 0) return;
   std::vector<int> order(total);
   std::iota(order.begin(), order.end(), 0);
   for (int i = total - 1; i > 0; --i)
     std::swap(order[i], order[random->Index(i + 1)]);
-  Eigen::VectorXi per_view = Eigen::VectorXi::Constant(num_views, num_points);
-  Eigen::VectorXi per_point = Eigen::VectorXi::Constant(num_points, num_views);
+  Eigen::VectorXi per_view = visible->rowwise().count().cast<int>();
+  Eigen::VectorXi per_point = visible->colwise().count().transpose().cast<int>();
   int removed = 0;
   for (int i = 0; i < total && removed < target; ++i) {
     const int view = order[i] / num_points;
     const int point = order[i] % num_points;
+    if (!(*visible)(view, point)) continue;
     if (per_view(view) <= 2 || per_point(point) <= 2) continue;
-    visible(view, point) = false;
+    (*visible)(view, point) = false;
     --per_view(view);
     --per_point(point);
     ++removed;
   }
-  return visible;
 }
 
 void FillMeasurements(const Model& truth, const VisibilityMask& visible,

@@ -1,5 +1,5 @@
 // Pieces shared by the synthetic generators (core/synthetic.h: the random
-// basis, superquadric and shoe sequences, one file each); not part of the
+// basis, superquadric, shoe and re-projected sequences, one file each); not part of the
 // library's API.
 #ifndef NRSFM_CORE_SYNTHETIC_COMMON_H_
 #define NRSFM_CORE_SYNTHETIC_COMMON_H_
@@ -64,6 +64,9 @@ void CentreBasis(Model* truth);
 // any removal that would leave a view or a point with fewer than 2 entries.
 VisibilityMask RandomMissing(int num_views, int num_points, double fraction,
                              Random* random);
+// The same on an existing mask: round(fraction · size) more entries hidden
+// (already hidden ones are passed over), with the same rule.
+void RemoveAtRandom(double fraction, Random* random, VisibilityMask* visible);
 
 // W = truth.Project(t, c) plus N(0, noise²) on the visible entries (drawn
 // from the noise stream of `seed`), NaN on the others.

@@ -32,25 +32,39 @@ void FitBasisGivenMotion(const Measurements& centered, double damping,
   CheckMonocular(centered, *model);
   const int k = model->num_bases;
   const int f = model->num_frames;
-  // Q_t = [l_t1 Π R_t, …, l_tK Π R_t], 2 × 3K per frame.
-  std::vector<Eigen::MatrixXd> q(f);
+  const int num_points = model->num_points;
+  // Q_t = [l_t1 Π R_t, …, l_tK Π R_t] = l_tᵀ ⊗ Π R_t (2 × 3K); stacked, Q is
+  // 2F × 3K. Point p's normal matrix is Σ over the frames that see it of
+  // Q_tᵀ Q_t = (l_t l_tᵀ) ⊗ (Π R_t)ᵀ Π R_t: the sum over all frames once,
+  // minus the frames that do not see p.
+  Eigen::MatrixXd q(2 * f, 3 * k);
   for (int t = 0; t < f; ++t) {
     const Eigen::Matrix<double, 2, 3> pr = model->Rotation(t, 0).topRows<2>();
-    q[t].resize(2, 3 * k);
     for (int b = 0; b < k; ++b) {
-      q[t].middleCols(3 * b, 3) = model->weights(b, t) * pr;
+      q.block<2, 3>(2 * t, 3 * b) = model->weights(b, t) * pr;
     }
   }
-  for (int p = 0; p < model->num_points; ++p) {
-    Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(3 * k, 3 * k);
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(3 * k);
-    for (int t = 0; t < f; ++t) {
-      if (!centered.visible(t, p)) continue;
-      normal.noalias() += q[t].transpose() * q[t];
-      rhs.noalias() += q[t].transpose() *
-                       (centered.Observation(t, 0, p) - model->translations.col(t));
+  Eigen::MatrixXd all_frames = Eigen::MatrixXd::Zero(3 * k, 3 * k);
+  all_frames.selfadjointView<Eigen::Lower>().rankUpdate(q.transpose());
+  all_frames.triangularView<Eigen::StrictlyUpper>() = all_frames.transpose();
+  // Right-hand sides of every point at once: Qᵀ (w̃ − δT) over visible entries.
+  Eigen::MatrixXd observed(2 * f, num_points);
+  for (int t = 0; t < f; ++t) {
+    for (int p = 0; p < num_points; ++p) {
+      observed.block<2, 1>(2 * t, p) =
+          centered.visible(t, p)
+              ? Eigen::Vector2d(centered.Observation(t, 0, p) - model->translations.col(t))
+              : Eigen::Vector2d::Zero();
     }
-    model->basis.col(p) = SolveDamped(normal, rhs, damping);
+  }
+  const Eigen::MatrixXd rhs = q.transpose() * observed;
+  for (int p = 0; p < num_points; ++p) {
+    Eigen::MatrixXd normal = all_frames;
+    for (int t = 0; t < f; ++t) {
+      if (centered.visible(t, p)) continue;
+      normal.noalias() -= q.middleRows<2>(2 * t).transpose() * q.middleRows<2>(2 * t);
+    }
+    model->basis.col(p) = SolveDamped(std::move(normal), rhs.col(p), damping);
   }
 }
 
@@ -59,27 +73,35 @@ void FitWeightsGivenBasis(const Measurements& centered, double damping,
   CHECK(model != nullptr);
   CheckMonocular(centered, *model);
   const int k = model->num_bases;
+  const int num_points = model->num_points;
   const int n = k + (fit_translations ? 2 : 0);
+  // Per frame the design matrix A (2P × n): rows 2p, 2p + 1 of point p hold
+  // Π R_t S_b[:, p] in column b and, with translations, I_2; zero rows for
+  // points the frame does not see.
+  Eigen::MatrixXd design(2 * num_points, n);
+  Eigen::VectorXd observed(2 * num_points);
   for (int t = 0; t < model->num_frames; ++t) {
     const Eigen::Matrix<double, 2, 3> pr = model->Rotation(t, 0).topRows<2>();
     const Eigen::Vector2d fixed_shift =
         fit_translations ? Eigen::Vector2d::Zero()
                          : Eigen::Vector2d(model->translations.col(t));
-    Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(n, n);
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
-    Eigen::MatrixXd design = Eigen::MatrixXd::Zero(2, n);
-    if (fit_translations) design.rightCols<2>().setIdentity();
-    for (int p = 0; p < model->num_points; ++p) {
-      if (!centered.visible(t, p)) continue;
-      // Columns: Π R_t S_b[:, p] for each b, then (with translations) I_2.
-      for (int b = 0; b < k; ++b) {
-        design.col(b) = pr * model->basis.block<3, 1>(3 * b, p);
+    for (int p = 0; p < num_points; ++p) {
+      if (!centered.visible(t, p)) {
+        design.middleRows<2>(2 * p).setZero();
+        observed.segment<2>(2 * p).setZero();
+        continue;
       }
-      normal.noalias() += design.transpose() * design;
-      rhs.noalias() +=
-          design.transpose() * (centered.Observation(t, 0, p) - fixed_shift);
+      for (int b = 0; b < k; ++b) {
+        design.block<2, 1>(2 * p, b) = pr * model->basis.block<3, 1>(3 * b, p);
+      }
+      if (fit_translations) design.block<2, 2>(2 * p, k).setIdentity();
+      observed.segment<2>(2 * p) = centered.Observation(t, 0, p) - fixed_shift;
     }
-    const Eigen::VectorXd x = SolveDamped(normal, rhs, damping);
+    Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(n, n);
+    normal.selfadjointView<Eigen::Lower>().rankUpdate(design.transpose());
+    normal.triangularView<Eigen::StrictlyUpper>() = normal.transpose();
+    const Eigen::VectorXd x =
+        SolveDamped(std::move(normal), design.transpose() * observed, damping);
     model->weights.col(t) = x.head(k);
     if (fit_translations) model->translations.col(t) = x.tail<2>();
   }

@@ -1,5 +1,6 @@
 #include "solvers/corrective_triple.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -11,6 +12,7 @@
 #include <glog/logging.h>
 
 #include "core/model.h"
+#include "core/parallel_for.h"
 #include "core/random.h"
 #include "core/svd.h"
 #include "solvers/basis_weight_fit.h"
@@ -35,20 +37,78 @@ constexpr double kLinkAlignment = 1.5;
 // rotations) link far less often and keep one sign decision per frame.
 constexpr double kMinLinkedFraction = 0.9;
 
-// The LM solve of one start of G: Ceres' defaults (first radius 1e4) with
-// tight tolerances and a dense QR of the 2F × 3K·3 Jacobian.
-ceres::Solver::Options TripleSolverOptions() {
+// Levenberg–Marquardt over G (Ceres' defaults, first radius 1e4) with tight
+// tolerances. `exact`: dense QR of the one 2N × 9K Jacobian (accurate to the
+// last bits, for the final solve); otherwise its normal equations (half the
+// work, for the screening and the polish on a subset).
+ceres::Solver::Options TripleSolverOptions(int max_iterations, bool exact) {
   SolverOptions options;
-  options.max_iterations = kTripleMaxIterations;
+  options.max_iterations = max_iterations;
   options.function_tolerance = 1e-14;
   options.gradient_tolerance = 1e-16;
   options.parameter_tolerance = 1e-14;
   options.initial_trust_region_radius = 1e4;
   ceres::Solver::Options ceres_options = ToCeresOptions(options);
-  ceres_options.linear_solver_type = ceres::DENSE_QR;
+  if (exact) {
+    ceres_options.linear_solver_type = ceres::DENSE_QR;
+  } else {
+    ceres_options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+    // The gauges (scale, rotation of G) make JᵀJ singular; the damping μ D,
+    // μ = 1 / radius, keeps it positive definite only while the radius stays
+    // far below 1 / (machine precision), so it is capped there.
+    ceres_options.max_trust_region_radius = 1e8;
+  }
   std::string invalid;
   CHECK(ceres_options.IsValid(&invalid)) << invalid;  // fixed options
   return ceres_options;
+}
+
+// The rows of Q̂ of at most `max_frames` frames spread evenly over the
+// sequence (every frame when there are fewer).
+Eigen::MatrixXd FrameSubset(const Eigen::MatrixXd& q_hat, int max_frames) {
+  const int num_frames = static_cast<int>(q_hat.rows() / 2);
+  const int count = std::min(num_frames, max_frames);
+  Eigen::MatrixXd rows(2 * count, q_hat.cols());
+  for (int i = 0; i < count; ++i) {
+    // Frames 0 and F − 1 and evenly between.
+    const int t = count == 1 ? 0
+                             : static_cast<int>((static_cast<long>(i) * (num_frames - 1)) /
+                                                (count - 1));
+    rows.middleRows<2>(2 * i) = q_hat.middleRows<2>(2 * t);
+  }
+  return rows;
+}
+
+// Runs LM on G from its value over the frames of `rows` (TripleSolverOptions);
+// the cost per frame
+// (Ceres cost / N), infinity when the solve fails or G is not finite.
+double SolveTriple(const Eigen::MatrixXd& rows, int max_iterations, bool exact,
+                   Eigen::MatrixXd* g) {
+  ceres::Problem problem;
+  problem.AddResidualBlock(OrthonormalityError::Create(rows), nullptr, g->data());
+  ceres::Solver::Summary summary;
+  ceres::Solve(TripleSolverOptions(max_iterations, exact), &problem, &summary);
+  if (!summary.IsSolutionUsable() || !g->allFinite()) {
+    return std::numeric_limits<double>::infinity();
+  }
+  return summary.final_cost / (rows.rows() / 2);
+}
+
+// How far the triple's per-frame scale stays from zero: the smallest
+// |a₁|² + |a₂|² = c_t² (2 for a unit scaled rotation) over the frames,
+// divided by its median.
+double ScaleMargin(const Eigen::MatrixXd& q_hat, const Eigen::MatrixXd& g) {
+  const Eigen::MatrixXd a = q_hat * g;
+  std::vector<double> squared_scales(a.rows() / 2);
+  for (std::size_t t = 0; t < squared_scales.size(); ++t) {
+    squared_scales[t] = a.middleRows<2>(2 * t).squaredNorm();
+  }
+  const double smallest = *std::min_element(squared_scales.begin(), squared_scales.end());
+  std::nth_element(squared_scales.begin(),
+                   squared_scales.begin() + squared_scales.size() / 2,
+                   squared_scales.end());
+  const double median = squared_scales[squared_scales.size() / 2];
+  return median > 0.0 ? smallest / median : 0.0;
 }
 
 // Least-squares rigid shape given every frame's s_t Π R_t: the basis step of
@@ -69,7 +129,7 @@ Eigen::Matrix3Xd FitRigidShape(const Measurements& centered,
 }  // namespace
 
 Status SolveCorrectiveTriple(const Eigen::MatrixXd& q_hat, std::uint64_t seed,
-                             Eigen::MatrixX3d* g) {
+                             int num_threads, Eigen::MatrixX3d* g) {
   CHECK(g != nullptr);
   const int num_frames = static_cast<int>(q_hat.rows() / 2);
   const int n = static_cast<int>(q_hat.cols());
@@ -79,12 +139,12 @@ Status SolveCorrectiveTriple(const Eigen::MatrixXd& q_hat, std::uint64_t seed,
         << q_hat.rows() << " x " << q_hat.cols();
     return Status::Error(msg.str());
   }
-  const ceres::Solver::Options solver_options = TripleSolverOptions();
+  // Screening: every start a few LM iterations on a subset of the frames.
+  const Eigen::MatrixXd screen_rows = FrameSubset(q_hat, kTripleScreenFrames);
   Random random(seed);
-  double best_cost = std::numeric_limits<double>::infinity();
-  int best_start = -1;
+  std::vector<Eigen::MatrixXd> starts(kTripleStarts, Eigen::MatrixXd(n, 3));
   for (int start = 0; start < kTripleStarts; ++start) {
-    Eigen::MatrixXd candidate(n, 3);
+    Eigen::MatrixXd& candidate = starts[start];
     MetricUpgrade rigid;
     if (start == 0 && SolveMetricUpgrade(q_hat.leftCols<3>(), &rigid).ok()) {
       // The Tomasi-Kanade triple of the dominant rank-3 part (header).
@@ -95,32 +155,63 @@ Status SolveCorrectiveTriple(const Eigen::MatrixXd& q_hat, std::uint64_t seed,
         for (int i = 0; i < n; ++i) candidate(i, j) = random.NormalUnpaired();
       }
     }
-    ceres::Problem problem;
-    for (int t = 0; t < num_frames; ++t) {
-      problem.AddResidualBlock(
-          OrthonormalityError::Create(q_hat.row(2 * t), q_hat.row(2 * t + 1)),
-          nullptr, candidate.data());
+  }
+  std::vector<std::pair<double, int>> screened(kTripleStarts);
+  ParallelFor(kTripleStarts, num_threads, /*grain=*/1, [&](int begin, int end) {
+    for (int start = begin; start < end; ++start) {
+      screened[start] = {
+          SolveTriple(screen_rows, kTripleScreenIterations, /*exact=*/false, &starts[start]), start};
     }
-    ceres::Solver::Summary solver_summary;
-    ceres::Solve(solver_options, &problem, &solver_summary);
-    VLOG(2) << "corrective triple start " << start << ": cost "
-            << solver_summary.final_cost;
-    if (solver_summary.IsSolutionUsable() && candidate.allFinite() &&
-        solver_summary.final_cost < best_cost) {
-      best_cost = solver_summary.final_cost;
-      best_start = start;
-      *g = candidate;
+  });
+  // Ties (several starts in one minimum) keep the earlier start.
+  std::sort(screened.begin(), screened.end());
+  // The best screened starts to convergence on more frames, then the best of
+  // them on every frame (a few iterations from there).
+  const Eigen::MatrixXd polish_rows = FrameSubset(q_hat, kTriplePolishFrames);
+  const int kept = std::min(kTripleKept, kTripleStarts);
+  std::vector<double> costs(kept, std::numeric_limits<double>::infinity());
+  ParallelFor(kept, num_threads, /*grain=*/1, [&](int begin, int end) {
+    for (int i = begin; i < end; ++i) {
+      if (std::isfinite(screened[i].first)) {
+        costs[i] =
+            SolveTriple(polish_rows, kTripleMaxIterations, /*exact=*/false,
+                        &starts[screened[i].second]);
+      }
+    }
+  });
+  // The lowest cost wins; costs within kTripleEqualCost of each other are
+  // one minimum (noise-free data: every exact triple, cost ~1e-20), and
+  // among those the triple whose scale c_t stays furthest from zero does.
+  double best_cost = std::numeric_limits<double>::infinity();
+  for (double cost : costs) best_cost = std::min(best_cost, cost);
+  int best_start = -1;
+  double best_margin = -1.0;
+  for (int i = 0; i < kept; ++i) {
+    const double margin =
+        std::isfinite(costs[i]) ? ScaleMargin(q_hat, starts[screened[i].second]) : -1.0;
+    VLOG(2) << "corrective triple start " << screened[i].second << ": screened cost "
+            << screened[i].first << ", polished cost per frame " << costs[i]
+            << ", scale margin " << margin;
+    if (costs[i] <= best_cost + kTripleEqualCost && margin > best_margin) {
+      best_margin = margin;
+      best_start = screened[i].second;
     }
   }
+  if (best_start >= 0) {
+    best_cost = SolveTriple(q_hat, kTripleMaxIterations, /*exact=*/true, &starts[best_start]);
+    if (!std::isfinite(best_cost)) best_start = -1;
+  }
+  if (best_start >= 0) *g = starts[best_start];
   if (best_start < 0) {
     return Status::Error("corrective triple: no start converged to a finite solution");
   }
-  VLOG(1) << "corrective triple: kept start " << best_start << ", cost " << best_cost;
+  VLOG(1) << "corrective triple: kept start " << best_start << ", cost per frame "
+          << best_cost;
   return Status::OK();
 }
 
 Status RotationsFromTriple(const Measurements& centered, int num_bases,
-                           std::uint64_t seed,
+                           std::uint64_t seed, int num_threads,
                            std::vector<Eigen::Matrix3d>* rotations,
                            Eigen::VectorXd* scales, Eigen::Matrix3Xd* rigid_shape,
                            CorrectiveTripleSummary* summary) {
@@ -142,7 +233,7 @@ Status RotationsFromTriple(const Measurements& centered, int num_bases,
       svd.u.leftCols(r) * svd.singular_values.head(r).cwiseSqrt().asDiagonal();
   *summary = CorrectiveTripleSummary();
   Eigen::MatrixX3d g;
-  NRSFM_RETURN_IF_ERROR(SolveCorrectiveTriple(q_hat, seed, &g));
+  NRSFM_RETURN_IF_ERROR(SolveCorrectiveTriple(q_hat, seed, num_threads, &g));
 
   rotations->assign(f, Eigen::Matrix3d::Identity());
   scales->resize(f);

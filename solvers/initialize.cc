@@ -1,5 +1,6 @@
 #include "solvers/initialize.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -9,6 +10,7 @@
 #include "core/enum_names.h"
 #include "core/metrics.h"
 #include "core/option_checker.h"
+#include "core/random.h"
 #include "solvers/factorization_start.h"
 #include "solvers/low_rank_completion.h"
 #include "solvers/multi_camera_start.h"
@@ -35,14 +37,15 @@ struct CenteredData {
 Status CheckData(const StartOptions& options, const Measurements& data) {
   const int f = data.num_frames;
   const int p = data.num_points;
-  const int needed = 3 * options.num_bases + 1;
+  // 64 bits: K comes from the user and 3K + 1 may not fit an int.
+  const long long needed = 3LL * options.num_bases + 1;
   std::ostringstream msg;
   msg << "initialize: ";
   if (f < 2) {
     msg << "needs at least 2 frames, got F = " << f;
     return Status::Error(msg.str());
   }
-  if (p < needed || 2 * f < needed) {
+  if (p < needed || 2LL * f < needed) {
     msg << "K = " << options.num_bases << " needs 3K + 1 = " << needed
         << " points and 2F >= " << needed << "; got P = " << p << ", F = " << f;
     return Status::Error(msg.str());
@@ -62,6 +65,40 @@ Status CheckData(const StartOptions& options, const Measurements& data) {
     return Status::Error(msg.str());
   }
   return Status::OK();
+}
+
+// The largest K' ≤ K the start can be computed with: with missing entries
+// the completion of rank 3K' needs every view to see 3K' + 1 points and
+// every point to be seen in ⌈3K' / 2⌉ views (solvers/low_rank_completion.h);
+// complete data allow K. At least 1 (the completion then reports what is
+// missing for K' = 1).
+int StartBases(int num_bases, const Measurements& data) {
+  if (data.IsComplete()) return num_bases;
+  const int fewest_points = data.VisiblePerView().minCoeff();
+  const int fewest_views = data.VisiblePerPoint().minCoeff();
+  int k = num_bases;
+  while (k > 1 && (fewest_points < 3 * k + 1 || 2 * fewest_views < 3 * k)) --k;
+  return k;
+}
+
+// Extends a start of K' bases to `num_bases`: the new basis shapes are zero
+// and their weights small (1 % of the RMS weight of the start, seeded), so
+// the refinement's Jacobian reaches them and grows the ones the data need.
+void ExtendBases(int num_bases, std::uint64_t seed, Model* model) {
+  const int k = model->num_bases;
+  const double scale = 0.01 * std::sqrt(model->weights.squaredNorm() /
+                                        std::max<Eigen::Index>(1, model->weights.size()));
+  Model extended = *model;
+  extended.num_bases = num_bases;
+  extended.weights.resize(num_bases, model->num_frames);
+  extended.weights.topRows(k) = model->weights;
+  Random random(seed, /*stream=*/0xB45E5);
+  for (int t = 0; t < model->num_frames; ++t) {
+    for (int b = k; b < num_bases; ++b) extended.weights(b, t) = scale * random.NormalUnpaired();
+  }
+  extended.basis = Eigen::MatrixXd::Zero(3 * num_bases, model->num_points);
+  extended.basis.topRows(3 * k) = model->basis;
+  *model = std::move(extended);
 }
 
 Status CenterData(const StartOptions& options, const Measurements& data,
@@ -115,7 +152,7 @@ struct CameraZeroStart {
 };
 
 Status StartOnCameraZero(const StartOptions& options, const Measurements& camera0,
-                         CameraZeroStart* start) {
+                         int num_threads, CameraZeroStart* start) {
   switch (options.method) {
     case StartMethod::kFactorization: {
       FactorizationStartSummary summary;
@@ -134,7 +171,8 @@ Status StartOnCameraZero(const StartOptions& options, const Measurements& camera
     case StartMethod::kTriple: {
       TripleStartSummary summary;
       NRSFM_RETURN_IF_ERROR(TripleStart(camera0, options.num_bases, options.alternation,
-                                        options.seed, &start->model, &summary));
+                                        options.seed, num_threads, &start->model,
+                                        &summary));
       start->sign_segments = summary.triple.sign_segments;
       return Status::OK();
     }
@@ -165,7 +203,7 @@ Status StartOptions::Check() const {
 }
 
 Status Initialize(const StartOptions& options, const Measurements& measurements,
-                  Model* model, StartSummary* summary) {
+                  Model* model, StartSummary* summary, int num_threads) {
   CHECK(model != nullptr && summary != nullptr);
   const auto start_time = std::chrono::steady_clock::now();
   *summary = StartSummary();
@@ -178,11 +216,30 @@ Status Initialize(const StartOptions& options, const Measurements& measurements,
   NRSFM_RETURN_IF_ERROR(measurements.Validate().WithContext("initialize"));
   NRSFM_RETURN_IF_ERROR(CheckData(options, measurements));
 
+  // Missing entries may allow the start fewer bases than K (StartBases).
+  StartOptions reduced = options;
+  reduced.num_bases = StartBases(options.num_bases, measurements);
+  if (reduced.num_bases < options.num_bases) {
+    std::ostringstream msg;
+    msg << "the missing entries allow a start with at most K = " << reduced.num_bases
+        << " (a view sees only " << measurements.VisiblePerView().minCoeff()
+        << " points, a point is seen in only " << measurements.VisiblePerPoint().minCoeff()
+        << " views; K = " << options.num_bases << " needs " << 3 * options.num_bases + 1
+        << " and " << (3 * options.num_bases + 1) / 2
+        << "): the start has K = " << reduced.num_bases << " and "
+        << options.num_bases - reduced.num_bases
+        << " more bases, zero at first, that the refinement fits";
+    summary->warnings.push_back(msg.str());
+  }
   CenteredData centered;
-  NRSFM_RETURN_IF_ERROR(CenterData(options, measurements, &centered, summary));
+  NRSFM_RETURN_IF_ERROR(CenterData(reduced, measurements, &centered, summary));
   CameraZeroStart start;
   NRSFM_RETURN_IF_ERROR(
-      StartOnCameraZero(options, centered.camera0, &start).WithContext("initialize"));
+      StartOnCameraZero(reduced, centered.camera0, std::max(1, num_threads), &start)
+          .WithContext("initialize"));
+  if (reduced.num_bases < options.num_bases) {
+    ExtendBases(options.num_bases, options.seed, &start.model);
+  }
   Model& result = start.model;
   const Eigen::Matrix2Xd camera0_translations = result.translations;
   if (measurements.num_cameras > 1) {

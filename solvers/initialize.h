@@ -84,8 +84,10 @@ struct StartSummary {
 // 3K + 1 visible points or a point seen in fewer than ⌈3K / 2⌉ views when
 // entries are missing, tracks with no rotation (rank < 3, or orthonormality
 // equations that do not determine the metric), and when the start fails.
+// The parts of a start that run in parallel (the corrective triple's
+// starts) use up to `num_threads` threads; the start does not depend on it.
 Status Initialize(const StartOptions& options, const Measurements& measurements,
-                  Model* model, StartSummary* summary);
+                  Model* model, StartSummary* summary, int num_threads = 1);
 
 }  // namespace nrsfm
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "core/option_checker.h"
@@ -23,7 +24,9 @@ double Median(std::vector<double> values) {
 
 Status PriorRuleOptions::Check() const {
   OptionChecker check("prior rule options");
-  check.FinitePositive("max_track_step", max_track_step);
+  check.Require(std::isfinite(min_track_order) && min_track_order > 1.0,
+                "min_track_order must be > 1 (frames in no order have a ratio near 1), got " +
+                    std::to_string(min_track_order));
   check.FinitePositive("min_basis_fraction", min_basis_fraction);
   check.FinitePositive("temporal_shape_weight", temporal_shape_weight);
   check.FiniteAtLeast("max_path_acceleration_deg", max_path_acceleration_deg, 0.0);
@@ -31,16 +34,16 @@ Status PriorRuleOptions::Check() const {
   return check.status();
 }
 
-double MedianTrackStep(const Measurements& measurements) {
+double MedianTrackStep(const Measurements& measurements, int lag) {
   const double spread = measurements.ImageSpreadRms();
-  if (!(spread > 0.0)) return -1.0;
+  if (!(spread > 0.0) || lag < 1) return -1.0;
   std::vector<double> steps;
-  for (int t = 1; t < measurements.num_frames; ++t) {
+  for (int t = lag; t < measurements.num_frames; ++t) {
     double sum = 0.0;
     int count = 0;
     for (int c = 0; c < measurements.num_cameras; ++c) {
       const int view = measurements.View(t, c);
-      const int previous = measurements.View(t - 1, c);
+      const int previous = measurements.View(t - lag, c);
       for (int p = 0; p < measurements.num_points; ++p) {
         if (!measurements.visible(view, p) || !measurements.visible(previous, p)) continue;
         sum += (measurements.W.block<2, 1>(2 * view, p) -
@@ -54,27 +57,44 @@ double MedianTrackStep(const Measurements& measurements) {
   return Median(std::move(steps));
 }
 
-double MedianPathAccelerationDeg(const Model& model) {
-  if (model.num_frames < 3) return -1.0;
+double TrackOrder(const Measurements& measurements) {
+  const double step = MedianTrackStep(measurements, 1);
+  if (measurements.num_frames < 8 || !(step > 0.0)) return -1.0;
+  double order = -1.0;
+  for (int lag = 2; lag <= measurements.num_frames / 2; lag *= 2) {
+    order = std::max(order, MedianTrackStep(measurements, lag) / step);
+  }
+  return order;
+}
+
+double MedianPathAccelerationDeg(const Model& model, int lag) {
+  if (lag < 1 || model.num_frames < 2 * lag + 1) return -1.0;
   std::vector<double> accelerations;
-  accelerations.reserve(model.num_frames - 2);
-  Eigen::Vector3d previous_step =
-      RotationToAngleAxis(model.Rotation(1, 0) * model.Rotation(0, 0).transpose());
-  for (int t = 1; t + 1 < model.num_frames; ++t) {
-    const Eigen::Vector3d step =
-        RotationToAngleAxis(model.Rotation(t + 1, 0) * model.Rotation(t, 0).transpose());
-    accelerations.push_back((step - previous_step).norm() * kDegreesPerRadian);
-    previous_step = step;
+  accelerations.reserve(model.num_frames - 2 * lag);
+  const double lag2 = static_cast<double>(lag) * lag;
+  for (int t = lag; t + lag < model.num_frames; ++t) {
+    const Eigen::Vector3d before =
+        RotationToAngleAxis(model.Rotation(t, 0) * model.Rotation(t - lag, 0).transpose());
+    const Eigen::Vector3d after =
+        RotationToAngleAxis(model.Rotation(t + lag, 0) * model.Rotation(t, 0).transpose());
+    accelerations.push_back((after - before).norm() / lag2 * kDegreesPerRadian);
   }
   return Median(std::move(accelerations));
+}
+
+double PathAccelerationDeg(const Model& model) {
+  constexpr int kLag = 4;
+  const double long_lag = MedianPathAccelerationDeg(model, kLag);
+  if (long_lag < 0.0) return -1.0;
+  return std::max(0.0, long_lag - MedianPathAccelerationDeg(model, 1) / (kLag * kLag));
 }
 
 void DecideVideoPriors(const PriorRuleOptions& options,
                        const Measurements& measurements, int num_bases,
                        PriorDecision* decision) {
   decision->track_step = MedianTrackStep(measurements);
-  decision->video =
-      decision->track_step >= 0.0 && decision->track_step < options.max_track_step;
+  decision->track_order = TrackOrder(measurements);
+  decision->video = decision->track_order >= options.min_track_order;
   decision->basis_absorbs_rotation =
       3.0 * num_bases >= options.min_basis_fraction * measurements.num_points;
   if (decision->video && decision->basis_absorbs_rotation) {
@@ -85,7 +105,7 @@ void DecideVideoPriors(const PriorRuleOptions& options,
 void DecidePathPrior(const PriorRuleOptions& options, const Model& start,
                      PriorDecision* decision) {
   if (decision->term_weights.count("temporal_shape") == 0) return;
-  decision->path_acceleration_deg = MedianPathAccelerationDeg(start);
+  decision->path_acceleration_deg = PathAccelerationDeg(start);
   decision->constant_angular_velocity =
       decision->path_acceleration_deg >= 0.0 &&
       decision->path_acceleration_deg < options.max_path_acceleration_deg;

@@ -6,9 +6,11 @@
 
 #include <iomanip>
 #include <sstream>
+#include <string>
 
 #include "core/enum_names.h"
 #include "core/option_checker.h"
+#include "solvers/drop_unobserved.h"
 
 namespace nrsfm {
 namespace {
@@ -47,10 +49,14 @@ namespace {
 Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
                       const Measurements& measurements, const PriorDecision& video,
                       ReconstructResult* result) {
+  if (options.solver.stop_requested && options.solver.stop_requested()) {
+    return Status::Error("stopped on request");
+  }
   StartOptions start = options.start;
   start.method = method;
   NRSFM_RETURN_IF_ERROR(
-      Initialize(start, measurements, &result->model, &result->start));
+      Initialize(start, measurements, &result->model, &result->start,
+                 options.solver.num_threads));
   ProblemOptions problem = options.problem;
   result->priors = video;
   if (options.priors == PriorMode::kAuto) {
@@ -79,6 +85,21 @@ Status Reconstruct(const ReconstructOptions& options,
   *result = ReconstructResult();
   NRSFM_RETURN_IF_ERROR(options.Check());
   NRSFM_RETURN_IF_ERROR(measurements.Validate());
+  Unobserved unobserved;
+  NRSFM_RETURN_IF_ERROR(
+      FindUnobserved(measurements, options.start.num_bases, &unobserved));
+  if (!unobserved.empty()) {
+    NRSFM_RETURN_IF_ERROR(
+        Reconstruct(options, WithoutUnobserved(measurements, unobserved), result));
+    result->model = ExpandModel(result->model, measurements, unobserved);
+    result->dropped_points = unobserved.points;
+    result->dropped_frames = unobserved.frames;
+    result->warnings.insert(result->warnings.begin(),
+                            UnobservedWarning(measurements, unobserved));
+    result->total_seconds = std::chrono::duration<double>(
+        std::chrono::steady_clock::now() - start).count();
+    return Status::OK();
+  }
   PriorDecision video;
   if (options.priors == PriorMode::kAuto) {
     DecideVideoPriors(options.prior_rule, measurements, options.start.num_bases,
@@ -115,6 +136,14 @@ Status Reconstruct(const ReconstructOptions& options,
           std::string(keep_rigid ? "factorization" : "rigid") +
           " start failed: " + other.message());
     }
+  }
+  if (result->refine.usable && !result->refine.converged && !result->refine.stopped &&
+      result->refine.iterations >= options.solver.max_iterations) {
+    result->warnings.push_back(
+        "the refinement stopped at its iteration limit (" +
+        std::to_string(options.solver.max_iterations) +
+        ") before its tolerances were met; more iterations (max_iterations) may "
+        "still change the result");
   }
   result->largest_view_angle_deg = LargestViewAngleDeg(result->model);
   if (result->largest_view_angle_deg < kLittleRotationDeg) {

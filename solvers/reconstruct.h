@@ -51,9 +51,15 @@ struct ReconstructResult {
   // (with priors = kManual: only term_weights, the caller's).
   PriorDecision priors;
   // The largest angle between two frames' camera-0 rotations of the result,
-  // degrees, and the warnings about the result as a whole (little rotation).
+  // degrees, and the warnings about the result as a whole (left-out points
+  // or frames, the iteration limit reached, little rotation).
   double largest_view_angle_deg = 0;
   std::vector<std::string> warnings;
+  // Points and frames with too few observations, left out of the solve and
+  // NaN in `model` (solvers/drop_unobserved.h); a warning names them. The
+  // summaries above are of the kept measurements.
+  std::vector<int> dropped_points;
+  std::vector<int> dropped_frames;
   double total_seconds = 0;  // wall time of Reconstruct()
 };
 
@@ -75,6 +81,10 @@ inline constexpr double kLittleRotationDeg = 60.0;
 //   better (RMS 0.003 vs 0.046) but refines to e3D 0.79, the factorisation
 //   start to e3D 4e-11. Costs one extra refinement.
 // result->start.method says which start was kept.
+// Points and frames with too few observations for the start are first left
+// out (solvers/drop_unobserved.h): the rest is reconstructed as above and
+// the left-out ones are NaN in result->model, listed in
+// result->dropped_points / dropped_frames and named in a warning.
 // Errors on invalid options or measurements and when the start fails (see
 // Initialize); a refinement that is not usable is reported in
 // result->refine.usable, with result->model left at the start.

@@ -32,8 +32,15 @@ class ProgressCallback : public ceres::IterationCallback {
   ceres::CallbackReturnType operator()(
       const ceres::IterationSummary& summary) override {
     Report(summary);
+    if (options_.stop_requested && options_.stop_requested()) {
+      stopped_ = true;
+      return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+    }
     return ceres::SOLVER_CONTINUE;
   }
+
+  // Whether stop_requested ended the solve.
+  bool stopped() const { return stopped_; }
 
   // Ceres does not run the callbacks for the iteration that terminates the
   // solve; this reports the iterations the callback has not seen.
@@ -60,6 +67,7 @@ class ProgressCallback : public ceres::IterationCallback {
 
   const SolverOptions& options_;
   int last_reported_ = -1;
+  bool stopped_ = false;
 };
 
 // The blocks of the builder's problem as the structured solver sees them: one
@@ -99,6 +107,7 @@ bool SolveWithStructuredSolver(const SolverOptions& options,
   structured.max_seconds = options.max_seconds;
   structured.initial_trust_region_radius = options.initial_trust_region_radius;
   structured.num_threads = options.num_threads;
+  structured.stop_requested = options.stop_requested;
   structured.progress = [&options](int iteration, double cost, double seconds) {
     if (options.verbosity >= 1) {
       VLOG(1) << "refine: iteration " << iteration << " cost " << cost
@@ -113,6 +122,7 @@ bool SolveWithStructuredSolver(const SolverOptions& options,
   }
   summary->message = result.message;
   summary->converged = result.converged;
+  summary->stopped = result.stopped;
   summary->initial_cost = result.initial_cost;
   summary->final_cost = result.final_cost;
   summary->iterations = result.iterations;
@@ -200,7 +210,9 @@ Status SolveProblem(const SolverOptions& options, ProblemBuilder* builder,
     ceres::Solve(solver_options, builder->problem(), &ceres_summary);
     callback.ReportRemaining(ceres_summary);
 
-    summary->message = ceres_summary.message;
+    summary->stopped = callback.stopped();
+    summary->message =
+        summary->stopped ? std::string("stopped on request") : ceres_summary.message;
     summary->converged = ceres_summary.termination_type == ceres::CONVERGENCE;
     summary->initial_cost = ceres_summary.initial_cost;
     summary->final_cost = ceres_summary.final_cost;

@@ -29,6 +29,8 @@ struct RefineSummary {
   // Stopped by a tolerance (function, gradient or parameter), not by the
   // iteration or time limit.
   bool converged = false;
+  // Ended because SolverOptions::stop_requested returned true.
+  bool stopped = false;
   double initial_cost = 0.0;    // Ceres cost ½ Σ ρ(‖r‖²) at the start
   double final_cost = 0.0;      // … at the end (= initial_cost when not usable)
   double initial_reprojection_rms = 0.0;  // Measurements-vs-model RMS (core/metrics.h), input units

@@ -24,6 +24,7 @@ Status SelectNumBasesOptions::Check() const {
   check.AtLeast("max_num_bases", max_num_bases, 2);
   check.FiniteAtLeast("threshold", threshold, 1.0);
   check.FinitePositive("relative_noise_floor", relative_noise_floor);
+  check.AtLeast("curve_max_iterations", curve_max_iterations, 1);
   return check.status();
 }
 
@@ -62,6 +63,11 @@ Status SelectNumBases(const ReconstructOptions& options,
       k_options.priors = PriorMode::kManual;
       k_options.problem.term_weights.clear();
     }
+    // Each point of the curve needs the fit, not the last digits: models
+    // with more bases than the data carry converge slowly along their extra
+    // freedom.
+    k_options.solver.max_iterations =
+        std::min(options.solver.max_iterations, select_options.curve_max_iterations);
     NumBasesCandidate candidate;
     candidate.num_bases = k;
     ReconstructResult reconstruction;
@@ -111,7 +117,12 @@ Status SelectNumBases(const ReconstructOptions& options,
       break;
     }
   }
-  if (options.priors == PriorMode::kAuto) {
+  // The chosen K once more with the solver's own iteration limit (and, with
+  // priors = auto, the rule's terms), unless its curve solve already had both.
+  const ReconstructResult& curve_result = reconstructions[out.num_bases - 1];
+  if (options.priors == PriorMode::kAuto ||
+      (curve_result.refine.usable && !curve_result.refine.converged &&
+       select_options.curve_max_iterations < options.solver.max_iterations)) {
     ReconstructOptions chosen = options;
     chosen.start.num_bases = out.num_bases;
     NRSFM_RETURN_IF_ERROR(Reconstruct(chosen, measurements, &out.reconstruction)

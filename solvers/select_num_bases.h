@@ -21,7 +21,11 @@
 // The whole curve is returned so the caller can print it. With priors =
 // auto (solvers/reconstruct.h) the curve is of the data term alone and the
 // chosen K is reconstructed once more with the prior rule's terms; with
-// priors = manual every K uses the given terms.
+// priors = manual every K uses the given terms. Each K of the curve runs at
+// most curve_max_iterations LM iterations (a model with more bases than the
+// data carry converges slowly along its extra freedom, and the curve needs
+// the fit, not the last digits); the chosen K, if its curve solve stopped
+// there, is reconstructed again with the solver's own limit.
 #ifndef NRSFM_SOLVERS_SELECT_NUM_BASES_H_
 #define NRSFM_SOLVERS_SELECT_NUM_BASES_H_
 
@@ -37,6 +41,9 @@ struct SelectNumBasesOptions {
   int max_num_bases = 8;               // largest K tried, ≥ 2
   double threshold = 1.1;              // factor over the expected noise RMS, ≥ 1
   double relative_noise_floor = 1e-6;  // floor of e(K), times the RMS spread of W, > 0
+  // LM iterations of each K of the curve, ≥ 1 (at most the solver's own
+  // limit); the chosen K is reconstructed again with the solver's limit.
+  int curve_max_iterations = 100;
   Status Check() const;
 };
 

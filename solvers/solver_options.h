@@ -22,7 +22,10 @@ struct IterationReport {
 };
 
 struct SolverOptions {
-  int max_iterations = 100;            // LM iterations, ≥ 0
+  // LM iterations, ≥ 0: a safety limit; a solve normally ends by a tolerance
+  // (docs/performance.md: 44–88 iterations on the real sequences, up to ~320
+  // on slowly turning, noisy ones). Reconstruct() warns when it is reached.
+  int max_iterations = 500;
   double function_tolerance = 1e-10;   // stop when |Δcost| / cost < this, ≥ 0
   double gradient_tolerance = 1e-12;   // stop when max|projected gradient| < this, ≥ 0
   double parameter_tolerance = 1e-10;  // stop when |Δx| < this · (|x| + this), ≥ 0
@@ -38,6 +41,14 @@ struct SolverOptions {
   double initial_trust_region_radius = 1e2;
   int verbosity = 0;  // 0 silent, ≥ 1 one VLOG(1) line per iteration
   std::function<void(const IterationReport&)> progress;  // optional, per iteration
+  // Optional: asked after every LM iteration (after `progress`; also after
+  // iteration 0, before the first step). Returning true ends the solve
+  // there: Refine() keeps the last accepted iterate (usable as after any
+  // stop), RefineSummary::stopped is true and converged false. Reconstruct()
+  // also asks before each start and then returns the error "stopped on
+  // request" instead of computing another start. Called on the thread that
+  // called Refine()/Reconstruct().
+  std::function<bool()> stop_requested;
 
   // Errors on a negative count, tolerance or time, num_threads < 1 and an
   // initial_trust_region_radius that is not positive and finite.

@@ -4,14 +4,16 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <thread>
 #include <unordered_map>
 
 #include <Eigen/Cholesky>
+#include <glog/logging.h>
 #include <Eigen/Core>
 #include <ceres/cost_function.h>
 #include <ceres/loss_function.h>
 #include <ceres/manifold.h>
+
+#include "core/parallel_for.h"
 
 namespace nrsfm {
 namespace {
@@ -25,25 +27,32 @@ double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// Runs body(begin, end, worker) over [0, n) split into at most `threads`
-// contiguous ranges (fewer when n is small); worker < threads.
-template <typename Body>
-void ParallelForWorker(int n, int threads, const Body& body) {
-  threads = std::max(1, std::min(threads, n / 64));
-  if (threads <= 1) {
-    body(0, n, 0);
-    return;
+// Loops over residuals, groups or points are split over threads in pieces
+// of at least this many items (core/parallel_for.h).
+constexpr int kGrain = 64;
+
+// The small products with one residual block's Jacobian columns (m × w,
+// row-major with row stride `stride`; m is 2 or 3 here), as plain loops:
+// Eigen's general kernels cost more in dispatch than in arithmetic at
+// these sizes.
+// out (m) += A x
+inline void AddAx(const double* a, int m, int w, int stride, const double* x,
+                  double* out) {
+  for (int i = 0; i < m; ++i) {
+    const double* row = a + i * stride;
+    double sum = 0.0;
+    for (int j = 0; j < w; ++j) sum += row[j] * x[j];
+    out[i] += sum;
   }
-  std::vector<std::thread> workers;
-  for (int i = 1; i < threads; ++i) {
-    workers.emplace_back([&, i] { body(n * i / threads, n * (i + 1) / threads, i); });
-  }
-  body(0, n / threads, 0);
-  for (std::thread& w : workers) w.join();
 }
-template <typename Body>
-void ParallelFor(int n, int threads, const Body& body) {
-  ParallelForWorker(n, threads, [&](int begin, int end, int) { body(begin, end); });
+// out (w) += Aᵀ y
+inline void AddAty(const double* a, int m, int w, int stride, const double* y,
+                   double* out) {
+  for (int i = 0; i < m; ++i) {
+    const double* row = a + i * stride;
+    const double yi = y[i];
+    for (int j = 0; j < w; ++j) out[j] += row[j] * yi;
+  }
 }
 
 struct Block {
@@ -133,6 +142,8 @@ class Solver {
   std::vector<Residual> residuals_;
   std::vector<std::vector<Ref>> group_refs_, shared_refs_, eliminated_refs_;
   std::vector<int> residuals_with_shared_;
+  std::vector<int> residuals_without_eliminated_;
+  int max_rows_per_residual_ = 0;
   std::vector<double> jacobian_;
   Eigen::VectorXd r_, gradient_reduced_, gradient_eliminated_, d_reduced_, d_eliminated_;
   std::vector<Eigen::LLT<Eigen::MatrixXd>> eliminated_llt_;  // per eliminated block
@@ -271,7 +282,10 @@ bool Solver::Setup(const StructuredLayout& layout, std::string* error) {
     if (with_shared) residuals_with_shared_.push_back(static_cast<int>(i));
     if (r.eliminated >= 0) {
       eliminated_refs_[eliminated_position[r.eliminated]].push_back({static_cast<int>(i), -1});
+    } else {
+      residuals_without_eliminated_.push_back(static_cast<int>(i));
     }
+    max_rows_per_residual_ = std::max(max_rows_per_residual_, r.m);
   }
   return true;
 }
@@ -282,7 +296,7 @@ bool Solver::Evaluate(bool with_jacobian, double* cost) {
   const int threads = std::max(1, options_.num_threads);
   std::vector<double> partial(threads, 0.0);
   std::vector<char> ok(threads, 1);
-  ParallelForWorker(n, threads, [&](int begin, int end, int worker) {
+  ParallelForWorker(n, threads, kGrain, [&](int begin, int end, int worker) {
     std::vector<std::vector<double>> ambient;
     std::vector<double*> jacobians;
     double sum = 0.0;
@@ -360,19 +374,20 @@ bool Solver::Evaluate(bool with_jacobian, double* cost) {
 void Solver::MultiplyJ(const Eigen::VectorXd* reduced, const Eigen::VectorXd* eliminated,
                        Eigen::VectorXd* rows) const {
   rows->resize(num_rows_);
-  ParallelFor(static_cast<int>(residuals_.size()), options_.num_threads, [&](int begin, int end) {
+  ParallelFor(static_cast<int>(residuals_.size()), options_.num_threads, kGrain, [&](int begin, int end) {
     for (int i = begin; i < end; ++i) {
       const Residual& r = residuals_[i];
-      Eigen::Map<Eigen::VectorXd> out(rows->data() + r.row, r.m);
-      out.setZero();
+      double* out = rows->data() + r.row;
+      std::fill(out, out + r.m, 0.0);
       if (reduced != nullptr) {
         for (const Segment& s : r.reduced) {
-          out.noalias() += Cols(r, s.jcol, s.width) * reduced->segment(s.col, s.width);
+          AddAx(J(r) + s.jcol, r.m, s.width, r.width, reduced->data() + s.col, out);
         }
       }
       if (eliminated != nullptr && r.eliminated >= 0) {
         const Block& b = blocks_[r.eliminated];
-        out.noalias() += Cols(r, r.eliminated_jcol, b.size) * eliminated->segment(b.offset, b.size);
+        AddAx(J(r) + r.eliminated_jcol, r.m, b.size, r.width,
+              eliminated->data() + b.offset, out);
       }
     }
   });
@@ -381,13 +396,13 @@ void Solver::MultiplyJ(const Eigen::VectorXd* reduced, const Eigen::VectorXd* el
 void Solver::MultiplyJtReduced(const Eigen::VectorXd& rows, Eigen::VectorXd* out) const {
   out->setZero(num_reduced_);
   const int num_groups = static_cast<int>(group_refs_.size());
-  ParallelFor(num_groups, options_.num_threads, [&](int begin, int end) {
+  ParallelFor(num_groups, options_.num_threads, kGrain, [&](int begin, int end) {
     for (int g = begin; g < end; ++g) {
       for (const Ref& ref : group_refs_[g]) {
         const Residual& r = residuals_[ref.residual];
         const Segment& s = r.reduced[ref.segment];
-        out->segment(s.col, s.width).noalias() +=
-            Cols(r, s.jcol, s.width).transpose() * rows.segment(r.row, r.m);
+        AddAty(J(r) + s.jcol, r.m, s.width, r.width, rows.data() + r.row,
+               out->data() + s.col);
       }
     }
   });
@@ -403,14 +418,14 @@ void Solver::MultiplyJtReduced(const Eigen::VectorXd& rows, Eigen::VectorXd* out
 
 void Solver::MultiplyJtEliminated(const Eigen::VectorXd& rows, Eigen::VectorXd* out) const {
   out->setZero(num_eliminated_);
-  ParallelFor(static_cast<int>(eliminated_blocks_.size()), options_.num_threads,
+  ParallelFor(static_cast<int>(eliminated_blocks_.size()), options_.num_threads, kGrain,
               [&](int begin, int end) {
                 for (int k = begin; k < end; ++k) {
                   const Block& b = blocks_[eliminated_blocks_[k]];
                   for (const Ref& ref : eliminated_refs_[k]) {
                     const Residual& r = residuals_[ref.residual];
-                    out->segment(b.offset, b.size).noalias() +=
-                        Cols(r, r.eliminated_jcol, b.size).transpose() * rows.segment(r.row, r.m);
+                    AddAty(J(r) + r.eliminated_jcol, r.m, b.size, r.width,
+                           rows.data() + r.row, out->data() + b.offset);
                   }
                 }
               });
@@ -438,7 +453,7 @@ void Solver::ComputeGradientAndScaling() {
 
 void Solver::FactorEliminated(double mu) {
   eliminated_llt_.resize(eliminated_blocks_.size());
-  ParallelFor(static_cast<int>(eliminated_blocks_.size()), options_.num_threads,
+  ParallelFor(static_cast<int>(eliminated_blocks_.size()), options_.num_threads, kGrain,
               [&](int begin, int end) {
                 for (int k = begin; k < end; ++k) {
                   const Block& b = blocks_[eliminated_blocks_[k]];
@@ -472,7 +487,7 @@ void Solver::BuildPreconditioner(double mu) {
   for (std::size_t k = 0; k < eliminated_blocks_.size(); ++k) {
     eliminated_position[eliminated_blocks_[k]] = static_cast<int>(k);
   }
-  ParallelFor(num_groups, options_.num_threads, [&](int begin, int end) {
+  ParallelFor(num_groups, options_.num_threads, kGrain, [&](int begin, int end) {
     for (int g = begin; g < end; ++g) {
       for (int d = 0; d <= band_ && g - d >= 0; ++d) {
         blocks_band_[g][d] = Eigen::MatrixXd::Zero(GroupSize(g), GroupSize(g - d));
@@ -590,14 +605,69 @@ void Solver::ApplyPreconditioner(const Eigen::VectorXd& in, Eigen::VectorXd* out
 }
 
 void Solver::ApplyReduced(const Eigen::VectorXd& v, double mu, Eigen::VectorXd* out) const {
-  // S v = J_fᵀ (J_f v − J_p C̃⁻¹ J_pᵀ J_f v) + μ D_f v.
-  Eigen::VectorXd rows, projected, solved, correction;
-  MultiplyJ(&v, nullptr, &rows);
-  MultiplyJtEliminated(rows, &projected);
+  // S v = J_fᵀ (J_f v − J_p C̃⁻¹ J_pᵀ J_f v) + μ D_f v, in two passes over the
+  // Jacobian (it does not fit in the caches, so reading it is the cost):
+  // per point, rows = J_f v of its residuals and J_pᵀ rows; then per frame
+  // group, J_fᵀ (rows − J_p C̃⁻¹ J_pᵀ rows).
+  Eigen::VectorXd rows(num_rows_), projected(num_eliminated_), solved;
+  const auto rows_of = [&](const Residual& r) {
+    double* y = rows.data() + r.row;
+    std::fill(y, y + r.m, 0.0);
+    for (const Segment& s : r.reduced) {
+      AddAx(J(r) + s.jcol, r.m, s.width, r.width, v.data() + s.col, y);
+    }
+  };
+  ParallelFor(static_cast<int>(eliminated_blocks_.size()), options_.num_threads, kGrain,
+              [&](int begin, int end) {
+                for (int k = begin; k < end; ++k) {
+                  const Block& b = blocks_[eliminated_blocks_[k]];
+                  std::fill(projected.data() + b.offset, projected.data() + b.offset + b.size,
+                            0.0);
+                  for (const Ref& ref : eliminated_refs_[k]) {
+                    const Residual& r = residuals_[ref.residual];
+                    rows_of(r);
+                    AddAty(J(r) + r.eliminated_jcol, r.m, b.size, r.width,
+                           rows.data() + r.row, projected.data() + b.offset);
+                  }
+                }
+              });
+  for (int i : residuals_without_eliminated_) rows_of(residuals_[i]);
   SolveEliminated(projected, &solved);
-  MultiplyJ(nullptr, &solved, &correction);
-  rows -= correction;
-  MultiplyJtReduced(rows, out);
+  out->setZero(num_reduced_);
+  // rows − J_p C̃⁻¹ J_pᵀ rows of one residual, into `y` (r.m values).
+  const auto corrected = [&](const Residual& r, double* y) {
+    std::copy(rows.data() + r.row, rows.data() + r.row + r.m, y);
+    if (r.eliminated < 0) return;
+    const Block& b = blocks_[r.eliminated];
+    const double* jp = J(r) + r.eliminated_jcol;
+    const double* z = solved.data() + b.offset;
+    for (int i = 0; i < r.m; ++i) {
+      double sum = 0.0;
+      for (int j = 0; j < b.size; ++j) sum += jp[i * r.width + j] * z[j];
+      y[i] -= sum;
+    }
+  };
+  const int num_groups = static_cast<int>(group_refs_.size());
+  ParallelFor(num_groups, options_.num_threads, kGrain, [&](int begin, int end) {
+    std::vector<double> y(max_rows_per_residual_);
+    for (int g = begin; g < end; ++g) {
+      for (const Ref& ref : group_refs_[g]) {
+        const Residual& r = residuals_[ref.residual];
+        const Segment& s = r.reduced[ref.segment];
+        corrected(r, y.data());
+        AddAty(J(r) + s.jcol, r.m, s.width, r.width, y.data(), out->data() + s.col);
+      }
+    }
+  });
+  std::vector<double> y(max_rows_per_residual_);
+  for (std::size_t k = 0; k < shared_refs_.size(); ++k) {
+    for (const Ref& ref : shared_refs_[k]) {
+      const Residual& r = residuals_[ref.residual];
+      const Segment& s = r.reduced[ref.segment];
+      corrected(r, y.data());
+      AddAty(J(r) + s.jcol, r.m, s.width, r.width, y.data(), out->data() + s.col);
+    }
+  }
   out->array() += mu * d_reduced_.array() * v.array();
 }
 
@@ -704,6 +774,11 @@ bool Solver::Run(StructuredSolverSummary* summary) {
       summary->message = "time limit";
       break;
     }
+    if (options_.stop_requested && options_.stop_requested()) {
+      summary->message = "stopped on request";
+      summary->stopped = true;
+      break;
+    }
     ++iteration;
     const double mu = 1.0 / radius;
     summary->cg_iterations += SolveStep(mu, &step_reduced, &step_eliminated);
@@ -723,6 +798,8 @@ bool Solver::Run(StructuredSolverSummary* summary) {
     double new_cost = 0.0;
     const bool finite = Evaluate(false, &new_cost);
     const double ratio = finite && model_decrease > 0.0 ? (cost - new_cost) / model_decrease : -1.0;
+    VLOG(3) << "structured LM " << iteration << ": cost " << cost << " -> " << new_cost
+            << " ratio " << ratio << " radius " << radius << " step " << step_norm;
     if (ratio > 1e-3) {
       const double change = cost - new_cost;
       cost = new_cost;

@@ -52,12 +52,15 @@ struct StructuredSolverOptions {
   int max_cg_iterations = 500;
   // Called after every iteration (iteration 0 = the start): iteration, cost, seconds.
   std::function<void(int, double, double)> progress;
+  // Asked before every step; true ends the solve (summary.stopped).
+  std::function<bool()> stop_requested;
 };
 
 struct StructuredSolverSummary {
   bool usable = false;
   std::string message;      // why the solve stopped
   bool converged = false;   // by a tolerance (not by the iteration or time limit)
+  bool stopped = false;     // by options.stop_requested
   double initial_cost = 0.0, final_cost = 0.0;
   int iterations = 0;       // LM iterations (accepted and rejected)
   int cg_iterations = 0;    // in all

@@ -3,6 +3,8 @@
 #include <gflags/gflags.h>
 #include <glog/logging.h>
 
+#include "tools/flag_options.h"
+
 namespace nrsfm {
 namespace tools {
 namespace {
@@ -27,10 +29,7 @@ void RegisterCommandFlags(CommandFlags* flags) {
 
   static const std::vector<std::string> term_help = [] {
     std::vector<std::string> help;
-    for (const ExtraTerm& term : ExtraTerms()) {
-      help.push_back(std::string("reconstruct: weight of the ") + term.meaning +
-                     "; " + term.units + ", 0 = off (docs/problem.md).");
-    }
+    for (const ExtraTerm& term : ExtraTerms()) help.push_back(TermFlagHelp(term));
     return help;
   }();
   const std::vector<ExtraTerm>& terms = ExtraTerms();

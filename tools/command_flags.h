@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/read_measurements.h"
+#include "core/synthetic.h"
 #include "problems/extra_terms.h"
 #include "problems/problem_options.h"
 #include "solvers/initialize.h"
@@ -24,7 +25,8 @@
 #define NRSFM_COMMAND_FLAGS(X)                                                   \
   X(std::string, input, "",                                                      \
     "reconstruct, view: input file (.mat v4/v5/v7.3, text/CSV W, or an "         \
-    "observation list .obs/.list 'frame camera point u v').")                    \
+    "observation list .obs/.list 'frame camera point u v'); synth --dataset "   \
+    "reproject: the source truth (.mat with S+Rs, P3_gt or X).")                 \
   X(std::string, var, ::nrsfm::InputOptions().variable,                          \
     "reconstruct, view: variable of a .mat input (default: W, then P3_gt, "      \
     "then X).")                                                                  \
@@ -35,7 +37,9 @@
     "reconstruct, view: input format auto|mat|text|list.")                       \
   X(int, cameras, ::nrsfm::InputOptions().num_cameras,                           \
     "reconstruct: number of synchronised cameras M of a W input with 2FM rows; " \
-    "synth: cameras of the shoe (1 or 2).")                                      \
+    "0 = what the file records (a .mat file's 'cameras' variable, an "          \
+    "observation list's camera indices), else 1; a count that disagrees with "  \
+    "the file is an error. synth: cameras of the shoe (1 or 2; 0 = 1).")         \
   X(std::string, K, "",                                                          \
     "reconstruct: number of basis shapes, an integer >= 1 or 'auto'; synth: "    \
     "basis shapes of the random generator (default 5).")                         \
@@ -69,7 +73,7 @@
     "reconstruct: solver threads.")                                              \
   X(std::string, linear_solver,                                                  \
     ::nrsfm::LinearSolverName(::nrsfm::SolverOptions().linear_solver),           \
-    "reconstruct: auto|dense_schur|sparse_schur|iterative_schur|"                \
+    "reconstruct: auto|structured|dense_schur|sparse_schur|iterative_schur|"     \
     "sparse_normal_cholesky|cgnr|dense_qr.")                                     \
   X(std::uint64_t, seed, ::nrsfm::StartOptions().seed,                           \
     "reconstruct: seed of the rigid and triple starts; synth: seed.")            \
@@ -78,15 +82,35 @@
     "or a result directory).")                                                   \
   X(std::string, truth_var, "",                                                  \
     "reconstruct, evaluate, view: variable of the truth .mat (default: S+Rs, "   \
-    "then P3_gt, then X).")                                                      \
+    "then P3_gt, then X); synth --dataset reproject: variable of the source "  \
+    "--input.")                                                                  \
   X(std::string, result, "",                                                     \
     "evaluate, view: result directory of a reconstruction.")                     \
-  X(std::string, dataset, "random", "synth: random|superquadric|shoe.")          \
+  X(std::string, dataset, "random",                                              \
+    "synth: random|superquadric|shoe|reproject (reproject: the 3-D truth of "     \
+    "--input re-projected under the camera path of --rotation, --axis, "         \
+    "--profile).")                                                               \
   X(int, frames, -1, "synth: frames F (default: the generator's).")              \
   X(int, points, -1, "synth: points P (default: the generator's).")              \
   X(double, noise, 0.0, "synth: Gaussian noise std on W, input units.")          \
   X(double, missing, 0.0,                                                        \
-    "synth: fraction of entries removed at random (random, superquadric).")      \
+    "synth: fraction of entries removed at random (random, superquadric, "       \
+    "reproject).")                                                               \
+  X(double, rotation, ::nrsfm::ReprojectOptions().total_rotation_deg,            \
+    "synth --dataset reproject: total camera rotation over the sequence, "       \
+    "degrees.")                                                                  \
+  X(std::string, axis, "0,1,0",                                                  \
+    "synth --dataset reproject: rotation axis x,y,z in the first camera's "      \
+    "frame (0,1,0: orbit about the image's vertical).")                          \
+  X(std::string, profile,                                                        \
+    ::nrsfm::SpeedProfileName(::nrsfm::ReprojectOptions().profile),              \
+    "synth --dataset reproject: speed profile constant|ramp|stopgo.")            \
+  X(double, noise_fraction, ::nrsfm::ReprojectOptions().noise_fraction,          \
+    "synth --dataset reproject: Gaussian noise std as a fraction of the image "  \
+    "size (the largest side of a frame's bounding box of the tracks).")          \
+  X(double, occlusion, ::nrsfm::ReprojectOptions().occlusion_radius,             \
+    "synth --dataset reproject: self-occlusion radius as a fraction of the "     \
+    "image size (a point is hidden by a nearer one within it); 0 = none.")       \
   X(bool, quiet, false, "reconstruct: no progress lines on stderr.")
 
 namespace nrsfm {

@@ -1,6 +1,7 @@
 // The commands of the nrsfm tool. main() parses the flags into CommandFlags
 // (tools/command_flags.h); each command returns a Status whose message is
-// the one line the user sees.
+// the one line the user sees. The steps they share with the Python module
+// are in tools/flag_options.h.
 #ifndef NRSFM_TOOLS_COMMANDS_H_
 #define NRSFM_TOOLS_COMMANDS_H_
 
@@ -9,12 +10,10 @@
 
 #include "core/status.h"
 #include "tools/command_flags.h"
+#include "tools/flag_options.h"  // VersionString()
 
 namespace nrsfm {
 namespace tools {
-
-// "nrsfm <version> (Ceres <version>, Eigen <version>)".
-const char* VersionString();
 
 Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
                       std::ostream& progress);

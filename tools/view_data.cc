@@ -238,6 +238,8 @@ Status AddTracks(const ViewDataOptions& options, const std::string& result_dir,
           data->tracks.block<2, 1>(row, p).setConstant(kNaN);
           continue;
         }
+        // A point or frame the reconstruction left out has no reprojection.
+        if (data->reprojection.block<2, 1>(row, p).array().isNaN().any()) continue;
         sum += (m.W.block<2, 1>(row, p) - data->reprojection.block<2, 1>(row, p)).squaredNorm();
         ++count;
       }

@@ -69,7 +69,8 @@ struct ViewData {
   // With tracks only (has_tracks): the input tracks, (2FM) × P, NaN where a
   // point is not visible; `frame_reprojection_rms`(t) the RMS 2D distance
   // between tracks and reprojections over the visible entries of frame t (all
-  // cameras; NaN when none is visible) and `reprojection_rms` over all.
+  // cameras; NaN when none is visible) and `reprojection_rms` over all;
+  // points and frames the reconstruction left out (NaN) are not counted.
   bool has_tracks = false;
   Eigen::MatrixXd tracks;
   Eigen::VectorXd frame_reprojection_rms;

@@ -197,13 +197,54 @@ TEST(Metrics, EvaluateShapesRejectsBadInput) {
       std::string::npos);
   Frames with_nan = truth;
   with_nan[1](2, 3) = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_NE(message(truth, with_nan).find("frame 1 of the estimate has a NaN"),
+  EXPECT_NE(message(with_nan, truth).find("frame 1 of the truth has a NaN"),
+            std::string::npos);
+  Frames with_inf = truth;
+  with_inf[1](2, 3) = std::numeric_limits<double>::infinity();
+  EXPECT_NE(message(truth, with_inf).find("frame 1 of the estimate has a NaN or infinite"),
+            std::string::npos);
+  Frames all_nan = truth;
+  for (Eigen::Matrix3Xd& x : all_nan) x.col(1).setConstant(NAN);
+  all_nan[0].setConstant(NAN);
+  all_nan[1].setConstant(NAN);
+  EXPECT_NE(message(truth, all_nan).find("every frame or every point of the estimate is NaN"),
             std::string::npos);
   Frames collapsed = truth;
   collapsed[0].setConstant(3.0);
   EXPECT_NE(
       message(collapsed, truth).find("all points of truth frame 0 coincide"),
       std::string::npos);
+}
+
+// NaN in the estimate marks what a reconstruction left out: a frame all NaN
+// and a point NaN in some other frame are not scored; the errors are those
+// of the rest, exactly as if the rest were given alone.
+TEST(Metrics, EvaluateShapesLeavesOutWhatTheEstimateHoldsAsNaN) {
+  const Frames truth = RandomSequence(4, 6, 11);
+  Frames estimate = Transformed(truth, AngleAxisToRotation(Eigen::Vector3d(0.0, 0.0, 0.3)));
+  for (Eigen::Matrix3Xd& x : estimate) x(1, 0) += 0.05;  // some error to score
+  Frames with_nan = estimate;
+  with_nan[2].setConstant(NAN);     // frame 2 left out
+  with_nan[0](1, 4) = NAN;          // point 4 left out (one frame suffices)
+  with_nan[3].col(4).setConstant(NAN);
+  ShapeErrors errors;
+  ASSERT_TRUE(EvaluateShapes(CameraOnly(truth), CameraOnly(with_nan), &errors).ok());
+  EXPECT_EQ(errors.unscored_frames, (std::vector<int>{2}));
+  EXPECT_EQ(errors.unscored_points, (std::vector<int>{4}));
+  EXPECT_EQ(errors.num_frames, 4);
+  EXPECT_EQ(errors.num_points, 6);
+  Frames kept_truth, kept_estimate;
+  for (int t : {0, 1, 3}) {
+    Eigen::Matrix3Xd a(3, 5), b(3, 5);
+    a << truth[t].leftCols(4), truth[t].col(5);
+    b << estimate[t].leftCols(4), estimate[t].col(5);
+    kept_truth.push_back(a);
+    kept_estimate.push_back(b);
+  }
+  EXPECT_GT(errors.e3d, 0.0);
+  EXPECT_EQ(errors.e3d, ComputeE3D(kept_truth, kept_estimate));
+  EXPECT_EQ(errors.frob_zsign, ComputeFrobeniusZSign(kept_truth, kept_estimate));
+  EXPECT_EQ(errors.error3d_pct, ComputeError3DPercent(kept_truth, kept_estimate));
 }
 
 Eigen::Matrix3d RotationZ(double angle) {

@@ -174,6 +174,66 @@ TEST(ReadMeasurements, TextAndListInputs) {
             dir + "/w.data: the list has 2 camera(s) but num_cameras is 3");
 }
 
+// A .mat file's `cameras` variable (nrsfm synth writes it) sets M; a count
+// asked for that disagrees is an error naming both; a bad value names the
+// file and the variable.
+TEST(ReadMeasurements, CamerasComeFromTheFile) {
+  const std::string dir = MakeTempDir("read_meas_cameras");
+  const Eigen::MatrixXd w = RandomMatrix(12, 5, 43);  // 2FM = 12 rows
+  auto write = [&](const std::string& name, const Eigen::MatrixXd& cameras) {
+    const std::string path = dir + "/" + name;
+    EXPECT_TRUE(WriteMat(path, MatVersion::kV5, {{"W", w, {}}, {"cameras", cameras, {}}}).ok());
+    return path;
+  };
+  const std::string two = write("two.mat", Eigen::MatrixXd::Constant(1, 1, 2.0));
+  Measurements m;
+  ASSERT_EQ(Read(two, {}, &m), "OK");  // num_cameras = 0: from the file
+  EXPECT_EQ(m.num_cameras, 2);
+  EXPECT_EQ(m.num_frames, 3);
+  InputOptions options;
+  options.num_cameras = 2;
+  ASSERT_EQ(Read(two, options, &m), "OK");
+  EXPECT_EQ(m.num_cameras, 2);
+  options.num_cameras = 1;
+  EXPECT_EQ(Read(two, options, &m),
+            two + ": the file records cameras = 2 (variable 'cameras') but 1 camera(s) "
+                  "were asked for");
+  // The 3-D variables are monocular whatever `cameras` says.
+  options = InputOptions();
+  const std::string p3 = dir + "/p3.mat";
+  ASSERT_TRUE(WriteMat(p3, MatVersion::kV5,
+                       {{"P3_gt", RandomMatrix(9, 5, 44), {}},
+                        {"cameras", Eigen::MatrixXd::Constant(1, 1, 2.0), {}}})
+                  .ok());
+  ASSERT_EQ(Read(p3, options, &m), "OK");
+  EXPECT_EQ(m.num_cameras, 1);
+
+  EXPECT_EQ(Read(write("half.mat", Eigen::MatrixXd::Constant(1, 1, 2.5)), options, &m),
+            dir + "/half.mat: variable 'cameras' must be a positive integer (the number "
+                  "of cameras M), got 2.5");
+  EXPECT_EQ(Read(write("zero.mat", Eigen::MatrixXd::Zero(1, 1)), options, &m),
+            dir + "/zero.mat: variable 'cameras' must be a positive integer (the number "
+                  "of cameras M), got 0");
+  EXPECT_EQ(Read(write("pair.mat", Eigen::MatrixXd::Ones(1, 2)), options, &m),
+            dir + "/pair.mat: variable 'cameras' must be a scalar (the number of cameras "
+                  "M), got a 1 x 2 matrix");
+  EXPECT_EQ(Read(write("four.mat", Eigen::MatrixXd::Constant(1, 1, 4.0)), options, &m),
+            dir + "/four.mat: variable 'cameras' = 4 does not divide the 12 rows of W "
+                  "into 2 rows per frame and camera");
+  EXPECT_TRUE(Contains(Read(write("nan.mat", Eigen::MatrixXd::Constant(1, 1, NAN)),
+                            options, &m),
+                       "variable 'cameras' must be a positive integer"));
+
+  // An observation list records its cameras by index: a count that
+  // disagrees is an error, 1 included.
+  std::ofstream(dir + "/two.obs") << "0 0 0 1 2\n0 1 1 3 4\n";
+  ASSERT_EQ(Read(dir + "/two.obs", options, &m), "OK");
+  EXPECT_EQ(m.num_cameras, 2);
+  options.num_cameras = 1;
+  EXPECT_EQ(Read(dir + "/two.obs", options, &m),
+            dir + "/two.obs: the list has 2 camera(s) but num_cameras is 1");
+}
+
 TEST(ReadMeasurements, BadInputsGiveClearErrors) {
   const std::string dir = MakeTempDir("read_meas_errors");
   const std::string path = dir + "/bad.mat";
@@ -269,9 +329,10 @@ TEST(ReadMeasurements, BadInputsGiveClearErrors) {
   bad_format.format = "xml";
   EXPECT_TRUE(Contains(Read(dir + "/w.txt", bad_format, &m),
                        "format must be auto, mat, text"));
-  InputOptions zero_cameras;
-  zero_cameras.num_cameras = 0;
-  EXPECT_FALSE(zero_cameras.Check().ok());
+  InputOptions negative_cameras;  // 0 = from the file
+  negative_cameras.num_cameras = -1;
+  EXPECT_TRUE(Contains(negative_cameras.Check().message(),
+                       "num_cameras must be >= 1 (or 0: from the file), got -1"));
   InputOptions p3_two_cameras;
   p3_two_cameras.variable = "X";
   p3_two_cameras.num_cameras = 2;

@@ -326,6 +326,52 @@ TEST(ResultWriter, EmptyResultFilesGiveTheOneLineError) {
   }
 }
 
+// A reconstruction that left out point 2 and frame 1 (NaN in the model, as
+// solvers/drop_unobserved.h makes it): written with "nan" there and the
+// lists in result.json, read back with NaN in the same places. Other NaN in
+// the model is still refused.
+TEST(ResultWriter, LeftOutPointsAndFramesAreWrittenAsNaN) {
+  Model model;
+  Measurements measurements;
+  MakeSmallProblem(&model, &measurements);
+  model.basis.col(2).setConstant(NAN);
+  for (int c = 0; c < 2; ++c) {
+    model.rotations.col(model.View(1, c)).setConstant(NAN);
+    model.translations.col(model.View(1, c)).setConstant(NAN);
+    model.scales(model.View(1, c)) = NAN;
+  }
+  model.weights.col(1).setConstant(NAN);
+  const std::string dir = MakeTempDir("result_nan") + "/out";
+  EXPECT_TRUE(Contains(WriteReconstruction(dir, measurements, model, SmallReport(), {})
+                           .message(),
+                       "model: rotations has a NaN or infinite value"));
+  ReconstructionReport report = SmallReport();
+  report.dropped_points = {2};
+  report.dropped_frames = {1};
+  ASSERT_TRUE(WriteReconstruction(dir, measurements, model, report, {}).ok());
+  const std::string json = testing_util::ReadFileToString(dir + "/result.json");
+  EXPECT_TRUE(Contains(json, "\"dropped_points\": [\n    2\n  ]")) << json;
+  EXPECT_TRUE(Contains(json, "\"dropped_frames\": [\n    1\n  ]")) << json;
+  GroundTruth shapes;
+  const Status s = ReadResultShapes(dir, 1, &shapes);
+  ASSERT_TRUE(s.ok()) << s.message();
+  for (int t = 0; t < 3; ++t) {
+    for (int p = 0; p < 4; ++p) {
+      const bool left_out = t == 1 || p == 2;
+      EXPECT_EQ(shapes.points_in_camera[t].col(p).array().isNaN().all(), left_out);
+      EXPECT_EQ(shapes.points_in_object[t].col(p).array().isNaN().all(), left_out);
+      if (!left_out) {
+        EXPECT_EQ(shapes.points_in_camera[t].col(p), model.ShapeInCamera(t, 1).col(p));
+      }
+    }
+    EXPECT_EQ(shapes.rotations[t].array().isNaN().all(), t == 1);
+  }
+  // Infinity stays an error.
+  model.basis(0, 0) = INFINITY;
+  EXPECT_TRUE(Contains(WriteReconstruction(dir, measurements, model, report, {}).message(),
+                       "model: basis has an infinite value"));
+}
+
 TEST(ResultWriter, ExistingDirectoriesAreReplacedOnlyWhenSafe) {
   Model model;
   Measurements measurements;

@@ -271,6 +271,36 @@ void ExpectError(const StartOptions& options, const Measurements& m,
   VLOG(1) << status.message();
 }
 
+// A view that sees too few points for a start with K bases (3K + 1) but
+// enough for fewer: the start has the fewer, and the rest are zero bases
+// with small weights for the refinement to fit, with a warning.
+TEST(Initialize, MissingEntriesThatAllowFewerBasesStartWithFewer) {
+  const SyntheticSequence sequence = RandomSequence(30, 20, 2, 0.0, 0.0, 3);
+  Measurements sparse_frame = sequence.measurements;
+  sparse_frame.visible.row(4).setConstant(false);
+  sparse_frame.visible.row(4).head(5).setConstant(true);  // 5 < 3·2 + 1, ≥ 3·1 + 1
+  for (int c = 5; c < 20; ++c) sparse_frame.W.block<2, 1>(8, c).setConstant(std::nan(""));
+  StartOptions options;
+  options.num_bases = 2;
+  options.method = StartMethod::kTriple;
+  Model model;
+  StartSummary summary;
+  ASSERT_TRUE(Initialize(options, sparse_frame, &model, &summary).ok());
+  EXPECT_EQ(model.num_bases, 2);
+  EXPECT_EQ(model.basis.rows(), 6);
+  EXPECT_EQ(model.weights.rows(), 2);
+  EXPECT_TRUE(model.basis.bottomRows(3).isZero(0.0));
+  EXPECT_GT(model.weights.row(1).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_LT(model.weights.row(1).cwiseAbs().maxCoeff(),
+            0.1 * model.weights.row(0).cwiseAbs().maxCoeff());
+  ASSERT_FALSE(summary.warnings.empty());
+  EXPECT_NE(summary.warnings[0].find("allow a start with at most K = 1 (a view sees only 5 "
+                                     "points"),
+            std::string::npos)
+      << summary.warnings[0];
+  EXPECT_TRUE(model.Validate().ok());
+}
+
 TEST(Initialize, DegenerateDataGivesClearErrors) {
   const SyntheticSequence sequence = RandomSequence(30, 20, 2, 0.0, 0.0, 3);
   StartOptions options;
@@ -300,8 +330,8 @@ TEST(Initialize, DegenerateDataGivesClearErrors) {
 
   Measurements sparse_frame = sequence.measurements;
   sparse_frame.visible.row(4).setConstant(false);
-  sparse_frame.visible.row(4).head(5).setConstant(true);  // 5 < 3K + 1 = 7
-  ExpectError(options, sparse_frame, "frame 4 sees 5 points");
+  sparse_frame.visible.row(4).head(3).setConstant(true);  // 3 < 3·1 + 1: not even K = 1
+  ExpectError(options, sparse_frame, "frame 4 sees 3 points");
 
   StartOptions no_bases = options;
   no_bases.num_bases = 0;
@@ -388,7 +418,7 @@ TEST(Initialize, TripleSignsLinkATimeSequenceButNotShuffledFrames) {
     Model model;
     TripleStartSummary summary;
     ASSERT_TRUE(
-        TripleStart(input.measurements, 3, AlternationOptions(), 1, &model, &summary).ok());
+        TripleStart(input.measurements, 3, AlternationOptions(), 1, 1, &model, &summary).ok());
     EXPECT_EQ(summary.triple.temporal_signs, !shuffle);
     EXPECT_EQ(summary.triple.sign_segments, shuffle ? 150 : 1);
     EXPECT_LT(RotationErrorUpToGauge(input.truth, model), 1e-6);
@@ -418,7 +448,7 @@ TEST(Initialize, TripleRotationsOfPickupWithinTwentyFiveDegrees) {
   }
   Model model;
   TripleStartSummary summary;
-  ASSERT_TRUE(TripleStart(measurements, 12, AlternationOptions(), 1, &model, &summary).ok());
+  ASSERT_TRUE(TripleStart(measurements, 12, AlternationOptions(), 1, 1, &model, &summary).ok());
   EXPECT_TRUE(summary.triple.temporal_signs);
   EXPECT_EQ(summary.triple.sign_segments, 1);
   // RotationErrorUpToGauge is a Frobenius norm: 2√2 sin(θ/2) for angle θ.

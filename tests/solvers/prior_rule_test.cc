@@ -40,8 +40,29 @@ Model PathModel(const std::vector<double>& angles_deg) {
 TEST(PriorRule, TrackStepIsTheMedianMotionOverTheSpread) {
   EXPECT_NEAR(MedianTrackStep(Translating(5, 0.1)), 0.1, 1e-12);
   EXPECT_NEAR(MedianTrackStep(Translating(5, 0.5)), 0.5, 1e-12);
-  // One frame: no pair of frames.
+  EXPECT_NEAR(MedianTrackStep(Translating(5, 0.1), 3), 0.3, 1e-12);
+  // One frame: no pair.
   EXPECT_EQ(MedianTrackStep(Translating(1, 0.1)), -1.0);
+}
+
+// Frames in time order move further at longer lags; the same positions in
+// no order do not.
+TEST(PriorRule, TrackOrderGrowsWithTheLagOnlyForOrderedFrames) {
+  // Steady motion over 16 frames: m_L = L m_1 up to L = F / 2 = 8.
+  EXPECT_NEAR(TrackOrder(Translating(16, 0.01)), 8.0, 1e-9);
+  // Shifts t·φ mod 1 (φ the golden ratio): equidistributed, no order.
+  const int frames = 64;
+  Eigen::MatrixXd w(2 * frames, 2);
+  for (int t = 0; t < frames; ++t) {
+    const double shift = std::fmod(t * 0.6180339887498949, 1.0);
+    w.block<2, 2>(2 * t, 0) << -1 + shift, 1 + shift, 0, 0;
+  }
+  Measurements unordered;
+  ASSERT_TRUE(Measurements::FromMatrixWithNaN(w, 1, "test", &unordered).ok());
+  const double order = TrackOrder(unordered);
+  EXPECT_GT(order, 0.0);
+  EXPECT_LT(order, PriorRuleOptions().min_track_order) << order;
+  EXPECT_EQ(TrackOrder(Translating(7, 0.01)), -1.0);  // F < 8
 }
 
 TEST(PriorRule, TrackStepSkipsPointsMissingInEitherFrame) {
@@ -61,6 +82,19 @@ TEST(PriorRule, PathAccelerationOfConstantAndAcceleratingPaths) {
   // Steps 1, 2, 3, 4 degrees: acceleration 1 degree per frame² everywhere.
   EXPECT_NEAR(MedianPathAccelerationDeg(PathModel({0, 1, 3, 6, 10})), 1.0, 1e-9);
   EXPECT_EQ(MedianPathAccelerationDeg(PathModel({0, 1})), -1.0);
+  EXPECT_EQ(MedianPathAccelerationDeg(PathModel({0, 1, 3, 6}), 2), -1.0);  // F < 2L + 1
+  // θ_t = t²/2: a_L = 1 at every lag, so a_4 − a_1 / 16 = 15 / 16.
+  std::vector<double> accelerating, jittered;
+  for (int t = 0; t < 12; ++t) {
+    accelerating.push_back(0.5 * t * t);
+    // A constant 5°/frame with ±0.5° jitter: a_1 = 2 from the jitter alone,
+    // a_4 = 0 (the jitter repeats every 2 frames), so no acceleration.
+    jittered.push_back(5.0 * t + (t % 2 == 0 ? 0.5 : -0.5));
+  }
+  EXPECT_NEAR(PathAccelerationDeg(PathModel(accelerating)), 15.0 / 16.0, 1e-9);
+  EXPECT_NEAR(MedianPathAccelerationDeg(PathModel(jittered)), 2.0, 1e-9);
+  EXPECT_NEAR(PathAccelerationDeg(PathModel(jittered)), 0.0, 1e-9);
+  EXPECT_EQ(PathAccelerationDeg(PathModel({0, 1, 2, 3, 4, 5, 6, 7})), -1.0);  // F < 9
 }
 
 TEST(PriorRule, LargestViewAngle) {
@@ -72,28 +106,33 @@ TEST(PriorRule, DecisionsFollowTheThresholds) {
   const PriorRuleOptions options;
   PriorDecision video;
   // P = 2 points, K = 1: 3K ≥ P / 2.
-  DecideVideoPriors(options, Translating(6, 0.05), 1, &video);
+  DecideVideoPriors(options, Translating(12, 0.05), 1, &video);
   EXPECT_TRUE(video.video);
   EXPECT_TRUE(video.basis_absorbs_rotation);
   EXPECT_EQ(video.term_weights.at("temporal_shape"), options.temporal_shape_weight);
 
+  std::vector<double> constant, shaking;
+  for (int t = 0; t < 12; ++t) {
+    constant.push_back(5.0 * t);
+    shaking.push_back(5.0 * t + 2.0 * std::sin(0.5 * t));  // a real, varying path
+  }
   PriorDecision smooth = video;
-  DecidePathPrior(options, PathModel({0, 5, 10, 15, 20, 25}), &smooth);
+  DecidePathPrior(options, PathModel(constant), &smooth);
   EXPECT_TRUE(smooth.constant_angular_velocity);
   EXPECT_EQ(smooth.term_weights.at("rotation_acceleration"),
             options.rotation_acceleration_weight);
 
   PriorDecision shaky = video;
-  DecidePathPrior(options, PathModel({0, 5, 11, 15, 21, 25}), &shaky);
-  EXPECT_NEAR(shaky.path_acceleration_deg, 2.0, 1e-9);
+  DecidePathPrior(options, PathModel(shaking), &shaky);
+  EXPECT_GT(shaky.path_acceleration_deg, options.max_path_acceleration_deg);
   EXPECT_FALSE(shaky.constant_angular_velocity);
   EXPECT_EQ(shaky.term_weights.count("rotation_acceleration"), 0u);
 
   // Frames in no order get no temporal term, and no path prior after.
   PriorDecision unordered;
-  DecideVideoPriors(options, Translating(6, 1.0), 1, &unordered);
+  DecideVideoPriors(options, Translating(7, 0.05), 1, &unordered);  // too short to tell
   EXPECT_FALSE(unordered.video);
-  DecidePathPrior(options, PathModel({0, 5, 10, 15, 20, 25}), &unordered);
+  DecidePathPrior(options, PathModel(constant), &unordered);
   EXPECT_TRUE(unordered.term_weights.empty());
   EXPECT_EQ(unordered.path_acceleration_deg, -1.0);
 }
@@ -101,8 +140,8 @@ TEST(PriorRule, DecisionsFollowTheThresholds) {
 TEST(PriorRule, NoTemporalTermWhenTheDataFixTheRotations) {
   // 40 points, K = 6: 3K = 18 < 0.5 · 40, the rotations are fixed by the
   // data; a video all the same, but no term and no path prior.
-  Eigen::MatrixXd w(2 * 6, 40);
-  for (int t = 0; t < 6; ++t) {
+  Eigen::MatrixXd w(2 * 12, 40);
+  for (int t = 0; t < 12; ++t) {
     for (int p = 0; p < 40; ++p) {
       w(2 * t, p) = std::cos(p) + 0.01 * t;
       w(2 * t + 1, p) = std::sin(p);
@@ -126,8 +165,8 @@ TEST(PriorRule, NoTemporalTermWhenTheDataFixTheRotations) {
 
 TEST(PriorRule, OptionsAreChecked) {
   PriorRuleOptions options;
-  options.max_track_step = 0.0;
-  EXPECT_NE(options.Check().message().find("max_track_step"), std::string::npos);
+  options.min_track_order = 1.0;
+  EXPECT_NE(options.Check().message().find("min_track_order"), std::string::npos);
   options = PriorRuleOptions();
   options.rotation_acceleration_weight = NAN;
   EXPECT_NE(options.Check().message().find("rotation_acceleration_weight"),

@@ -139,6 +139,29 @@ TEST(Reconstruct, AutoKeepsTheLowerRefinedCostOfTwoStarts) {
   EXPECT_LT(E3D(s.truth, automatic.model), 1e-6);
 }
 
+// A stop request ends the refinement of the first start and no other start
+// is computed: Reconstruct() returns "stopped on request".
+TEST(Reconstruct, StopRequestEndsTheRefinementAndSkipsTheNextStart) {
+  const SyntheticSequence s = Sequence(0.01, 0.0);
+  ReconstructOptions options = Options();
+  options.start.method = StartMethod::kFactorization;
+  int iterations = 0;
+  options.solver.progress = [&iterations](const IterationReport&) { ++iterations; };
+  options.solver.stop_requested = [&iterations] { return iterations >= 2; };
+  ReconstructResult result;
+  ASSERT_TRUE(Reconstruct(options, s.measurements, &result).ok());
+  EXPECT_TRUE(result.refine.stopped);
+  EXPECT_EQ(result.refine.iterations, 1);
+  EXPECT_EQ(iterations, 2);
+
+  options.start.method = StartMethod::kAuto;  // two starts, none computed
+  const Status status = Reconstruct(options, s.measurements, &result);
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("stopped on request"), std::string::npos)
+      << status.message();
+  EXPECT_EQ(iterations, 2);
+}
+
 TEST(Reconstruct, OptionsAreCheckedFirst) {
   const SyntheticSequence s = Sequence(0.0, 0.0);
   ReconstructOptions options = Options();

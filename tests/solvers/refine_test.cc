@@ -276,6 +276,41 @@ TEST(Refine, SummaryAndProgressCallback) {
   EXPECT_NE(summary.ceres_report.find("LEVENBERG_MARQUARDT"), std::string::npos);
 }
 
+// stop_requested ends the solve after the iteration it first answers true,
+// with Ceres' solvers and with the structured one; the model keeps the last
+// accepted iterate, so its cost is below the start's.
+TEST(Refine, StopRequestedEndsTheSolveAfterThatIteration) {
+  SyntheticSequence s = Sequence(30, 15, 3, 0.01);
+  for (const LinearSolverChoice choice :
+       {LinearSolverChoice::kAuto, LinearSolverChoice::kStructured}) {
+    Model model = Perturbed(s.truth, 0.02, 3);
+    int reports = 0;
+    SolverOptions options;
+    options.linear_solver = choice;
+    options.progress = [&reports](const IterationReport&) { ++reports; };
+    options.stop_requested = [&reports] { return reports >= 3; };
+    RefineSummary summary;
+    ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &model, &summary).ok());
+    SCOPED_TRACE(summary.linear_solver);
+    EXPECT_TRUE(summary.stopped);
+    EXPECT_FALSE(summary.converged);
+    EXPECT_TRUE(summary.usable);
+    EXPECT_EQ(summary.message, "stopped on request");
+    EXPECT_EQ(summary.iterations, 2);
+    EXPECT_EQ(reports, 3);  // iterations 0, 1, 2
+    EXPECT_LT(summary.final_cost, summary.initial_cost);
+    EXPECT_EQ(summary.reprojection_rms, ReprojectionRms(s.measurements, model));
+  }
+  // Without a request the same solve runs to a tolerance.
+  Model model = Perturbed(s.truth, 0.02, 3);
+  SolverOptions options;
+  options.stop_requested = [] { return false; };
+  RefineSummary summary;
+  ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &model, &summary).ok());
+  EXPECT_FALSE(summary.stopped);
+  EXPECT_TRUE(summary.converged);
+}
+
 TEST(Refine, RobustLossResistsGrossOutliers) {
   SyntheticSequence s = Sequence(40, 20, 2, 0.0, 0.0, 7);
   // 3 % of the observations moved by 0.5 (the shapes are unit cubes).

@@ -143,16 +143,40 @@ TEST_F(BadInputTest, TooFewFramesOrPoints) {
   ExpectRejected("two_points.mat", "--K 1", {"two_points.mat", "P"});
 }
 
-TEST_F(BadInputTest, AllMissingPointOrFrame) {
+// A point or a frame with no visible entry is not an error: it is left out
+// of the solve, named in a warning and NaN in the result (result.json lists
+// it).
+TEST_F(BadInputTest, AllMissingPointOrFrameIsLeftOutAndNaN) {
   Eigen::MatrixXd w = RotatingW(10, 8);
   w.col(4).setConstant(kNaN);
-  WriteW("lost_point.mat", w);
-  ExpectRejected("lost_point.mat", "--K 1", {"lost_point.mat", "point 4"});
-
-  w = RotatingW(10, 8);
   w.middleRows(6, 2).setConstant(kNaN);  // frame 3
-  WriteW("lost_frame.mat", w);
-  ExpectRejected("lost_frame.mat", "--K 1", {"lost_frame.mat", "3"});
+  WriteW("lost.mat", w);
+  const RunResult r = Run("reconstruct --input lost.mat --K 1 --output o --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("warning: left out of the reconstruction (a start needs every point "
+                       "seen in at least 2 views and every frame's views to see at least 4 "
+                       "points), NaN in the result: point 4 (seen in 0 views); frame 3 (sees "
+                       "0 points of those kept)"),
+            std::string::npos)
+      << r.out;
+  const nlohmann::json result = nlohmann::json::parse(ReadFile(Path("o/result.json")));
+  EXPECT_EQ(result["dropped_points"], nlohmann::json::array({4}));
+  EXPECT_EQ(result["dropped_frames"], nlohmann::json::array({3}));
+  EXPECT_TRUE(result["solution_usable"].get<bool>());
+  // Every row of the left-out point and frame is NaN, the others are numbers.
+  std::istringstream csv(ReadFile(Path("o/points_camera.csv")));
+  std::string line;
+  std::getline(csv, line);
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    int frame = -1, camera = -1, point = -1;
+    char comma;
+    std::istringstream fields(line);
+    fields >> frame >> comma >> camera >> comma >> point;
+    EXPECT_EQ(line.find("nan") != std::string::npos, frame == 3 || point == 4) << line;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 10 * 8);
 }
 
 TEST_F(BadInputTest, NoRotation) {
@@ -166,6 +190,9 @@ TEST_F(BadInputTest, KTooLarge) {
   WriteW("small.mat", RotatingW(10, 8));
   // 3K + 1 = 10 > P = 8.
   ExpectRejected("small.mat", "--K 3", {"small.mat", "K"});
+  // 3K + 1 beyond the range of an int: counted in 64 bits, not wrapped.
+  ExpectRejected("small.mat", "--K 1000000000",
+                 {"small.mat", "K = 1000000000 needs 3K + 1 = 3000000001 points"});
 }
 
 TEST_F(BadInputTest, CorruptFiles) {

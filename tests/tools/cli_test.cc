@@ -109,6 +109,41 @@ TEST_F(CliTest, RandomBasisRoundTrip) {
   EXPECT_LT(Evaluate("out", "out")["e3d"].get<double>(), 1e-12);
 }
 
+// synth --dataset reproject: a truth re-projected under a slow camera path is
+// written like the Akhter et al. files (W, S, Rs) and scored in its object
+// frame; noise-free exact-rank data are recovered in the camera frame.
+TEST_F(CliTest, ReprojectRoundTripAndBadFlags) {
+  ASSERT_EQ(Run("synth --dataset random --K 2 --frames 80 --points 25 --seed 3 "
+                "--output r.mat").exit_code, 0);
+  RunResult r = Run("synth --dataset reproject --input r.mat --rotation 120 "
+                    "--profile ramp --output rp.mat");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("rotation 120 deg (ramp)"), std::string::npos) << r.out;
+  r = Run("reconstruct --input rp.mat --K 2 --output out --truth rp.mat --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const nlohmann::json e = Evaluate("rp.mat", "out");
+  EXPECT_EQ(e["e3d_frame"].get<std::string>(), "object");
+  EXPECT_TRUE(e.contains("rotation_error"));
+  EXPECT_LT(e["e3d_camera"].get<double>(), 1e-6);
+  EXPECT_EQ(e["F"].get<int>(), 80);
+
+  ExpectFailure("synth --dataset reproject --output x.mat", "--input is required", "x.mat");
+  ExpectFailure("synth --dataset reproject --input r.mat --profile jerky --output x.mat",
+                "unknown value \"jerky\" (expected one of constant, ramp, stopgo)", "x.mat");
+  ExpectFailure("synth --dataset reproject --input r.mat --axis 1,2 --output x.mat",
+                "--axis must be three numbers x,y,z, got '1,2'", "x.mat");
+  ExpectFailure("synth --dataset reproject --input r.mat --axis 0,0,0 --output x.mat",
+                "axis must be a finite, non-zero direction", "x.mat");
+  ExpectFailure("synth --dataset reproject --input r.mat --noise 0.1 --output x.mat",
+                "give --noise_fraction", "x.mat");
+  ExpectFailure("synth --dataset reproject --input r.mat --K 3 --output x.mat",
+                "do not apply to --dataset reproject", "x.mat");
+  ExpectFailure("synth --dataset reproject --input r.mat --rotation -5 --output x.mat",
+                "total_rotation_deg", "x.mat");
+  ExpectFailure("synth --dataset reproject --input nope.mat --output x.mat",
+                "nope.mat: no such file", "x.mat");
+}
+
 TEST_F(CliTest, SuperquadricAndShoeRoundTrips) {
   ASSERT_EQ(Run("synth --dataset superquadric --frames 80 --points 60 --output q.mat")
                 .exit_code, 0);
@@ -130,9 +165,74 @@ TEST_F(CliTest, SuperquadricAndShoeRoundTrips) {
   EXPECT_LT(Evaluate("s.mat", "s")["error3d_pct"].get<double>(), 5.0);
 }
 
+// The camera count comes from the file when it records one (synth writes
+// `cameras`): a one-camera shoe read with --cameras 2 is an error naming
+// both counts, not 250 frames of two cameras; a two-camera file needs no flag.
+TEST_F(CliTest, CamerasComeFromTheFile) {
+  ASSERT_EQ(Run("synth --dataset shoe --frames 20 --output one.mat").exit_code, 0);
+  ExpectFailure("reconstruct --input one.mat --K 2 --cameras 2 --output o",
+                "one.mat: the file records cameras = 1 (variable 'cameras') but 2 camera(s) "
+                "were asked for",
+                "o");
+  ASSERT_EQ(Run("synth --dataset shoe --frames 20 --cameras 2 --output two.mat").exit_code, 0);
+  const RunResult r =
+      Run("reconstruct --input two.mat --K 2 --init factorization --max_iterations 3 "
+          "--output t --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("F = 20, M = 2"), std::string::npos) << r.out;
+  const nlohmann::json result = nlohmann::json::parse(ReadFile(Path("t/result.json")));
+  EXPECT_EQ(result["num_cameras"], 2);
+  EXPECT_EQ(result["options"]["cameras"], "0");  // as given: from the file
+}
+
+// Seeds 6 and 7 of the one-camera shoe have points seen in too few frames
+// for the start (the same on the default 500 frames and on the 100 used
+// here: seed 6 points 40, 41, 85 seen once; seed 7 points 41, 42): they are
+// left out, named, NaN in the result, and the rest is exact; evaluate scores
+// the rest and lists what it did not score.
+TEST_F(CliTest, ShoeSeedsWithPointsSeenTooRarelyReconstruct) {
+  std::vector<std::vector<int>> dropped = {{40, 41, 85}, {41, 42}};
+  std::vector<int> seeds = {6, 7};
+  int frames = 100;
+  if (testing_util::kSanitizedBuild) {
+    // Under the sanitizers seed 6 on 30 frames alone (the same code path;
+    // fewer views leave point 42 seen once too).
+    dropped = {{40, 41, 42, 85}};
+    seeds = {6};
+    frames = 30;
+  }
+  for (int seed : seeds) {
+    SCOPED_TRACE(seed);
+    const std::string name = "shoe" + std::to_string(seed);
+    ASSERT_EQ(Run("synth --dataset shoe --frames " + std::to_string(frames) + " --seed " +
+                  std::to_string(seed) +
+                  " --output " + name + ".mat")
+                  .exit_code,
+              0);
+    const RunResult r = Run("reconstruct --input " + name + ".mat --K 4 --output " + name +
+                            " --truth " + name + ".mat --quiet");
+    ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+    EXPECT_NE(r.out.find("warning: left out of the reconstruction"), std::string::npos) << r.out;
+    const nlohmann::json result =
+        nlohmann::json::parse(ReadFile(Path(name + "/result.json")));
+    EXPECT_EQ(result["dropped_points"].get<std::vector<int>>(), dropped[seed - 6]);
+    EXPECT_TRUE(result["dropped_frames"].empty());
+    EXPECT_LT(result["metrics"]["e3d"].get<double>(), 1e-6);
+    const nlohmann::json e = Evaluate(name + ".mat", name);
+    EXPECT_LT(e["error3d_pct"].get<double>(), 1e-4);
+    EXPECT_EQ(e["unscored_points"].get<std::vector<int>>(), dropped[seed - 6]);
+    EXPECT_EQ(e["P"].get<int>(), 110);
+  }
+}
+
 TEST_F(CliTest, ExtraTermFlags) {
   ASSERT_EQ(Run("synth --dataset shoe --frames 40 --cameras 2 --output s.mat").exit_code, 0);
-  ExpectFailure("reconstruct --input s.mat --K 2 --rigidity 10 --output o", "--cameras", "o");
+  ASSERT_EQ(Run("synth --dataset shoe --frames 40 --output s1.mat").exit_code, 0);
+  ExpectFailure("reconstruct --input s1.mat --K 2 --rigidity 10 --output o",
+                "--rigidity needs synchronised cameras: M must be >= 2, but s1.mat has M = 1",
+                "o");
+  ExpectFailure("reconstruct --input s.mat --K 2 --cameras 1 --rigidity 10 --output o",
+                "--rigidity needs synchronised cameras: --cameras must be >= 2, got 1", "o");
   ExpectFailure("reconstruct --input s.mat --cameras 2 --K 2 --temporal -1 --output o",
                 ">= 0", "o");
   ExpectFailure("reconstruct --input s.mat --K 2 --temporal_shape -1 --output o", ">= 0", "o");

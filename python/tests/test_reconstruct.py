@@ -1,0 +1,208 @@
+"""nrsfm.reconstruct and nrsfm.refine on synthetic data against the truth:
+the arrays' shapes, dtypes and conventions, and input in any layout."""
+import warnings
+
+import numpy as np
+import pytest
+
+import nrsfm
+from conftest import reprojection
+
+
+def test_noise_free_round_trip_recovers_the_truth(random_sequence):
+    s = random_sequence
+    r = nrsfm.reconstruct(s.W, 3, mask=s.mask)
+    # The reprojection of the result is W on every visible entry.
+    visible = np.repeat(s.mask, 2, axis=0)
+    assert np.max(np.abs(reprojection(r) - s.W)[visible]) < 1e-8
+    errors = nrsfm.evaluate(s.truth, r)
+    print("noise-free K = 3, 10 % missing:", errors)
+    assert errors["e3d"] < 1e-6
+    assert errors["error3d_pct"] < 1e-4
+    assert (errors["F"], errors["P"]) == (80, 30)
+    # The summary is result.json of the tool.
+    summary = r.summary
+    assert summary["num_bases"] == 3
+    assert summary["num_frames"] == 80 and summary["num_points"] == 30
+    assert summary["solution_usable"] is True
+    assert summary["reprojection_rms"] < 1e-8
+    assert summary["options"]["K"] == "3"
+    assert summary["dropped_points"] == [] and summary["dropped_frames"] == []
+    assert summary["start_used"] in ("factorization", "rigid", "triple")
+
+
+def test_arrays_have_the_documented_shapes_and_own_their_data(random_sequence):
+    s = random_sequence
+    r = nrsfm.reconstruct(s.W, 3, mask=s.mask)
+    f, m, p, k = 80, 1, 30, 3
+    shapes = {
+        "rotations": (f, m, 3, 3), "translations": (f, m, 2), "scales": (f, m),
+        "weights": (f, k), "basis": (k, 3, p), "rig_rotations": (m - 1, 3, 3),
+        "rig_scales": (m - 1,), "points_camera": (f, m, 3, p), "points_object": (f, 3, p),
+    }
+    arrays = {}
+    for name, shape in shapes.items():
+        a = getattr(r, name)
+        arrays[name] = a
+        assert isinstance(a, np.ndarray), name
+        assert a.shape == shape, name
+        assert a.dtype == np.float64, name
+        assert a.flags.c_contiguous and a.flags.owndata and a.flags.writeable, name
+        assert a.base is None, name
+    for a in arrays.values():
+        for b in arrays.values():
+            assert a is b or not np.shares_memory(a, b)
+    # Rotations are rotations; S_t = sum_k l_tk S_k; X_tc = s R S_t.
+    rot = r.rotations
+    assert np.allclose(rot @ np.swapaxes(rot, -1, -2), np.eye(3), atol=1e-12)
+    assert np.allclose(np.linalg.det(rot), 1.0)
+    assert np.allclose(np.einsum("tk,kip->tip", r.weights, r.basis), r.points_object)
+    assert np.allclose(r.scales[:, :, None, None] * rot @ r.points_object[:, None],
+                       r.points_camera)
+    assert np.all(r.scales == 1.0)
+    # The attributes are the same objects each time (no copy per access).
+    assert r.basis is r.basis
+    assert r.dropped_points == [] and r.dropped_frames == []
+    # Tracks: W as given (NaN where missing), the mask as bool.
+    assert s.W.shape == (160, 30) and s.W.dtype == np.float64
+    assert s.mask.shape == (80, 30) and s.mask.dtype == np.bool_
+    assert np.array_equal(np.isnan(s.W[::2]), ~s.mask)
+    assert s.cameras == 1
+    assert s.truth.basis.shape == (3, 3, 30)
+    assert s.P3_gt.shape == (240, 30)
+
+
+def test_any_memory_layout_or_type_gives_the_same_result(random_sequence):
+    s = random_sequence
+    reference = nrsfm.reconstruct(s.W, 3, mask=s.mask, init="factorization")
+    wide = np.zeros((160, 60))
+    wide[:, ::2] = s.W
+    wide_mask = np.zeros((80, 60), dtype=np.int32)
+    wide_mask[:, ::2] = s.mask
+    mask_rows = np.repeat(s.mask, 2, axis=0).astype(np.float32)
+    layouts = {
+        "Fortran order": (np.asfortranarray(s.W), np.asfortranarray(s.mask)),
+        "strided views": (wide[:, ::2], wide_mask[:, ::2]),
+        "transposed twice": (np.ascontiguousarray(s.W.T).T, s.mask.T.copy().T),
+        "lists": (s.W.tolist(), s.mask.tolist()),
+        "2FM x P float32 mask, NaN-free W": (np.nan_to_num(s.W, nan=123.0), mask_rows),
+    }
+    for name, (w, mask) in layouts.items():
+        before = np.array(w, dtype=float, copy=True)
+        r = nrsfm.reconstruct(w, 3, mask=mask, init="factorization")
+        for attribute in ("rotations", "translations", "weights", "basis", "points_camera"):
+            assert np.array_equal(getattr(r, attribute), getattr(reference, attribute)), \
+                (name, attribute)
+        assert np.array_equal(np.array(w, dtype=float), before, equal_nan=True), name
+
+
+def test_the_mask_hides_entries_and_nan_is_missing(random_sequence):
+    s = random_sequence
+    # Without the mask the NaN entries of W are the missing ones: the same.
+    a = nrsfm.reconstruct(s.W, 3, init="factorization")
+    b = nrsfm.reconstruct(s.W, 3, mask=s.mask, init="factorization")
+    assert np.array_equal(a.basis, b.basis)
+    assert a.summary["num_visible"] == int(s.mask.sum())
+    # Hiding one more entry changes the count.
+    mask = s.mask.copy()
+    mask[np.argwhere(mask)[0][0], np.argwhere(mask)[0][1]] = False
+    c = nrsfm.reconstruct(s.W, 3, mask=mask, init="factorization")
+    assert c.summary["num_visible"] == int(s.mask.sum()) - 1
+
+
+def test_two_cameras_and_options_by_keyword():
+    s = nrsfm.synth(dataset="shoe", frames=40, cameras=2, points=60, seed=2)
+    assert s.cameras == 2 and s.W.shape == (160, 60) and s.mask.shape == (80, 60)
+    r = nrsfm.reconstruct(s.W, 4, mask=s.mask, cameras=2, rigidity=100.0, smoothness=0.01,
+                          temporal=1.0, max_iterations=50, threads=2, init="factorization")
+    assert r.rotations.shape == (40, 2, 3, 3)
+    assert np.all(r.scales[:, 0] == 1.0)
+    assert r.rig_rotations.shape == (1, 3, 3) and r.rig_scales.shape == (1,)
+    summary = r.summary
+    assert summary["num_cameras"] == 2
+    assert summary["options"]["rigidity"] == "100"
+    assert summary["options"]["threads"] == "2"
+    # Keyed by the terms' names (--temporal weighs temporal_weights).
+    assert summary["term_weights"] == {"smoothness": 0.01, "rigidity": 100.0,
+                                       "temporal_weights": 1.0}
+    errors = nrsfm.evaluate(s.truth, r)
+    print("two-camera shoe with rigidity:", errors)
+    assert errors["error3d_pct"] < 2.0
+
+
+def test_k_auto_reports_its_curve():
+    s = nrsfm.synth(dataset="random", frames=60, points=20, K=2, seed=5)
+    r = nrsfm.reconstruct(s.W, "auto", K_max=3)
+    assert r.summary["num_bases"] == 2
+    curve = r.summary["K_selection"]["curve"]
+    assert [c["K"] for c in curve] == [1, 2, 3]
+    assert all(c["ok"] for c in curve)
+    assert r.basis.shape == (2, 3, 20)
+
+
+def test_refine_a_start_of_your_own():
+    s = nrsfm.synth(dataset="random", frames=50, points=20, K=2, noise=0.001, seed=6)
+    truth = s.truth
+    rng = np.random.default_rng(1)
+    start = {
+        "rotations": truth.rotations,
+        "translations": truth.translations,
+        "weights": truth.weights + 0.02 * rng.standard_normal(truth.weights.shape),
+        "basis": np.asfortranarray(truth.basis + 0.02 * rng.standard_normal(truth.basis.shape)),
+    }
+    kept = {name: np.array(value) for name, value in start.items()}
+    seen = []
+    r = nrsfm.refine(s.W, start, progress=lambda i, cost, seconds: seen.append((i, cost)))
+    for name in start:
+        assert np.array_equal(start[name], kept[name]), name  # the input is not changed
+    summary = r.summary
+    print("refine:", summary)
+    assert summary["usable"] and summary["converged"] and not summary["stopped"]
+    assert summary["final_cost"] < summary["initial_cost"]
+    assert summary["iterations"] + 1 == len(seen)
+    assert [i for i, _ in seen] == list(range(len(seen)))
+    assert summary["reprojection_rms"] < 0.002
+    assert nrsfm.evaluate(truth, r)["e3d"] < 0.01
+    # A Reconstruction is a start too: refining the truth leaves it in place.
+    again = nrsfm.refine(s.W, truth, max_iterations=5)
+    assert np.max(np.abs(again.basis - truth.basis)) < 0.01
+    assert again.summary["options"]["max_iterations"] == 5
+
+
+def test_a_point_seen_once_and_a_frame_that_sees_nothing_are_left_out():
+    s = nrsfm.synth(dataset="random", frames=60, points=20, K=2, seed=3)
+    w = s.W.copy()
+    w[2:, 6] = np.nan       # point 6: frame 0 only
+    w[34:36, :] = np.nan    # frame 17: nothing
+    with pytest.warns(nrsfm.NrsfmWarning, match=r"NaN in the result: point 6 \(seen in 1 "
+                      r"view\); frame 17 \(sees 0 points"):
+        r = nrsfm.reconstruct(w, 2)
+    assert r.dropped_points == [6] and r.dropped_frames == [17]
+    assert r.summary["dropped_points"] == [6] and r.summary["dropped_frames"] == [17]
+    assert np.all(np.isnan(r.basis[:, :, 6]))
+    assert np.all(np.isnan(r.points_camera[:, :, :, 6]))
+    assert np.all(np.isnan(r.points_camera[17])) and np.all(np.isnan(r.rotations[17]))
+    assert np.all(np.isnan(r.weights[17]))
+    keep = np.ones(20, bool)
+    keep[6] = False
+    assert np.all(np.isfinite(np.delete(r.points_camera, 17, axis=0)[..., keep]))
+    errors = nrsfm.evaluate(s.truth, r)
+    assert errors["unscored_points"] == [6] and errors["unscored_frames"] == [17]
+    assert errors["e3d"] < 1e-6
+    # Such a result is no start for refine: it names the NaN.
+    with pytest.raises(ValueError, match=r"model.rotations\[17, 0\] is not finite"):
+        nrsfm.refine(w, r)
+
+
+def test_warnings_can_be_silenced_or_raised():
+    # A rigid object turning by 29 degrees in all: little rotation.
+    from conftest import rotating_w
+    w = rotating_w(6, 8)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", nrsfm.NrsfmWarning)
+        with pytest.raises(nrsfm.NrsfmWarning, match="little rotation"):
+            nrsfm.reconstruct(w, 1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", nrsfm.NrsfmWarning)
+        r = nrsfm.reconstruct(w, 1)
+    assert any("little rotation" in warning for warning in r.summary["warnings"])

@@ -1,0 +1,83 @@
+// Points and frames with too few observations to be reconstructed: found
+// before the start, left out of the solve, named in a warning and put back
+// into the result as NaN (Reconstruct(), solvers/reconstruct.h).
+//
+// The rule is what any start needs. With entries missing, Initialize()
+// (solvers/initialize.h) fills them by the rank-3K' affine low-rank
+// completion (solvers/low_rank_completion.h), which fits every row of W
+// from its view's visible points and every point from its visible views,
+// with the largest K' ≤ K the data allow (at least 1; the refinement then
+// fits all K bases). So, what K' = 1 needs:
+//   - a point seen in fewer than kMinViewsPerPoint = 2 views (all cameras
+//     counted) is left out;
+//   - a frame is left out when one of its views (any camera) sees fewer than
+//     kMinPointsPerView = 4 of the points that are kept; the whole frame
+//     goes (every camera), since the model's weights l_t are per frame.
+// Leaving out a frame takes views away from the points and leaving out a
+// point takes points away from the views, so the two are applied in turn
+// (points first) until neither leaves out anything more. Complete
+// measurements leave nothing out (every view sees all P ≥ 3K + 1 points),
+// and so do measurements too small for K (F < 2, 2F < 3K + 1 or
+// P < 3K + 1): Initialize() reports those with its own errors.
+//
+// The result on the full index (ExpandModel): every parameter of a left-out
+// frame (its rotations, translations, scales and weights) and the basis
+// column of a left-out point are NaN, so its shapes, points_camera.csv and
+// points_object.csv hold NaN there. They are not placed by any prior (the
+// smoothness or temporal terms could interpolate them; they do not). With
+// temporal terms the frames either side of a left-out frame are treated as
+// neighbours. Errors and metrics of the result cover what was kept.
+#ifndef NRSFM_SOLVERS_DROP_UNOBSERVED_H_
+#define NRSFM_SOLVERS_DROP_UNOBSERVED_H_
+
+#include <string>
+#include <vector>
+
+#include "core/measurements.h"
+#include "core/model.h"
+#include "core/status.h"
+
+namespace nrsfm {
+
+// What a start with one basis needs (header): views per point, points per
+// view.
+inline constexpr int kMinViewsPerPoint = 2;
+inline constexpr int kMinPointsPerView = 4;
+
+struct Unobserved {
+  int num_bases = 0;        // the K the rule was applied for
+  std::vector<int> points;  // left-out point indices of the input, ascending
+  std::vector<int> frames;  // left-out frame indices of the input, ascending
+  bool empty() const { return points.empty() && frames.empty(); }
+};
+
+// Applies the rule above to valid measurements for a reconstruction with
+// K = num_bases (≥ 1). Errors when what would be kept is too little to
+// reconstruct with K (F < 2, 2F < 3K + 1 or P < 3K + 1 kept), naming the
+// counts.
+Status FindUnobserved(const Measurements& measurements, int num_bases,
+                      Unobserved* unobserved);
+
+// The measurements without the left-out points and frames; the kept ones
+// keep their order (renumbered 0, 1, …).
+Measurements WithoutUnobserved(const Measurements& measurements,
+                               const Unobserved& unobserved);
+
+// A model of WithoutUnobserved(measurements) on the full index of
+// `measurements` (F, M, P of the input, K of the model): the kept frames'
+// and points' values, NaN for the left-out ones (see the header); rig
+// rotations and scales unchanged.
+Model ExpandModel(const Model& kept, const Measurements& measurements,
+                  const Unobserved& unobserved);
+
+// One line for the result's warnings, e.g. "left out of the reconstruction
+// (a start needs every point seen in at least 2 views and every frame's
+// views to see at least 4 points), NaN in the result: point 40 (seen in 1
+// view); frame 3 (sees 2 points)". Lists at most 20 of each, then "and N
+// more".
+std::string UnobservedWarning(const Measurements& measurements,
+                              const Unobserved& unobserved);
+
+}  // namespace nrsfm
+
+#endif  // NRSFM_SOLVERS_DROP_UNOBSERVED_H_

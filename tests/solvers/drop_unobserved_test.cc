@@ -1,0 +1,212 @@
+// Points and frames with too few observations (solvers/drop_unobserved.h):
+// the rule, the index bookkeeping, and Reconstruct() leaving them out.
+#include "solvers/drop_unobserved.h"
+
+#include <cmath>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "core/metrics.h"
+#include "core/synthetic.h"
+#include "solvers/reconstruct.h"
+
+namespace nrsfm {
+namespace {
+
+SyntheticSequence Sequence(int frames, int points, int bases, double missing = 0.0,
+                           int cameras = 1) {
+  SyntheticSequence sequence;
+  if (cameras == 1) {
+    RandomBasisOptions options;
+    options.num_frames = frames;
+    options.num_points = points;
+    options.num_bases = bases;
+    options.missing_fraction = missing;
+    options.seed = 3;
+    EXPECT_TRUE(GenerateRandomBasis(options, &sequence).ok());
+  } else {
+    ShoeOptions options;
+    options.num_frames = frames;
+    options.num_points = points;
+    options.num_cameras = cameras;
+    options.seed = 3;
+    EXPECT_TRUE(GenerateShoe(options, &sequence).ok());
+  }
+  return sequence;
+}
+
+void Hide(Measurements* m, int view, int point) {
+  m->visible(view, point) = false;
+  m->W.block<2, 1>(2 * view, point).setConstant(NAN);
+}
+
+TEST(FindUnobserved, PointsAndFramesBelowWhatTheStartNeeds) {
+  // Any start needs a point in 2 views and 4 points in a view (K' = 1;
+  // Initialize() starts with fewer bases than K when the data allow no more).
+  Measurements m = Sequence(20, 12, 2).measurements;
+  Unobserved unobserved;
+  ASSERT_TRUE(FindUnobserved(m, 2, &unobserved).ok());
+  EXPECT_TRUE(unobserved.empty());  // complete: nothing
+
+  Hide(&m, 3, 2);                                 // point 2 misses one frame: kept
+  for (int t = 1; t < 20; ++t) Hide(&m, t, 4);    // point 4 in frame 0 only
+  for (int t = 0; t < 20; ++t) Hide(&m, t, 9);    // point 9 nowhere
+  for (int p = 0; p < 9; ++p) Hide(&m, 5, p);     // frame 5 sees 10, 11 of the kept
+  for (int p = 0; p < 7; ++p) Hide(&m, 6, p);     // frame 6 sees 4 of the kept: enough
+  ASSERT_TRUE(FindUnobserved(m, 2, &unobserved).ok());
+  EXPECT_EQ(unobserved.num_bases, 2);
+  EXPECT_EQ(unobserved.points, (std::vector<int>{4, 9}));
+  EXPECT_EQ(unobserved.frames, (std::vector<int>{5}));
+
+  const std::string warning = UnobservedWarning(m, unobserved);
+  EXPECT_EQ(warning,
+            "left out of the reconstruction (a start needs every point seen in at least 2 "
+            "views and every frame's views to see at least 4 points), NaN in the result: "
+            "point 4 (seen in 1 view), point 9 (seen in 0 views); frame 5 (sees 2 points of those kept)");
+}
+
+TEST(FindUnobserved, LeavingOutCascadesUntilNothingChanges) {
+  // K = 1: 4 points per view, 2 views per point. Frame 3 sees points 0-3
+  // only; point 3 is seen in frames 3 and 4 only; point 10 is seen nowhere.
+  // Leaving out point 10 changes no other count, so only point 10 goes.
+  Measurements m = Sequence(8, 11, 1).measurements;
+  for (int p = 4; p < 11; ++p) Hide(&m, 3, p);
+  for (int t = 0; t < 8; ++t) {
+    if (t != 3 && t != 4) Hide(&m, t, 3);
+    if (t != 3) Hide(&m, t, 10);
+  }
+  Unobserved unobserved;
+  ASSERT_TRUE(FindUnobserved(m, 1, &unobserved).ok());
+  EXPECT_EQ(unobserved.points, (std::vector<int>{10}));
+  EXPECT_TRUE(unobserved.frames.empty());
+  // Now hide point 2 in frame 3: frame 3 sees 0, 1, 3 (3 < 4 points) and
+  // goes; point 3 is then seen in frame 4 alone (1 < 2 views) and goes;
+  // frame 4 then sees 4, 5, 6 (3 points) and goes too.
+  Hide(&m, 3, 2);
+  for (int p = 0; p < 11; ++p) {
+    if (p < 3 || p > 6) Hide(&m, 4, p);
+  }
+  ASSERT_TRUE(FindUnobserved(m, 1, &unobserved).ok());
+  EXPECT_EQ(unobserved.points, (std::vector<int>{3, 10}));
+  EXPECT_EQ(unobserved.frames, (std::vector<int>{3, 4}));
+}
+
+TEST(FindUnobserved, TooLittleLeftIsAnErrorAndTooSmallDataIsLeftToInitialize) {
+  Measurements m = Sequence(6, 8, 1).measurements;
+  for (int t = 0; t < 5; ++t) Hide(&m, t, 0);  // one view of point 0
+  for (int t = 1; t < 6; ++t) {
+    for (int p = 1; p < 6; ++p) Hide(&m, t, p);  // frames 1-5 see 3 points
+  }
+  Unobserved unobserved;
+  const Status status = FindUnobserved(m, 1, &unobserved);
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("too few observations for K = 1"), std::string::npos)
+      << status.message();
+  // Points 0-5 are seen once, so frame 0 keeps 2 points; then no frame is
+  // left and neither are points 6 and 7.
+  EXPECT_NE(status.message().find("leaves F = 0, P = 0"), std::string::npos)
+      << status.message();
+  // P < 3K + 1: nothing is left out, Initialize() says what is wrong.
+  ASSERT_TRUE(FindUnobserved(m, 3, &unobserved).ok());
+  EXPECT_TRUE(unobserved.empty());
+}
+
+TEST(FindUnobserved, ExpandModelPutsTheKeptValuesBackAndNaNElsewhere) {
+  const SyntheticSequence s = Sequence(10, 12, 2, 0.0, 2);
+  Unobserved unobserved;
+  unobserved.num_bases = 2;
+  unobserved.points = {0, 7};
+  unobserved.frames = {4};
+  const Measurements kept = WithoutUnobserved(s.measurements, unobserved);
+  EXPECT_EQ(kept.num_frames, 9);
+  EXPECT_EQ(kept.num_cameras, 2);
+  EXPECT_EQ(kept.num_points, 10);
+  ASSERT_TRUE(kept.Validate().ok());
+  // Frame 5, camera 1, point 8 of the input is frame 4, camera 1, point 6 kept.
+  const Eigen::Vector2d kept_w = kept.W.block<2, 1>(kept.Row(4, 1), 6);
+  const Eigen::Vector2d input_w = s.measurements.W.block<2, 1>(s.measurements.Row(5, 1), 8);
+  EXPECT_TRUE(kept_w == input_w || (kept_w.array().isNaN().all() && input_w.array().isNaN().all()));
+  EXPECT_EQ(kept.visible(kept.View(4, 1), 6),
+            s.measurements.visible(s.measurements.View(5, 1), 8));
+
+  // The truth restricted the same way, expanded again: equal where kept.
+  Model small;
+  small.Resize(9, 2, 10, s.truth.num_bases);
+  for (int t = 0, k = 0; t < 10; ++t) {
+    if (t == 4) continue;
+    for (int c = 0; c < 2; ++c) {
+      small.rotations.col(small.View(k, c)) = s.truth.rotations.col(s.truth.View(t, c));
+      small.translations.col(small.View(k, c)) = s.truth.translations.col(s.truth.View(t, c));
+      small.scales(small.View(k, c)) = s.truth.scales(s.truth.View(t, c));
+    }
+    small.weights.col(k++) = s.truth.weights.col(t);
+  }
+  for (int p = 0, k = 0; p < 12; ++p) {
+    if (p != 0 && p != 7) small.basis.col(k++) = s.truth.basis.col(p);
+  }
+  small.rig_rotations = s.truth.rig_rotations;
+  small.rig_scales = s.truth.rig_scales;
+  const Model full = ExpandModel(small, s.measurements, unobserved);
+  ASSERT_TRUE(full.Validate(/*allow_nan=*/true).ok());
+  EXPECT_FALSE(full.Validate().ok());
+  for (int t = 0; t < 10; ++t) {
+    for (int c = 0; c < 2; ++c) {
+      const Eigen::Matrix2Xd projected = full.Project(t, c);
+      for (int p = 0; p < 12; ++p) {
+        const bool left_out = t == 4 || p == 0 || p == 7;
+        EXPECT_EQ(projected.col(p).array().isNaN().all(), left_out) << t << " " << p;
+        if (!left_out) {
+          EXPECT_LT((projected.col(p) - s.truth.Project(t, c).col(p)).norm(), 1e-12);
+        }
+      }
+    }
+  }
+  EXPECT_TRUE(full.weights.col(4).array().isNaN().all());
+  EXPECT_EQ(full.rig_rotations, s.truth.rig_rotations);
+}
+
+// A point seen in a single frame and a frame that sees no point: the rest
+// is reconstructed as if they were not there (noise-free: exactly), and the
+// two are NaN in the model, listed and named in a warning.
+TEST(Reconstruct, LeavesOutAPointSeenOnceAndAFrameThatSeesNothing) {
+  SyntheticSequence s = Sequence(60, 20, 2, 0.1);
+  Measurements& m = s.measurements;
+  for (int t = 1; t < 60; ++t) Hide(&m, t, 6);  // point 6: frame 0 only
+  for (int p = 0; p < 20; ++p) Hide(&m, 17, p);  // frame 17: nothing
+  ReconstructOptions options;
+  options.start.num_bases = 2;
+  ReconstructResult result;
+  ASSERT_TRUE(Reconstruct(options, m, &result).ok());
+  ASSERT_TRUE(result.refine.usable) << result.refine.message;
+  EXPECT_EQ(result.dropped_points, (std::vector<int>{6}));
+  EXPECT_EQ(result.dropped_frames, (std::vector<int>{17}));
+  ASSERT_FALSE(result.warnings.empty());
+  EXPECT_NE(result.warnings[0].find("point 6 (seen in 1 view); frame 17 (sees 0 points"),
+            std::string::npos)
+      << result.warnings[0];
+  const Model& model = result.model;
+  EXPECT_EQ(model.num_frames, 60);
+  EXPECT_EQ(model.num_points, 20);
+  EXPECT_TRUE(model.basis.col(6).array().isNaN().all());
+  EXPECT_TRUE(model.rotations.col(17).array().isNaN().all());
+  EXPECT_TRUE(model.weights.col(17).array().isNaN().all());
+  EXPECT_TRUE(model.Validate(/*allow_nan=*/true).ok());
+
+  // Scored against the truth, the left-out frame and point are not counted
+  // and the rest is exact.
+  ShapeErrors errors;
+  ASSERT_TRUE(EvaluateShapes(ShapesOfModel(s.truth), ShapesOfModel(model), &errors).ok());
+  EXPECT_EQ(errors.unscored_points, (std::vector<int>{6}));
+  EXPECT_EQ(errors.unscored_frames, (std::vector<int>{17}));
+  EXPECT_EQ(errors.num_frames, 60);
+  EXPECT_EQ(errors.num_points, 20);
+  std::printf("left out point 6 and frame 17: e3D %.2e (object frame %.2e), reprojection "
+              "RMS %.2e\n",
+              errors.e3d_camera, errors.e3d, result.refine.reprojection_rms);
+  EXPECT_LT(errors.e3d_camera, 1e-4);
+  EXPECT_LT(result.refine.reprojection_rms, 1e-6);
+}
+
+}  // namespace
+}  // namespace nrsfm

@@ -1,0 +1,53 @@
+// The steps the nrsfm tool and the Python module share (tools/flag_options.h).
+#include "tools/flag_options.h"
+
+#include <gtest/gtest.h>
+
+namespace nrsfm {
+namespace tools {
+namespace {
+
+TEST(FlagHelpFor, TakesThePartOfOneCommand) {
+  EXPECT_EQ(FlagHelpFor("reconstruct, view: input file (.mat).", "view"), "input file (.mat).");
+  EXPECT_EQ(FlagHelpFor("reconstruct, view: input file (.mat).", "synth"), "");
+  EXPECT_EQ(FlagHelpFor("reconstruct: number of bases; synth: bases of the random generator.",
+                        "synth"),
+            "bases of the random generator.");
+  EXPECT_EQ(FlagHelpFor("reconstruct: M; 0 = the file. synth: shoe (1 or 2; 0 = 1).",
+                        "reconstruct"),
+            "M; 0 = the file.");
+  EXPECT_EQ(FlagHelpFor("reconstruct --K auto: largest K tried.", "reconstruct"),
+            "(--K auto) largest K tried.");
+  // Every flag serves some command.
+#define NRSFM_CHECK_FLAG_HELP(type, name, value, help)                            \
+  EXPECT_FALSE(FlagHelpFor(help, "reconstruct").empty() &&                       \
+               FlagHelpFor(help, "evaluate").empty() &&                          \
+               FlagHelpFor(help, "synth").empty() && FlagHelpFor(help, "view").empty()) \
+      << #name;
+  NRSFM_COMMAND_FLAGS(NRSFM_CHECK_FLAG_HELP)
+#undef NRSFM_CHECK_FLAG_HELP
+}
+
+TEST(BuildReconstructOptions, NamesTheFlagAndTheValue) {
+  CommandFlags flags;
+  ReconstructOptions options;
+  ASSERT_TRUE(BuildReconstructOptions(flags, &options).ok());
+  EXPECT_EQ(options.priors, PriorMode::kAuto);
+  flags.init = "best";
+  EXPECT_EQ(BuildReconstructOptions(flags, &options).message().rfind("--init: ", 0), 0u)
+      << BuildReconstructOptions(flags, &options).message();
+  flags = CommandFlags();
+  flags.term_weights[0] = -1.0;
+  EXPECT_EQ(BuildReconstructOptions(flags, &options).message(),
+            std::string("--") + ExtraTerms()[0].flag + " must be a finite number >= 0, got -1");
+  bool auto_k = false;
+  int k = 0;
+  EXPECT_EQ(ParseNumBasesFlag("0", &auto_k, &k).message(),
+            "--K must be an integer >= 1 or 'auto', got '0'");
+  ASSERT_TRUE(ParseNumBasesFlag("auto", &auto_k, &k).ok());
+  EXPECT_TRUE(auto_k);
+}
+
+}  // namespace
+}  // namespace tools
+}  // namespace nrsfm

@@ -1,0 +1,463 @@
+#include "tools/flag_options.h"
+
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+
+#include <Eigen/Core>
+#include <ceres/version.h>
+#include <nlohmann/json.hpp>
+
+#include "core/result_reader.h"
+#include "problems/extra_terms.h"
+
+namespace nrsfm {
+namespace tools {
+namespace {
+
+#define NRSFM_STRINGIZE2(x) #x
+#define NRSFM_STRINGIZE(x) NRSFM_STRINGIZE2(x)
+constexpr char kVersion[] =
+    NRSFM_VERSION " (Ceres " CERES_VERSION_STRING ", Eigen " NRSFM_STRINGIZE(
+        EIGEN_WORLD_VERSION) "." NRSFM_STRINGIZE(EIGEN_MAJOR_VERSION) "." NRSFM_STRINGIZE(EIGEN_MINOR_VERSION) ")";
+
+constexpr const char* kCommands[] = {"reconstruct", "evaluate", "synth", "view"};
+
+bool IsCommand(const std::string& word) {
+  for (const char* command : kCommands) {
+    if (word == command) return true;
+  }
+  return false;
+}
+
+// Parses a whole string as an integer; false on anything else.
+bool ParseInt(const std::string& s, int* value) {
+  if (s.empty()) return false;
+  size_t used = 0;
+  try {
+    const long v = std::stol(s, &used);
+    if (used != s.size() || v < -1000000000L || v > 1000000000L) return false;
+    *value = static_cast<int>(v);
+  } catch (...) {
+    return false;
+  }
+  return true;
+}
+
+Status CheckFinite(const char* flag, double value) {
+  if (!std::isfinite(value)) {
+    return Status::Error(std::string("--") + flag + " must be a finite number");
+  }
+  return Status::OK();
+}
+
+std::string FormatDouble(double value) {
+  std::ostringstream s;
+  s << std::setprecision(6) << value;
+  return s.str();
+}
+
+}  // namespace
+
+const char* VersionString() { return kVersion; }
+
+std::string FlagHelpFor(const std::string& help, const std::string& command) {
+  // Split into parts at "; " or ". " followed by a command name and ':' or
+  // ' ' (the start of another command's part).
+  std::vector<std::string> parts;
+  std::size_t start = 0;
+  for (std::size_t i = 0; i + 2 < help.size(); ++i) {
+    if ((help[i] != ';' && help[i] != '.') || help[i + 1] != ' ') continue;
+    std::size_t end = i + 2;
+    while (end < help.size() && std::isalpha(static_cast<unsigned char>(help[end]))) ++end;
+    if (IsCommand(help.substr(i + 2, end - i - 2)) && end < help.size() &&
+        (help[end] == ':' || help[end] == ',' || help[end] == ' ')) {
+      parts.push_back(help.substr(start, help[i] == '.' ? i + 1 - start : i - start));
+      start = i + 2;
+    }
+  }
+  parts.push_back(help.substr(start));
+  std::string out;
+  for (const std::string& part : parts) {
+    const std::size_t colon = part.find(':');
+    if (colon == std::string::npos) continue;
+    // "reconstruct, view" or "reconstruct --K auto".
+    std::istringstream heads(part.substr(0, colon));
+    std::string head;
+    bool serves = false;
+    std::string qualifier;
+    while (std::getline(heads, head, ',')) {
+      while (!head.empty() && head.front() == ' ') head.erase(0, 1);
+      const std::size_t space = head.find(' ');
+      if (head.substr(0, space) == command) {
+        serves = true;
+        if (space != std::string::npos) qualifier = head.substr(space + 1);
+      }
+    }
+    if (!serves) continue;
+    std::string text = part.substr(colon + 1);
+    while (!text.empty() && text.front() == ' ') text.erase(0, 1);
+    if (!qualifier.empty()) text = "(" + qualifier + ") " + text;
+    out += (out.empty() ? "" : " ") + text;
+  }
+  return out;
+}
+
+std::string TermFlagHelp(const ExtraTerm& term) {
+  return std::string("reconstruct: weight of the ") + term.meaning + "; " + term.units +
+         ", 0 = off (docs/problem.md).";
+}
+
+Status CheckSynthOutput(const std::string& output) {
+  if (output.empty()) return Status::Error("--output PATH.mat is required");
+  if (std::filesystem::path(output).extension() != ".mat") {
+    return Status::Error("--output must name a .mat file, got '" + output + "'");
+  }
+  return Status::OK();
+}
+
+Status ParseNumBasesFlag(const std::string& value, bool* auto_k, int* num_bases) {
+  *auto_k = value == "auto";
+  if (*auto_k) return Status::OK();
+  if (!ParseInt(value, num_bases) || *num_bases < 1) {
+    return Status::Error("--K must be an integer >= 1 or 'auto', got '" + value + "'");
+  }
+  return Status::OK();
+}
+
+Status BuildReconstructOptions(const CommandFlags& flags, ReconstructOptions* options) {
+  NRSFM_RETURN_IF_ERROR(ParseStartMethod(flags.init, &options->start.method)
+                            .WithContext("--init"));
+  NRSFM_RETURN_IF_ERROR(ParseRobustLoss(flags.robust, &options->problem.robust_loss)
+                            .WithContext("--robust"));
+  NRSFM_RETURN_IF_ERROR(
+      ParseLinearSolver(flags.linear_solver, &options->solver.linear_solver)
+          .WithContext("--linear_solver"));
+  NRSFM_RETURN_IF_ERROR(ParsePriorMode(flags.priors, &options->priors)
+                            .WithContext("--priors"));
+  // One flag per extra term (problems/extra_terms.h).
+  const std::vector<ExtraTerm>& terms = ExtraTerms();
+  for (std::size_t i = 0; i < terms.size(); ++i) {
+    const std::string flag = std::string("--") + terms[i].flag;
+    const double weight = flags.term_weights[i];
+    if (!(std::isfinite(weight) && weight >= 0.0)) {
+      return Status::Error(flag + " must be a finite number >= 0, got " +
+                           FormatDouble(weight));
+    }
+    // --cameras 0 (from the file) is checked once the file is read.
+    if (weight > 0.0 && flags.cameras != 0 && flags.cameras < terms[i].min_cameras) {
+      return Status::Error(flag + " needs synchronised cameras: --cameras must be >= " +
+                           std::to_string(terms[i].min_cameras) + ", got " +
+                           std::to_string(flags.cameras));
+    }
+    if (weight > 0.0) options->problem.term_weights[terms[i].name] = weight;
+  }
+  if (flags.K == "auto") {
+    if (flags.K_max < 2) {
+      return Status::Error("--K_max must be >= 2, got " + std::to_string(flags.K_max));
+    }
+    if (!(std::isfinite(flags.K_threshold) && flags.K_threshold >= 1.0)) {
+      return Status::Error("--K_threshold must be a finite number >= 1, got " +
+                           FormatDouble(flags.K_threshold));
+    }
+  }
+  // A weight given on the command line is a manual choice of the terms.
+  if (!options->problem.term_weights.empty()) options->priors = PriorMode::kManual;
+  options->start.seed = flags.seed;
+  options->problem.robust_scale = flags.robust_scale;
+  options->solver.max_iterations = flags.max_iterations;
+  options->solver.num_threads = flags.threads;
+  return options->Check();
+}
+
+InputOptions BuildInputOptions(const CommandFlags& flags) {
+  InputOptions input;
+  input.variable = flags.var;
+  input.mask_variable = flags.mask_var;
+  input.num_cameras = flags.cameras;
+  input.format = flags.format;
+  return input;
+}
+
+Status CheckTermCameras(const CommandFlags& flags, const std::string& input,
+                        int num_cameras) {
+  const std::vector<ExtraTerm>& terms = ExtraTerms();
+  for (std::size_t i = 0; i < terms.size(); ++i) {
+    if (flags.term_weights[i] > 0.0 && num_cameras < terms[i].min_cameras) {
+      return Status::Error(std::string("--") + terms[i].flag +
+                           " needs synchronised cameras: M must be >= " +
+                           std::to_string(terms[i].min_cameras) + ", but " + input +
+                           " has M = " + std::to_string(num_cameras));
+    }
+  }
+  return Status::OK();
+}
+
+Status ReadTruth(const std::string& path, const std::string& variable, GroundTruth* truth) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    return ReadPointsCameraCsv(path, /*camera=*/0, truth);
+  }
+  return ReadGroundTruth(path, variable, truth);
+}
+
+Status RunReconstruction(const CommandFlags& flags, const ReconstructOptions& options,
+                         const Measurements& measurements, const std::string& context,
+                         ReconstructionRun* run) {
+  *run = ReconstructionRun();
+  NRSFM_RETURN_IF_ERROR(ParseNumBasesFlag(flags.K, &run->auto_k, &run->num_bases));
+  if (run->auto_k) {
+    SelectNumBasesOptions select_options;
+    select_options.max_num_bases = flags.K_max;
+    select_options.threshold = flags.K_threshold;
+    NRSFM_RETURN_IF_ERROR(
+        SelectNumBases(options, select_options, measurements, &run->selection)
+            .WithContext("--K auto"));
+    run->num_bases = run->selection.num_bases;
+    run->result = std::move(run->selection.reconstruction);
+    run->selection.reconstruction = ReconstructResult();
+    return Status::OK();
+  }
+  ReconstructOptions fixed = options;
+  fixed.start.num_bases = run->num_bases;
+  Status status = Reconstruct(fixed, measurements, &run->result);
+  return context.empty() ? status : status.WithContext(context);
+}
+
+std::vector<std::pair<std::string, std::string>> OptionList(const CommandFlags& flags,
+                                                            int num_bases) {
+  std::vector<std::pair<std::string, std::string>> list = {
+      {"K", std::to_string(num_bases)},
+      {"K_flag", flags.K},
+      {"var", flags.var},
+      {"mask_var", flags.mask_var},
+      {"format", flags.format},
+      {"cameras", std::to_string(flags.cameras)},
+      {"init", flags.init},
+      {"priors", flags.priors}};
+  for (std::size_t i = 0; i < ExtraTerms().size(); ++i) {
+    list.emplace_back(ExtraTerms()[i].flag, FormatDouble(flags.term_weights[i]));
+  }
+  list.insert(list.end(), {{"robust", flags.robust},
+                           {"robust_scale", FormatDouble(flags.robust_scale)},
+                           {"max_iterations", std::to_string(flags.max_iterations)},
+                           {"threads", std::to_string(flags.threads)},
+                           {"linear_solver", flags.linear_solver},
+                           {"seed", std::to_string(flags.seed)}});
+  return list;
+}
+
+ReconstructionReport MakeReport(const CommandFlags& flags, const std::string& input,
+                                const ReconstructionRun& run, const ShapeErrors* errors) {
+  const ReconstructResult& result = run.result;
+  ReconstructionReport report;
+  report.input = input;
+  report.options = OptionList(flags, run.num_bases);
+  report.start_used = StartMethodName(result.start.method);
+  report.start_reprojection_rms = result.start.reprojection_rms;
+  report.stages.push_back({"initialize", 0.0, 0.0, 0, result.start.seconds});
+  report.stages.push_back({"refine", result.refine.initial_cost,
+                           result.refine.final_cost, result.refine.iterations,
+                           result.refine.seconds});
+  report.reprojection_rms = result.refine.usable ? result.refine.reprojection_rms
+                                                 : result.start.reprojection_rms;
+  report.solution_usable = result.refine.usable;
+  report.warnings = result.start.warnings;
+  report.warnings.insert(report.warnings.end(), result.warnings.begin(),
+                         result.warnings.end());
+  report.dropped_points = result.dropped_points;
+  report.dropped_frames = result.dropped_frames;
+  for (const auto& [name, weight] : result.priors.term_weights) {
+    report.term_weights.emplace_back(name, weight);
+  }
+  report.diagnostics = {{"track_step", result.priors.track_step},
+                        {"track_order", result.priors.track_order},
+                        {"path_acceleration_deg", result.priors.path_acceleration_deg},
+                        {"largest_view_angle_deg", result.largest_view_angle_deg},
+                        {"refine_converged", result.refine.converged ? 1.0 : 0.0}};
+  if (!result.refine.usable) {
+    report.warnings.push_back("refinement not usable: " + result.refine.message);
+  }
+  report.versions = {{"nrsfm", NRSFM_VERSION}, {"ceres", CERES_VERSION_STRING}};
+  if (errors != nullptr) {
+    report.metrics = MetricList(*errors);
+    report.e3d_frame = EvaluationFrameName(errors->e3d_frame);
+  }
+  return report;
+}
+
+std::vector<std::pair<std::string, double>> MetricList(const ShapeErrors& errors) {
+  std::vector<std::pair<std::string, double>> list = {
+      {"e3d", errors.e3d},
+      {"e3d_camera", errors.e3d_camera},
+      {"frob_zsign", errors.frob_zsign},
+      {"error3d_pct", errors.error3d_pct},
+      {"zerror_pct", errors.zerror_pct}};
+  if (!std::isnan(errors.rotation_error)) {
+    list.emplace_back("rotation_error", errors.rotation_error);
+  }
+  return list;
+}
+
+std::string EvaluationJson(const ShapeErrors& errors) {
+  nlohmann::ordered_json line;
+  for (const auto& [name, value] : MetricList(errors)) line[name] = value;
+  line["e3d_frame"] = EvaluationFrameName(errors.e3d_frame);
+  line["F"] = errors.num_frames;
+  line["P"] = errors.num_points;
+  if (!errors.unscored_frames.empty()) line["unscored_frames"] = errors.unscored_frames;
+  if (!errors.unscored_points.empty()) line["unscored_points"] = errors.unscored_points;
+  return line.dump();
+}
+
+namespace {
+
+// Parses "x,y,z" into a vector; false on anything else.
+bool ParseVector3(const std::string& text, Eigen::Vector3d* v) {
+  std::stringstream in(text);
+  std::string item;
+  int i = 0;
+  while (std::getline(in, item, ',')) {
+    if (i == 3) return false;
+    try {
+      std::size_t used = 0;
+      (*v)(i) = std::stod(item, &used);
+      if (used != item.size()) return false;
+    } catch (...) {
+      return false;
+    }
+    ++i;
+  }
+  return i == 3;
+}
+
+}  // namespace
+
+Status SynthesizeReprojection(const CommandFlags& flags, ReprojectedSequence* sequence,
+                              std::vector<MatVariable>* variables) {
+  if (flags.input.empty()) {
+    return Status::Error("--input is required for --dataset reproject (a .mat "
+                         "with S + Rs, P3_gt or X)");
+  }
+  if (!flags.K.empty() || flags.frames != -1 || flags.points != -1) {
+    return Status::Error("--K, --frames and --points do not apply to --dataset "
+                         "reproject (the source fixes them)");
+  }
+  if (flags.noise != 0.0) {
+    return Status::Error("--noise does not apply to --dataset reproject; give "
+                         "--noise_fraction (of the image size)");
+  }
+  ReprojectOptions options;
+  options.total_rotation_deg = flags.rotation;
+  if (!ParseVector3(flags.axis, &options.axis)) {
+    return Status::Error("--axis must be three numbers x,y,z, got '" + flags.axis + "'");
+  }
+  NRSFM_RETURN_IF_ERROR(
+      ParseSpeedProfile(flags.profile, &options.profile).WithContext("--profile"));
+  options.noise_fraction = flags.noise_fraction;
+  options.missing_fraction = flags.missing;
+  options.occlusion_radius = flags.occlusion;
+  options.seed = flags.seed;
+  GroundTruth source;
+  NRSFM_RETURN_IF_ERROR(ReadTruth(flags.input, flags.truth_var, &source));
+  NRSFM_RETURN_IF_ERROR(GenerateReprojection(source, options, sequence)
+                            .WithContext("--input " + flags.input));
+  const Measurements& m = sequence->measurements;
+  const int f = m.num_frames, p = m.num_points;
+  Eigen::MatrixXd w = m.W, s(3 * f, p), rs(2 * f, 3);
+  for (int t = 0; t < f; ++t) {
+    s.middleRows(3 * t, 3) = sequence->truth.points_in_object[t];
+    rs.middleRows(2 * t, 2) = sequence->truth.rotations[t].topRows<2>();
+  }
+  *variables = {
+      {"W", w, {}},
+      {"S", s, {}},
+      {"Rs", rs, {}},
+      {"cameras", Eigen::MatrixXd::Constant(1, 1, 1.0), {}},
+      {"image_size", Eigen::MatrixXd::Constant(1, 1, sequence->image_size), {}},
+      {"noise_stddev", Eigen::MatrixXd::Constant(1, 1, sequence->noise_stddev), {}}};
+  // The skeleton edges of the source, for nrsfm view.
+  Eigen::MatrixXd list;
+  if (std::filesystem::path(flags.input).extension() == ".mat" &&
+      ReadMatVariable(flags.input, "list", &list).ok()) {
+    variables->push_back({"list", list, {}});
+  }
+  return Status::OK();
+}
+
+Status Synthesize(const CommandFlags& flags, SyntheticSequence* sequence) {
+  int k = -1;
+  if (!flags.K.empty() && (!ParseInt(flags.K, &k) || k < 1)) {
+    return Status::Error("--K must be an integer >= 1 for synth, got '" + flags.K + "'");
+  }
+  NRSFM_RETURN_IF_ERROR(CheckFinite("noise", flags.noise));
+  NRSFM_RETURN_IF_ERROR(CheckFinite("missing", flags.missing));
+  if (flags.dataset == "random") {
+    RandomBasisOptions o;
+    if (flags.frames != -1) o.num_frames = flags.frames;
+    if (flags.points != -1) o.num_points = flags.points;
+    if (k != -1) o.num_bases = k;
+    o.noise_stddev = flags.noise;
+    o.missing_fraction = flags.missing;
+    o.seed = flags.seed;
+    return GenerateRandomBasis(o, sequence);
+  }
+  if (flags.dataset == "superquadric") {
+    if (k != -1) return Status::Error("--K is fixed (4) for the superquadric dataset");
+    SuperquadricOptions o;
+    if (flags.frames != -1) o.num_frames = flags.frames;
+    if (flags.points != -1) o.num_points = flags.points;
+    o.noise_stddev = flags.noise;
+    o.missing_fraction = flags.missing;
+    o.seed = flags.seed;
+    return GenerateSuperquadric(o, sequence);
+  }
+  if (flags.dataset == "shoe") {
+    if (k != -1) return Status::Error("--K is fixed (4) for the shoe dataset");
+    if (flags.missing != 0.0) {
+      return Status::Error("--missing does not apply to the shoe dataset (its "
+                           "missing entries come from self-occlusion)");
+    }
+    ShoeOptions o;
+    if (flags.frames != -1) o.num_frames = flags.frames;
+    if (flags.points != -1) o.num_points = flags.points;
+    o.num_cameras = flags.cameras == 0 ? 1 : flags.cameras;
+    o.noise_stddev = flags.noise;
+    o.seed = flags.seed;
+    return GenerateShoe(o, sequence);
+  }
+  return Status::Error("--dataset must be random, superquadric or shoe, got '" +
+                       flags.dataset + "'");
+}
+
+std::vector<MatVariable> SyntheticVariables(const SyntheticSequence& sequence) {
+  const Measurements& m = sequence.measurements;
+  const Model& truth = sequence.truth;
+  // W with NaN at missing entries; P3_gt = camera 0's 3D truth in the block
+  // layout [x rows of all frames; y rows; z rows], as in the face data.
+  Eigen::MatrixXd w = m.W;
+  for (int view = 0; view < m.NumViews(); ++view) {
+    for (int p = 0; p < m.num_points; ++p) {
+      if (!m.visible(view, p)) w.block<2, 1>(2 * view, p).setConstant(NAN);
+    }
+  }
+  const int f = m.num_frames;
+  Eigen::MatrixXd p3_gt(3 * f, m.num_points);
+  for (int t = 0; t < f; ++t) {
+    Eigen::Matrix3Xd x = truth.ShapeInCamera(t, 0);
+    x.topRows<2>().colwise() += truth.translations.col(truth.View(t, 0));
+    for (int axis = 0; axis < 3; ++axis) p3_gt.row(axis * f + t) = x.row(axis);
+  }
+  Eigen::MatrixXd rotations(3, truth.NumViews());
+  rotations = truth.rotations;
+  return {{"W", w, {}},
+          {"P3_gt", p3_gt, {}},
+          {"rotations_gt", rotations, {}},
+          {"weights_gt", truth.weights.transpose(), {}},
+          {"basis_gt", truth.basis, {}},
+          {"cameras", Eigen::MatrixXd::Constant(1, 1, m.num_cameras), {}}};
+}
+
+}  // namespace tools
+}  // namespace nrsfm

@@ -1,0 +1,127 @@
+// The flags of tools/command_flags.h turned into the library's options, and
+// the steps of the commands that the nrsfm tool (tools/commands.h) and the
+// Python module (python/nrsfm_module.cc) share, so that both run the same
+// code and give the same results and the same error messages. Nothing here
+// prints or touches gflags; library target nrsfm_tools.
+#ifndef NRSFM_TOOLS_FLAG_OPTIONS_H_
+#define NRSFM_TOOLS_FLAG_OPTIONS_H_
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/ground_truth.h"
+#include "core/mat_io.h"
+#include "core/measurements.h"
+#include "core/metrics.h"
+#include "core/read_measurements.h"
+#include "core/result_writer.h"
+#include "core/status.h"
+#include "core/synthetic.h"
+#include "problems/extra_terms.h"
+#include "solvers/reconstruct.h"
+#include "solvers/select_num_bases.h"
+#include "tools/command_flags.h"
+
+namespace nrsfm {
+namespace tools {
+
+// "nrsfm <version> (Ceres <version>, Eigen <version>)".
+const char* VersionString();
+
+// The commands a flag serves, from the start of its help text in
+// NRSFM_COMMAND_FLAGS ("reconstruct, view: …; synth: …"): the help of
+// `command` with the command names taken off (several parts joined by
+// "; "), or "" when the flag does not serve `command`. A qualifier after
+// the command name is kept: "reconstruct --K auto: largest K tried." gives
+// "(--K auto) largest K tried." for "reconstruct".
+std::string FlagHelpFor(const std::string& help, const std::string& command);
+
+// The help of an extra term's weight flag (--smoothness, …): "reconstruct:
+// weight of the <meaning>; <units>, 0 = off (docs/problem.md)."
+std::string TermFlagHelp(const ExtraTerm& term);
+
+// Parses --K of reconstruct: an integer >= 1 or "auto".
+Status ParseNumBasesFlag(const std::string& value, bool* auto_k, int* num_bases);
+
+// Every reconstruct flag that sets a library option (--init, --priors,
+// --robust, --robust_scale, --linear_solver, --max_iterations, --threads,
+// --seed and the extra terms' weights; with --K auto it checks --K_max and
+// --K_threshold, which RunReconstruction reads). Errors name the flag and
+// value.
+Status BuildReconstructOptions(const CommandFlags& flags, ReconstructOptions* options);
+
+// --var, --mask_var, --format and --cameras.
+InputOptions BuildInputOptions(const CommandFlags& flags);
+
+// After the input is read: every term given a weight has the cameras it
+// needs; `input` names the input in the message.
+Status CheckTermCameras(const CommandFlags& flags, const std::string& input,
+                        int num_cameras);
+
+// Ground truth from a .mat file (core/ground_truth.h) or a result directory
+// (its points_camera.csv, camera 0), as --truth reads it.
+Status ReadTruth(const std::string& path, const std::string& variable, GroundTruth* truth);
+
+// A reconstruction as `nrsfm reconstruct` runs it: --K N, or --K auto with
+// --K_max and --K_threshold (solvers/select_num_bases.h).
+struct ReconstructionRun {
+  bool auto_k = false;
+  int num_bases = 0;              // K used (chosen, with auto)
+  SelectNumBasesResult selection;  // with auto: the curve and noise estimate
+  ReconstructResult result;
+};
+
+// Runs it on `measurements` with `options` (BuildReconstructOptions; its
+// solver.progress / stop_requested are used as given). `context` prefixes
+// the errors of a fixed K (the tool: the input path).
+Status RunReconstruction(const CommandFlags& flags, const ReconstructOptions& options,
+                         const Measurements& measurements, const std::string& context,
+                         ReconstructionRun* run);
+
+// The flags a reconstruction used, as result.json's "options"; `cameras`
+// is the flag as given.
+std::vector<std::pair<std::string, std::string>> OptionList(const CommandFlags& flags,
+                                                            int num_bases);
+
+// result.json's report of `run` (input path, options, stages, warnings,
+// the left-out points and frames, terms, diagnostics, versions); with
+// `errors` (not null) its metrics too.
+ReconstructionReport MakeReport(const CommandFlags& flags, const std::string& input,
+                                const ReconstructionRun& run, const ShapeErrors* errors);
+
+// The metrics of `errors` as result.json and `evaluate` name them
+// (rotation_error only when it was computed).
+std::vector<std::pair<std::string, double>> MetricList(const ShapeErrors& errors);
+
+// The one JSON line `nrsfm evaluate` prints: MetricList, e3d_frame, F, P
+// and, when not empty, unscored_frames / unscored_points.
+std::string EvaluationJson(const ShapeErrors& errors);
+
+// --output of synth: a path ending in .mat.
+Status CheckSynthOutput(const std::string& output);
+
+// `nrsfm synth` without its output: --dataset, --frames, --points, --K,
+// --cameras, --noise, --missing, --seed checked and the generator run.
+Status Synthesize(const CommandFlags& flags, SyntheticSequence* sequence);
+
+// `nrsfm synth --dataset reproject` without its output: the truth of
+// --input (read as --truth is) under the camera path of --rotation, --axis,
+// --profile, with --noise_fraction, --missing, --occlusion and --seed
+// (core/synthetic.h GenerateReprojection), and the variables of its .mat
+// file, written like the Akhter et al. files: W (NaN where missing), S
+// (object frame, rows x_t, y_t, z_t), Rs (2F × 3), cameras, image_size,
+// noise_stddev and the source's skeleton `list` when it has one. Errors on
+// flags that do not apply (--K, --frames, --points, --noise) and bad values.
+Status SynthesizeReprojection(const CommandFlags& flags, ReprojectedSequence* sequence,
+                              std::vector<MatVariable>* variables);
+
+// What `nrsfm synth` writes into its .mat file: W (NaN where missing),
+// P3_gt (camera 0's truth, block layout), rotations_gt, weights_gt,
+// basis_gt and cameras.
+std::vector<MatVariable> SyntheticVariables(const SyntheticSequence& sequence);
+
+}  // namespace tools
+}  // namespace nrsfm
+
+#endif  // NRSFM_TOOLS_FLAG_OPTIONS_H_
