@@ -15,6 +15,20 @@
 #include "core/text_io.h"
 #include "tests/fuzz/fuzz_input_file.h"
 
+namespace {
+
+// Every point finite, or all three coordinates NaN (a point or frame left
+// out of a reconstruction).
+bool PointsFiniteOrLeftOut(const Eigen::Matrix3Xd& points) {
+  for (Eigen::Index p = 0; p < points.cols(); ++p) {
+    if (!points.col(p).allFinite() && !points.col(p).array().isNaN().all())
+      return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data,
                                       std::size_t size) {
   const std::string path = nrsfm::fuzz::WriteInputFile(data, size, ".csv");
@@ -42,7 +56,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data,
   if (nrsfm::ReadPointsCameraCsv(path, 0, &truth).ok()) {
     if (truth.NumFrames() < 1 || truth.NumPoints() < 1) std::abort();
     for (const Eigen::Matrix3Xd& frame : truth.points_in_camera) {
-      if (frame.cols() != truth.NumPoints() || !frame.allFinite())
+      if (frame.cols() != truth.NumPoints() || !PointsFiniteOrLeftOut(frame))
         std::abort();
     }
   }
@@ -55,13 +69,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data,
         !shapes.HasObjectFrame())
       std::abort();
     for (int t = 0; t < shapes.NumFrames(); ++t) {
+      // A rotation, or all NaN for a frame left out.
       const Eigen::Matrix3d& r = shapes.rotations[t];
+      const bool rotation_ok =
+          r.array().isNaN().all() ||
+          (r * r.transpose() - Eigen::Matrix3d::Identity())
+                  .cwiseAbs()
+                  .maxCoeff() <= 1e-6;
       if (shapes.points_in_camera[t].cols() != shapes.NumPoints() ||
           shapes.points_in_object[t].cols() != shapes.NumPoints() ||
-          !shapes.points_in_object[t].allFinite() ||
-          !((r * r.transpose() - Eigen::Matrix3d::Identity())
-                .cwiseAbs()
-                .maxCoeff() <= 1e-6))
+          !PointsFiniteOrLeftOut(shapes.points_in_object[t]) || !rotation_ok)
         std::abort();
     }
   }

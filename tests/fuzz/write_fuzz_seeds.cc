@@ -89,6 +89,12 @@ int main(int argc, char** argv) {
   ok &= Check(nrsfm::WriteMat(mat + "s_rs_v5.mat", MatVersion::kV5,
                               {{"W", SmallW(), {}}, {"S", p3, {}},
                                {"Rs", rs, {}}}));
+  // A W of M = 2 cameras that records its camera count, as nrsfm synth
+  // writes it, with an FM x P mask.
+  ok &= Check(nrsfm::WriteMat(mat + "w_cameras_mask_v5.mat", MatVersion::kV5,
+                              {{"W", SmallWithMissing(), {}},
+                               {"cameras", Eigen::MatrixXd::Constant(1, 1, 2), {}},
+                               {"mask", mask, {}}}));
   // Empty arrays: a 3-D W with no slice (issue 18), X with no frame.
   ok &= Check(nrsfm::WriteMat(mat + "w_4x3x0_v5.mat", MatVersion::kV5,
                               {{"W", Eigen::MatrixXd(0, 0), {4, 3, 0}},
@@ -133,6 +139,16 @@ int main(int argc, char** argv) {
         << "frame,point,x,y,z\n0,0,1,2,3\n0,1,4,5,6\n1,0,1,2,3\n1,1,4,5,6\n\f"
         << "frame,camera,r11,r12,r13,r21,r22,r23,r31,r32,r33\n"
         << "0,0,1,0,0,0,1,0,0,0,1\n1,0,0,-1,0,1,0,0,0,0,1\n";
+  }
+  {
+    // A reconstruction that left out point 1 and frame 1 (NaN there).
+    std::ofstream dir(text / "result_dir_left_out.csv");
+    dir << "frame,camera,point,x,y,z\n0,0,0,1,2,3\n0,0,1,nan,nan,nan\n"
+        << "1,0,0,nan,nan,nan\n1,0,1,nan,nan,nan\n\f"
+        << "frame,point,x,y,z\n0,0,1,2,3\n0,1,nan,nan,nan\n"
+        << "1,0,nan,nan,nan\n1,1,nan,nan,nan\n\f"
+        << "frame,camera,r11,r12,r13,r21,r22,r23,r31,r32,r33\n"
+        << "0,0,1,0,0,0,1,0,0,0,1\n1,0,nan,nan,nan,nan,nan,nan,nan,nan,nan\n";
   }
   {
     std::ofstream csv(text / "points_camera.csv");
