@@ -44,4 +44,4 @@ LSAN_OPTIONS=suppressions=$fuzz_dir/lsan.supp TMPDIR=$work \
 for seed in "$work/seeds/$kind"/*; do rm -f "$work/kept/$(basename "$seed")"; done
 find "$corpus" -maxdepth 1 -type f -delete
 cp "$work/kept"/* "$corpus/"
-echo "$corpus: $(find "$corpus" -type f | wc -l) files, $(du -sk "$corpus" | cut -f1) KB"
+echo "$corpus: $(find "$corpus" -type f | wc -l) files, $(cat "$corpus"/* | wc -c) bytes"
