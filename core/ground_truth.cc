@@ -88,7 +88,12 @@ Status ReadGroundTruth(const std::string& path, const std::string& variable,
     result.source = "P3_gt";
   } else if (chosen == "X") {
     std::vector<Eigen::MatrixXd> slices;
-    NRSFM_RETURN_IF_ERROR(ReadMatArray3(path, chosen, &slices));
+    std::vector<std::size_t> dims;
+    NRSFM_RETURN_IF_ERROR(ReadMatArray3(path, chosen, &slices, &dims));
+    if (slices.empty()) {
+      return Status::Error(path + ": X is empty (" + MatDimsString(dims) +
+                           "); expected a 3 x P x F array");
+    }
     NRSFM_RETURN_IF_ERROR(
         FramesFromArray3(slices, path + ": X", &result.points_in_camera));
     result.source = "X";

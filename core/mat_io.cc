@@ -271,8 +271,9 @@ std::string DimsString(const matvar_t& var) {
 }
 
 // Checks class, flags, rank (2..max_rank) and size of a variable header and
-// returns its element count. `file_size` bounds the data size: zlib/deflate
-// never compresses better than ~1032:1.
+// returns its element count. `file_size` bounds the data size, and each
+// dimension, of an empty array too: zlib/deflate never compresses better
+// than ~1032:1.
 Status CheckHeader(const std::string& what, const matvar_t& var, int max_rank,
                    std::uintmax_t file_size, std::size_t* numel) {
   if (!IsNumericClass(var.class_type)) {
@@ -293,7 +294,10 @@ Status CheckHeader(const std::string& what, const matvar_t& var, int max_rank,
   const std::uintmax_t max_elements = file_size * 1100 + (1u << 20);
   std::uintmax_t count = 1;
   for (int i = 0; i < var.rank; ++i) {
-    if (var.dims[i] > 0 && count > max_elements / var.dims[i]) {
+    // Each dimension on its own too: an empty array (a zero dimension) has
+    // no data to bound the others, and 0 x 2^60 is no real variable.
+    if (var.dims[i] > max_elements ||
+        (var.dims[i] > 0 && count > max_elements / var.dims[i])) {
       return Status::Error(what + " claims a size of " + DimsString(var) +
                            ", more than the file can hold (corrupt file?)");
     }
@@ -468,18 +472,32 @@ Status ReadMatVariable(const std::string& path, const std::string& name,
 }
 
 Status ReadMatArray3(const std::string& path, const std::string& name,
-                     std::vector<Eigen::MatrixXd>* slices) {
-  std::vector<std::size_t> dims;
+                     std::vector<Eigen::MatrixXd>* slices,
+                     std::vector<std::size_t>* dims) {
+  std::vector<std::size_t> size;
   std::vector<double> data;
-  NRSFM_RETURN_IF_ERROR(ReadNumeric(path, name, /*max_rank=*/3, &dims, &data));
-  const std::size_t slice_size = dims[0] * dims[1];
+  NRSFM_RETURN_IF_ERROR(ReadNumeric(path, name, /*max_rank=*/3, &size, &data));
   slices->clear();
-  slices->reserve(dims[2]);
-  for (std::size_t k = 0; k < dims[2]; ++k) {
+  if (dims != nullptr) *dims = size;
+  // An empty array has no slice: a 0 x 0 x d2 array does not make d2 empty
+  // matrices (d2 is bounded by the file size only, which allows millions).
+  if (data.empty()) return Status::OK();
+  const std::size_t slice_size = size[0] * size[1];
+  slices->reserve(size[2]);
+  for (std::size_t k = 0; k < size[2]; ++k) {
     slices->push_back(Eigen::Map<const Eigen::MatrixXd>(
-        data.data() + k * slice_size, dims[0], dims[1]));
+        data.data() + k * slice_size, size[0], size[1]));
   }
   return Status::OK();
+}
+
+std::string MatDimsString(const std::vector<std::size_t>& dims) {
+  std::string text;
+  for (std::size_t i = 0; i < dims.size(); ++i) {
+    if (i == 2 && dims[i] == 1) break;
+    text += (i ? " x " : "") + std::to_string(dims[i]);
+  }
+  return text;
 }
 
 Status ListMatVariables(const std::string& path,

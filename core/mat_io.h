@@ -28,16 +28,26 @@ namespace nrsfm {
 // Reads a 2-D numeric variable as double. Fails when the file is missing, is
 // a directory, is empty, is not a .mat file or is truncated/corrupt; when the
 // variable does not exist (the message lists the variables that do); when it
-// is not numeric (char, struct, cell, object, sparse, complex) or not 2-D.
-// An empty variable (0 rows or 0 columns) is returned as such.
+// is not numeric (char, struct, cell, object, sparse, complex) or not 2-D;
+// when a dimension or the element count is more than the file can hold.
+// An empty variable (0 rows or 0 columns) is returned as such: callers must
+// check the size before they index it.
 Status ReadMatVariable(const std::string& path, const std::string& name,
                        Eigen::MatrixXd* value);
 
 // Reads a 3-D numeric array A (d0 × d1 × d2, e.g. X = 3 × P × F) as d2
 // matrices of size d0 × d1: (*slices)[k] = A(:, :, k). A 2-D variable is
-// one slice (d2 = 1).
+// one slice (d2 = 1). Fails as ReadMatVariable, and on more than 3
+// dimensions. An empty array (d0, d1 or d2 is 0) gives no slice at all:
+// *slices is empty, and callers must check that before they index it.
+// `dims`, when given, gets {d0, d1, d2} (d2 = 1 for a 2-D variable).
 Status ReadMatArray3(const std::string& path, const std::string& name,
-                     std::vector<Eigen::MatrixXd>* slices);
+                     std::vector<Eigen::MatrixXd>* slices,
+                     std::vector<std::size_t>* dims = nullptr);
+
+// "d0 x d1" or "d0 x d1 x d2" (when d2 != 1): the size of ReadMatArray3's
+// `dims` as error messages show it.
+std::string MatDimsString(const std::vector<std::size_t>& dims);
 
 // The names of the variables in a .mat file, in file order (v7.3: in
 // HDF5 order, i.e. sorted by name).

@@ -85,7 +85,12 @@ Status ReadWFromMat(const std::string& path, const std::string& variable,
     return Status::OK();
   }
   std::vector<Eigen::MatrixXd> slices;
-  NRSFM_RETURN_IF_ERROR(ReadMatArray3(path, variable, &slices));
+  std::vector<std::size_t> dims;
+  NRSFM_RETURN_IF_ERROR(ReadMatArray3(path, variable, &slices, &dims));
+  // An empty array (e.g. 4 x 3 x 0) has no slice at all.
+  if (slices.empty()) {
+    return Status::Error(name + " is empty (" + MatDimsString(dims) + ")");
+  }
   if (variable == "X" || slices.size() > 1) {
     std::vector<Eigen::Matrix3Xd> frames;
     NRSFM_RETURN_IF_ERROR(FramesFromArray3(slices, name, &frames));

@@ -59,10 +59,15 @@ Status FramesFromArray3(const std::vector<Eigen::MatrixXd>& slices,
   if (slices.empty() || slices[0].size() == 0) {
     return Status::Error(name + " is empty; expected a 3 x P x F array");
   }
-  if (slices[0].rows() != 3) {
-    return Status::Error(name + " is " + SizeString(slices[0]) + " x " +
-                         std::to_string(slices.size()) +
-                         "; expected 3 x P x F");
+  for (std::size_t t = 0; t < slices.size(); ++t) {
+    if (slices[t].rows() != 3 || slices[t].cols() != slices[0].cols()) {
+      return Status::Error(name + " is " + SizeString(slices[0]) + " x " +
+                           std::to_string(slices.size()) +
+                           (t == 0 ? ""
+                                   : " with slice " + std::to_string(t) + " " +
+                                         SizeString(slices[t])) +
+                           "; expected 3 x P x F");
+    }
   }
   frames->assign(slices.begin(), slices.end());
   return Status::OK();

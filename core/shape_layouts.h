@@ -26,7 +26,8 @@ Status FramesFromInterleaved(const Eigen::MatrixXd& points,
 Status FramesFromBlockLayout(const Eigen::MatrixXd& points,
                              const std::string& name,
                              std::vector<Eigen::Matrix3Xd>* frames);
-// Fails when there is no slice, a slice is empty or its row count is not 3.
+// Fails when there is no slice, a slice is empty, a slice's row count is not
+// 3 or the slices differ in size.
 Status FramesFromArray3(const std::vector<Eigen::MatrixXd>& slices,
                         const std::string& name,
                         std::vector<Eigen::Matrix3Xd>* frames);

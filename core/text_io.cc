@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <new>
 #include <string_view>
 #include <system_error>
 
@@ -116,9 +117,10 @@ Status ParseRow(const std::string& line, const std::string& where,
 }
 
 // Reads numeric rows of `num_columns` fields (the first row sets it when
-// num_columns < 0) until the end of the file.
+// num_columns < 0) until the end of the file; no row at all is the error
+// "<path>: <no_rows>".
 Status ReadRows(const std::string& path, std::ifstream* in, int* line_number,
-                int num_columns, Eigen::MatrixXd* matrix) {
+                int num_columns, const char* no_rows, Eigen::MatrixXd* matrix) {
   std::vector<double> values;  // row-major
   std::vector<std::string_view> fields;
   std::vector<double> row;
@@ -143,7 +145,7 @@ Status ReadRows(const std::string& path, std::ifstream* in, int* line_number,
     ++rows;
   }
   if (in->bad()) return Status::Error(path + ": read error");
-  if (rows == 0) return Status::Error(path + ": no numbers in the file");
+  if (rows == 0) return Status::Error(path + ": " + no_rows);
   *matrix = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic,
                                            Eigen::Dynamic, Eigen::RowMajor>>(
       values.data(), rows, num_columns);
@@ -189,7 +191,8 @@ Status ReadTextMatrix(const std::string& path, Eigen::MatrixXd* matrix) {
   std::ifstream in;
   NRSFM_RETURN_IF_ERROR(OpenTextFile(path, &in));
   int line_number = 0;
-  return ReadRows(path, &in, &line_number, /*num_columns=*/-1, matrix);
+  return ReadRows(path, &in, &line_number, /*num_columns=*/-1,
+                  "no numbers in the file", matrix);
 }
 
 Status WriteTextMatrix(const std::string& path, const Eigen::MatrixXd& matrix) {
@@ -230,7 +233,7 @@ Status ReadCsvTable(const std::string& path,
                          expected);
   }
   return ReadRows(path, &in, &line_number, static_cast<int>(header.size()),
-                  table);
+                  "no data rows after the header", table);
 }
 
 Status ReadObservationList(const std::string& path,
@@ -287,10 +290,21 @@ Status ReadObservationList(const std::string& path,
   m.num_frames = static_cast<int>(num_frames);
   m.num_cameras = static_cast<int>(num_cameras);
   m.num_points = static_cast<int>(num_points);
-  m.W.setConstant(2 * m.NumViews(), m.num_points, std::nan(""));
-  m.visible.setConstant(m.NumViews(), m.num_points, false);
-  Eigen::MatrixXi first_line =
-      Eigen::MatrixXi::Zero(m.NumViews(), m.num_points);
+  Eigen::MatrixXi first_line;
+  // The dense W of a sparse list can be far larger than the file (one line
+  // may imply gigabytes): memory it cannot get is the file's error.
+  try {
+    m.W.setConstant(2 * m.NumViews(), m.num_points, std::nan(""));
+    m.visible.setConstant(m.NumViews(), m.num_points, false);
+    first_line.setZero(m.NumViews(), m.num_points);
+  } catch (const std::bad_alloc&) {
+    return Status::Error(
+        path + ": the largest indices (F = " + std::to_string(num_frames) +
+        ", M = " + std::to_string(num_cameras) +
+        ", P = " + std::to_string(num_points) + ") imply a W of " +
+        std::to_string(2 * views * num_points) +
+        " entries, more than can be allocated");
+  }
   for (const Observation& o : observations) {
     const int view =
         m.View(static_cast<int>(o.frame), static_cast<int>(o.camera));

@@ -33,6 +33,7 @@ Status WriteTextMatrix(const std::string& path, const Eigen::MatrixXd& matrix);
 // Reads a CSV table whose first (non-comment) line is a header that must
 // equal `header` (field by field, e.g. {"frame", "point", "x"}), followed by
 // numeric rows of header.size() fields. `table` gets one row per data line.
+// Fails on an empty file, another header, a bad row and on no data row.
 Status ReadCsvTable(const std::string& path,
                     const std::vector<std::string>& header,
                     Eigen::MatrixXd* table);
@@ -45,7 +46,8 @@ Status ReadCsvTable(const std::string& path,
 // result can be reconstructed is for the solvers to judge). Fails on a line
 // with other than 5 fields, a negative or non-integer index, non-finite u or
 // v, the same (frame, camera, point) twice (naming both lines), no
-// observation at all, or sizes whose W would exceed 2^28 entries.
+// observation at all, or sizes whose W would exceed 2^28 entries or more
+// memory than can be allocated.
 Status ReadObservationList(const std::string& path, Measurements* measurements);
 
 // Writes the visible observations of `measurements` as an observation list

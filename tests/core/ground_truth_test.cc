@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <fstream>
 #include <random>
 #include <string>
 #include <vector>
@@ -11,6 +12,7 @@
 #include "core/mat_io.h"
 #include "core/read_measurements.h"
 #include "core/rotation.h"
+#include "tests/mat_v5_bytes.h"
 #include "tests/test_util.h"
 
 namespace nrsfm {
@@ -212,6 +214,58 @@ TEST(GroundTruth, BadInputsGiveClearErrors) {
   EXPECT_EQ(st.message(), none + ": no variable 'Rs'; the file has: W, S");
   st = ReadGroundTruth(dir + "/missing.mat", "", &truth);
   EXPECT_EQ(st.message(), dir + "/missing.mat: no such file");
+}
+
+// Truth variables with a zero-sized dimension, and cells and structs (empty
+// or with empty fields), written byte by byte: one error line naming the
+// file and the variable, never an index into an empty array.
+TEST(GroundTruth, EmptyVariablesGiveTheOneLineError) {
+  namespace v5 = testing_util::v5;
+  const std::string dir = MakeTempDir("ground_truth_empty");
+  const std::vector<double> rotation_rows = {1, 0, 0, 1, 0, 0};  // 2 x 3
+  const std::string rs = v5::Double("Rs", {2, 3}, rotation_rows);
+  const std::string s = v5::Double("S", {3, 2}, {1, 2, 3, 4, 5, 7});
+  struct Case {
+    std::string file, variables, expected;
+  };
+  const std::vector<Case> cases = {
+      {"x_3xpx0", v5::Double("X", {3, 4, 0}, {}),
+       "X is empty (3 x 4 x 0); expected a 3 x P x F array"},
+      {"x_3x0xf", v5::Double("X", {3, 0, 2}, {}),
+       "X is empty (3 x 0 x 2); expected a 3 x P x F array"},
+      {"x_0xpxf", v5::Double("X", {0, 4, 2}, {}),
+       "X is empty (0 x 4 x 2); expected a 3 x P x F array"},
+      {"p3_0xp", v5::Double("P3_gt", {0, 4}, {}), "P3_gt is empty (0 x 4)"},
+      {"p3_3fx0", v5::Double("P3_gt", {3, 0}, {}), "P3_gt is empty (3 x 0)"},
+      {"s_0xp", v5::Double("S", {0, 4}, {}) + rs, "S is empty (0 x 4)"},
+      {"s_3fx0", v5::Double("S", {3, 0}, {}) + rs, "S is empty (3 x 0)"},
+      {"rs_0x3", s + v5::Double("Rs", {0, 3}, {}),
+       "Rs is 0 x 3; expected 2F x 3 = 2 x 3 for S with 3 rows (F = 1)"},
+      {"rs_2fx0", s + v5::Double("Rs", {2, 0}, {}),
+       "Rs is 2 x 0; expected 2F x 3 = 2 x 3 for S with 3 rows (F = 1)"},
+      {"rs_cell", s + v5::Cell("Rs", {0, 0}, {}),
+       "variable 'Rs' is a cell array, not a numeric array"},
+      {"x_cell", v5::Cell("X", {1, 2}, {v5::EmptyMatrix(), v5::EmptyMatrix()}),
+       "variable 'X' is a cell array, not a numeric array"},
+      {"x_struct", v5::Struct("X", {"empty"}, {v5::EmptyMatrix()}),
+       "variable 'X' is a struct, not a numeric array"},
+      {"s_struct",
+       v5::Struct("S", {"a", "b"},
+                  {v5::Double("", {0, 3}, {}), v5::EmptyMatrix()}) +
+           rs,
+       "variable 'S' is a struct, not a numeric array"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.file);
+    const std::string path = dir + "/" + c.file + ".mat";
+    {
+      const std::string bytes = v5::Header() + c.variables;
+      std::ofstream(path, std::ios::binary).write(bytes.data(), bytes.size());
+    }
+    GroundTruth truth;
+    const Status st = ReadGroundTruth(path, "", &truth);
+    EXPECT_EQ(st.message(), path + ": " + c.expected);
+  }
 }
 
 }  // namespace

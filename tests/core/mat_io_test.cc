@@ -12,6 +12,7 @@
 #include <tuple>
 #include <vector>
 
+#include "tests/mat_v5_bytes.h"
 #include "tests/test_util.h"
 
 namespace nrsfm {
@@ -48,14 +49,11 @@ std::string ReadBytes(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-template <typename T>
-std::string Raw(const std::vector<T>& values) {
-  return std::string(reinterpret_cast<const char*>(values.data()),
-                     sizeof(T) * values.size());
-}
-
 // --- Hand-made MATLAB files (little endian), for classes WriteMat cannot
-// write. v4: 5 int32 (MOPT, rows, cols, imagf, name length), name, data.
+// write. v5: tests/mat_v5_bytes.h (Header, Element, Matrix, kMi*, kMx*).
+// v4: 5 int32 (MOPT, rows, cols, imagf, name length), name, data.
+using namespace testing_util::v5;
+
 std::string V4Variable(const std::string& name, int rows, int cols,
                        int precision, int type, const std::string& data,
                        bool complex = false) {
@@ -64,67 +62,6 @@ std::string V4Variable(const std::string& name, int rows, int cols,
       static_cast<std::int32_t>(name.size() + 1)};
   return Raw(header) + name + std::string(1, '\0') + data +
          (complex ? data : "");
-}
-
-// v5: a 128-byte header, then tagged data elements padded to 8 bytes.
-enum : std::uint32_t {
-  kMiInt8 = 1,
-  kMiUint8 = 2,
-  kMiInt16 = 3,
-  kMiUint16 = 4,
-  kMiInt32 = 5,
-  kMiUint32 = 6,
-  kMiSingle = 7,
-  kMiDouble = 9,
-  kMiInt64 = 12,
-  kMiUint64 = 13,
-  kMiMatrix = 14
-};
-enum : std::uint8_t {
-  kMxCell = 1,
-  kMxStruct = 2,
-  kMxChar = 4,
-  kMxSparse = 5,
-  kMxDouble = 6,
-  kMxSingle = 7,
-  kMxInt8 = 8,
-  kMxUint8 = 9,
-  kMxInt16 = 10,
-  kMxUint16 = 11,
-  kMxInt32 = 12,
-  kMxUint32 = 13,
-  kMxInt64 = 14,
-  kMxUint64 = 15
-};
-constexpr std::uint8_t kFlagComplex = 0x08, kFlagLogical = 0x02;
-
-std::string V5Header() {
-  std::string text = "MATLAB 5.0 MAT-file, written by nrsfm tests";
-  text.resize(116, ' ');
-  text += std::string(8, '\0');
-  const std::vector<std::uint16_t> version = {0x0100};
-  return text + Raw(version) + "IM";
-}
-
-std::string Element(std::uint32_t type, const std::string& payload) {
-  const std::vector<std::uint32_t> tag = {
-      type, static_cast<std::uint32_t>(payload.size())};
-  std::string element = Raw(tag) + payload;
-  element.resize((element.size() + 7) / 8 * 8, '\0');
-  return element;
-}
-
-std::string V5Matrix(std::uint8_t mx_class, std::uint8_t flags,
-                     const std::vector<int>& dims, const std::string& name,
-                     const std::string& contents, std::uint32_t nzmax = 0) {
-  const std::vector<std::uint32_t> array_flags = {
-      static_cast<std::uint32_t>(mx_class) |
-          (static_cast<std::uint32_t>(flags) << 8),
-      nzmax};
-  const std::vector<std::int32_t> dims32(dims.begin(), dims.end());
-  return Element(kMiMatrix, Element(kMiUint32, Raw(array_flags)) +
-                                Element(kMiInt32, Raw(dims32)) +
-                                Element(kMiInt8, name) + contents);
 }
 
 // --- Round trips through WriteMat.
@@ -200,6 +137,116 @@ TEST(MatIo, EmptyVariableReadsAsEmpty) {
   }
 }
 
+// Empty arrays of every shape, including the 3-D ones WriteMat cannot write
+// from an empty matrix: a 2-D one reads as such, and ReadMatArray3 gives no
+// slice for any of them (a 0 x 0 x 10^6 array is not a million matrices)
+// but its size.
+TEST(MatIo, EmptyArraysOfEveryShapeReadAsDocumented) {
+  const std::string path = MakeTempDir("mat_io_empty_nd") + "/empty.mat";
+  WriteBytes(path, Header() + Double("a_0x3", {0, 3}, {}) +
+                       Double("a_4x0", {4, 0}, {}) +
+                       Double("a_4x3x0", {4, 3, 0}, {}) +
+                       Double("a_0x3x2", {0, 3, 2}, {}) +
+                       Double("a_3x0x2", {3, 0, 2}, {}) +
+                       Double("a_0x0x1000000", {0, 0, 1000000}, {}) +
+                       Double("ok", {1, 1}, {7.0}));
+  struct Case {
+    std::string name;
+    std::vector<std::size_t> dims;
+    std::string dims_text;
+  };
+  for (const Case& c : std::vector<Case>{
+           {"a_0x3", {0, 3, 1}, "0 x 3"},
+           {"a_4x0", {4, 0, 1}, "4 x 0"},
+           {"a_4x3x0", {4, 3, 0}, "4 x 3 x 0"},
+           {"a_0x3x2", {0, 3, 2}, "0 x 3 x 2"},
+           {"a_3x0x2", {3, 0, 2}, "3 x 0 x 2"},
+           {"a_0x0x1000000", {0, 0, 1000000}, "0 x 0 x 1000000"}}) {
+    SCOPED_TRACE(c.name);
+    std::vector<Eigen::MatrixXd> slices(5, Eigen::MatrixXd::Ones(1, 1));
+    std::vector<std::size_t> dims;
+    const Status s = ReadMatArray3(path, c.name, &slices, &dims);
+    ASSERT_TRUE(s.ok()) << s.message();
+    EXPECT_TRUE(slices.empty());
+    EXPECT_EQ(dims, c.dims);
+    EXPECT_EQ(MatDimsString(dims), c.dims_text);
+    Eigen::MatrixXd m = Eigen::MatrixXd::Ones(1, 1);
+    if (c.dims[2] == 1) {
+      ASSERT_TRUE(ReadMatVariable(path, c.name, &m).ok());
+      EXPECT_EQ(m.rows(), static_cast<Eigen::Index>(c.dims[0]));
+      EXPECT_EQ(m.cols(), static_cast<Eigen::Index>(c.dims[1]));
+    } else {
+      EXPECT_EQ(ReadMatVariable(path, c.name, &m).message(),
+                path + ": variable '" + c.name + "' is 3-D (" + c.dims_text +
+                    "); expected a 2-D matrix");
+    }
+  }
+  std::vector<Eigen::MatrixXd> slices;
+  std::vector<std::size_t> dims;
+  ASSERT_TRUE(ReadMatArray3(path, "ok", &slices, &dims).ok());
+  ASSERT_EQ(slices.size(), 1u);
+  EXPECT_EQ(slices[0](0, 0), 7.0);
+  EXPECT_EQ(dims, (std::vector<std::size_t>{1, 1, 1}));
+}
+
+// An empty array has no data to bound its other dimensions, so each one is
+// bounded by the file size itself: a 0 x 2^31-1 x 2^31-1 array would
+// otherwise ask for 2^31 slices.
+TEST(MatIo, EmptyArrayWithAHugeDimensionIsRejected) {
+  const std::string path = MakeTempDir("mat_io_empty_huge") + "/huge.mat";
+  const int huge = 2147483647;
+  WriteBytes(path, Header() + Double("W", {0, huge}, {}) +
+                       Double("X", {0, huge, huge}, {}) +
+                       Double("Y", {2, 3, huge}, {}));
+  Eigen::MatrixXd m;
+  Status s = ReadMatVariable(path, "W", &m);
+  EXPECT_EQ(s.message(), path +
+                             ": variable 'W' claims a size of 0 x 2147483647, "
+                             "more than the file can hold (corrupt file?)");
+  std::vector<Eigen::MatrixXd> slices;
+  s = ReadMatArray3(path, "X", &slices);
+  EXPECT_EQ(s.message(),
+            path +
+                ": variable 'X' claims a size of 0 x 2147483647 x 2147483647, "
+                "more than the file can hold (corrupt file?)");
+  s = ReadMatArray3(path, "Y", &slices);
+  EXPECT_EQ(s.message(), path +
+                             ": variable 'Y' claims a size of 2 x 3 x "
+                             "2147483647, more than the file can hold "
+                             "(corrupt file?)");
+}
+
+// Cells and structs, empty or holding empty fields, are listed and named in
+// the error; the numeric variable after them still reads.
+TEST(MatIo, EmptyCellsAndStructFieldsAreNamedNotRead) {
+  const std::string path = MakeTempDir("mat_io_empty_cells") + "/cells.mat";
+  WriteBytes(path,
+             Header() + Cell("c0", {0, 0}, {}) +
+                 Cell("c1", {1, 2}, {EmptyMatrix(), Double("", {0, 0}, {})}) +
+                 Struct("st", {"empty", "zero"},
+                        {EmptyMatrix(), Double("", {3, 0}, {})}) +
+                 Double("ok", {1, 1}, {42.0}));
+  std::vector<std::string> names;
+  ASSERT_TRUE(ListMatVariables(path, &names).ok());
+  EXPECT_EQ(names, (std::vector<std::string>{"c0", "c1", "st", "ok"}));
+  for (const auto& [name, what] :
+       std::vector<std::pair<std::string, std::string>>{{"c0", "a cell array"},
+                                                        {"c1", "a cell array"},
+                                                        {"st", "a struct"}}) {
+    Eigen::MatrixXd m;
+    EXPECT_EQ(ReadMatVariable(path, name, &m).message(),
+              path + ": variable '" + name + "' is " + what +
+                  ", not a numeric array");
+    std::vector<Eigen::MatrixXd> slices;
+    EXPECT_EQ(ReadMatArray3(path, name, &slices).message(),
+              path + ": variable '" + name + "' is " + what +
+                  ", not a numeric array");
+  }
+  Eigen::MatrixXd m;
+  ASSERT_TRUE(ReadMatVariable(path, "ok", &m).ok());
+  EXPECT_EQ(m(0, 0), 42.0);
+}
+
 // --- Numeric classes other than double (hand-made files).
 
 TEST(MatIo, ReadsEveryNumericClassOfV4AsDouble) {
@@ -231,43 +278,42 @@ TEST(MatIo, ReadsEveryNumericClassOfV4AsDouble) {
 
 TEST(MatIo, ReadsEveryNumericClassOfV5AsDouble) {
   const std::string path = MakeTempDir("mat_io_v5_classes") + "/classes.mat";
-  std::string file = V5Header();
-  file += V5Matrix(kMxInt8, 0, {1, 2}, "i8",
-                   Element(kMiInt8, Raw(std::vector<std::int8_t>{-128, 127})));
-  file += V5Matrix(kMxUint8, 0, {1, 1}, "u8",
-                   Element(kMiUint8, Raw(std::vector<std::uint8_t>{200})));
-  file += V5Matrix(kMxInt16, 0, {1, 1}, "i16",
-                   Element(kMiInt16, Raw(std::vector<std::int16_t>{-32768})));
-  file += V5Matrix(kMxUint16, 0, {1, 1}, "u16",
-                   Element(kMiUint16, Raw(std::vector<std::uint16_t>{40000})));
+  std::string file = Header();
+  file += Matrix(kMxInt8, 0, {1, 2}, "i8",
+                 Element(kMiInt8, Raw(std::vector<std::int8_t>{-128, 127})));
+  file += Matrix(kMxUint8, 0, {1, 1}, "u8",
+                 Element(kMiUint8, Raw(std::vector<std::uint8_t>{200})));
+  file += Matrix(kMxInt16, 0, {1, 1}, "i16",
+                 Element(kMiInt16, Raw(std::vector<std::int16_t>{-32768})));
+  file += Matrix(kMxUint16, 0, {1, 1}, "u16",
+                 Element(kMiUint16, Raw(std::vector<std::uint16_t>{40000})));
   file +=
-      V5Matrix(kMxInt32, 0, {1, 1}, "i32",
-               Element(kMiInt32, Raw(std::vector<std::int32_t>{-2000000000})));
-  file += V5Matrix(
-      kMxUint32, 0, {1, 1}, "u32",
-      Element(kMiUint32, Raw(std::vector<std::uint32_t>{4000000000u})));
-  file += V5Matrix(
-      kMxInt64, 0, {1, 1}, "i64",
-      Element(kMiInt64,
-              Raw(std::vector<std::int64_t>{-(std::int64_t(1) << 40)})));
-  file += V5Matrix(
-      kMxUint64, 0, {1, 1}, "u64",
-      Element(kMiUint64,
-              Raw(std::vector<std::uint64_t>{std::uint64_t(1) << 50})));
-  file += V5Matrix(kMxSingle, 0, {1, 1}, "f",
-                   Element(kMiSingle, Raw(std::vector<float>{-2.5f})));
-  file += V5Matrix(kMxUint8, kFlagLogical, {2, 1}, "b",
-                   Element(kMiUint8, Raw(std::vector<std::uint8_t>{1, 0})));
+      Matrix(kMxInt32, 0, {1, 1}, "i32",
+             Element(kMiInt32, Raw(std::vector<std::int32_t>{-2000000000})));
+  file +=
+      Matrix(kMxUint32, 0, {1, 1}, "u32",
+             Element(kMiUint32, Raw(std::vector<std::uint32_t>{4000000000u})));
+  file +=
+      Matrix(kMxInt64, 0, {1, 1}, "i64",
+             Element(kMiInt64,
+                     Raw(std::vector<std::int64_t>{-(std::int64_t(1) << 40)})));
+  file +=
+      Matrix(kMxUint64, 0, {1, 1}, "u64",
+             Element(kMiUint64,
+                     Raw(std::vector<std::uint64_t>{std::uint64_t(1) << 50})));
+  file += Matrix(kMxSingle, 0, {1, 1}, "f",
+                 Element(kMiSingle, Raw(std::vector<float>{-2.5f})));
+  file += Matrix(kMxUint8, kFlagLogical, {2, 1}, "b",
+                 Element(kMiUint8, Raw(std::vector<std::uint8_t>{1, 0})));
   // The trap: MATLAB stores integral doubles compactly, e.g. class double with
   // uint8 data (like K = 13 in drink.mat).
-  file +=
-      V5Matrix(kMxDouble, 0, {1, 3}, "d_as_u8",
-               Element(kMiUint8, Raw(std::vector<std::uint8_t>{13, 0, 255})));
+  file += Matrix(kMxDouble, 0, {1, 3}, "d_as_u8",
+                 Element(kMiUint8, Raw(std::vector<std::uint8_t>{13, 0, 255})));
   // A 2 x 2 x 2 int16 array.
   file +=
-      V5Matrix(kMxInt16, 0, {2, 2, 2}, "a3",
-               Element(kMiInt16,
-                       Raw(std::vector<std::int16_t>{1, 2, 3, 4, 5, 6, 7, 8})));
+      Matrix(kMxInt16, 0, {2, 2, 2}, "a3",
+             Element(kMiInt16,
+                     Raw(std::vector<std::int16_t>{1, 2, 3, 4, 5, 6, 7, 8})));
   WriteBytes(path, file);
 
   const std::vector<std::pair<std::string, double>> scalars = {
@@ -311,29 +357,29 @@ TEST(MatIo, RejectsNonNumericVariablesNamingThem) {
                      Raw(std::vector<double>{1, 2, 1, 1, 5, 6})));
   const std::string v5 = dir + "/v5.mat";
   const std::string field =
-      V5Matrix(kMxDouble, 0, {1, 1}, "",
-               Element(kMiDouble, Raw(std::vector<double>{1.0})));
+      Matrix(kMxDouble, 0, {1, 1}, "",
+             Element(kMiDouble, Raw(std::vector<double>{1.0})));
   WriteBytes(
-      v5, V5Header() +
-              V5Matrix(kMxChar, 0, {1, 2}, "name",
-                       Element(kMiUint16,
-                               Raw(std::vector<std::uint16_t>{'h', 'i'}))) +
-              V5Matrix(kMxStruct, 0, {1, 1}, "st",
-                       Element(kMiInt32, Raw(std::vector<std::int32_t>{8})) +
-                           Element(kMiInt8, std::string("a\0\0\0\0\0\0\0", 8)) +
-                           field) +
-              V5Matrix(kMxCell, 0, {1, 1}, "ce", field) +
-              V5Matrix(kMxDouble, kFlagComplex, {1, 1}, "z",
-                       Element(kMiDouble, Raw(std::vector<double>{1.0})) +
-                           Element(kMiDouble, Raw(std::vector<double>{2.0}))) +
-              V5Matrix(kMxSparse, 0, {2, 2}, "sp",
-                       Element(kMiInt32, Raw(std::vector<std::int32_t>{1})) +
-                           Element(kMiInt32,
-                                   Raw(std::vector<std::int32_t>{0, 0, 1})) +
-                           Element(kMiDouble, Raw(std::vector<double>{3.0})),
-                       1) +
-              V5Matrix(kMxDouble, 0, {1, 1}, "ok",
-                       Element(kMiDouble, Raw(std::vector<double>{42.0}))));
+      v5, Header() +
+              Matrix(kMxChar, 0, {1, 2}, "name",
+                     Element(kMiUint16,
+                             Raw(std::vector<std::uint16_t>{'h', 'i'}))) +
+              Matrix(kMxStruct, 0, {1, 1}, "st",
+                     Element(kMiInt32, Raw(std::vector<std::int32_t>{8})) +
+                         Element(kMiInt8, std::string("a\0\0\0\0\0\0\0", 8)) +
+                         field) +
+              Matrix(kMxCell, 0, {1, 1}, "ce", field) +
+              Matrix(kMxDouble, kFlagComplex, {1, 1}, "z",
+                     Element(kMiDouble, Raw(std::vector<double>{1.0})) +
+                         Element(kMiDouble, Raw(std::vector<double>{2.0}))) +
+              Matrix(kMxSparse, 0, {2, 2}, "sp",
+                     Element(kMiInt32, Raw(std::vector<std::int32_t>{1})) +
+                         Element(kMiInt32,
+                                 Raw(std::vector<std::int32_t>{0, 0, 1})) +
+                         Element(kMiDouble, Raw(std::vector<double>{3.0})),
+                     1) +
+              Matrix(kMxDouble, 0, {1, 1}, "ok",
+                     Element(kMiDouble, Raw(std::vector<double>{42.0}))));
 
   const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
       {v4, "txt", "is a char array"},   {v4, "cplx", "is complex"},
@@ -414,10 +460,9 @@ TEST(MatIo, HeaderClaimingMoreDataThanTheFileHoldsIsRejectedBeforeReading) {
   WriteBytes(v4, V4Variable("W", 1 << 30, 1 << 30, 0, 0,
                             Raw(std::vector<double>{1, 2})));
   const std::string v5 = dir + "/v5.mat";
-  WriteBytes(v5,
-             V5Header() +
-                 V5Matrix(kMxDouble, 0, {100000, 100000}, "W",
-                          Element(kMiDouble, Raw(std::vector<double>{1, 2}))));
+  WriteBytes(v5, Header() + Matrix(kMxDouble, 0, {100000, 100000}, "W",
+                                   Element(kMiDouble,
+                                           Raw(std::vector<double>{1, 2}))));
   for (const std::string& path : {v4, v5}) {
     Eigen::MatrixXd m;
     const Status s = ReadMatVariable(path, "W", &m);

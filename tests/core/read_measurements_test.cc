@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/mat_io.h"
+#include "tests/mat_v5_bytes.h"
 #include "tests/test_util.h"
 
 namespace nrsfm {
@@ -32,6 +33,11 @@ std::string Read(const std::string& path, const InputOptions& options,
                  Measurements* m) {
   const Status s = ReadMeasurements(path, options, m);
   return s.ok() ? "OK" : s.message();
+}
+
+void WriteBytes(const std::string& path, const std::string& bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
 }
 
 TEST(ReadMeasurements, RealDrinkAndFace) {
@@ -261,7 +267,7 @@ TEST(ReadMeasurements, BadInputsGiveClearErrors) {
        path + ": one_nan: only one coordinate of the observation at rows 3-4, "
               "column 2"},
       {"inf", "", 1, path + ": inf: infinite value at row 4, column 3"},
-      {"empty", "", 1, path + ": empty: matrix is empty (0 x 0)"},
+      {"empty", "", 1, path + ": empty is empty (0 x 0)"},
       {"P3_gt", "", 1, path + ": P3_gt has 8 rows, not a multiple of 3"},
       {"X", "", 1, path + ": X is 4 x 3 x 2; expected 3 x P x F"},
       {"nope", "", 1,
@@ -339,6 +345,90 @@ TEST(ReadMeasurements, BadInputsGiveClearErrors) {
   std::ofstream(dir + "/text.mat") << "1 2\n3 4\n";
   EXPECT_TRUE(Contains(Read(dir + "/text.mat", auto_options, &m),
                        dir + "/text.mat: not a MATLAB .mat file"));
+}
+
+// Variables with a zero-sized dimension, empty masks, and cells and structs
+// (empty or with empty fields), written byte by byte: each gives the one
+// error line naming the file and the variable; none may be indexed.
+TEST(ReadMeasurements, EmptyVariablesGiveTheOneLineError) {
+  namespace v5 = testing_util::v5;
+  const std::string dir = MakeTempDir("read_meas_empty");
+  struct Case {
+    std::string file, variable_bytes, variable, expected;
+  };
+  const std::vector<Case> cases = {
+      {"w_0xp", v5::Double("W", {0, 3}, {}), "W", "W is empty (0 x 3)"},
+      {"w_2fx0", v5::Double("W", {4, 0}, {}), "W", "W is empty (4 x 0)"},
+      // The crash of issue 18: a 3-D W with no slice.
+      {"w_4x3x0", v5::Double("W", {4, 3, 0}, {}), "W",
+       "W is empty (4 x 3 x 0)"},
+      {"w_0x0x0", v5::Double("W", {0, 0, 0}, {}), "W",
+       "W is empty (0 x 0 x 0)"},
+      {"w_0x3x2", v5::Double("W", {0, 3, 2}, {}), "W",
+       "W is empty (0 x 3 x 2)"},
+      {"x_3xpx0", v5::Double("X", {3, 4, 0}, {}), "X",
+       "X is empty (3 x 4 x 0)"},
+      {"x_3x0xf", v5::Double("X", {3, 0, 2}, {}), "X",
+       "X is empty (3 x 0 x 2)"},
+      {"x_0xpxf", v5::Double("X", {0, 4, 2}, {}), "X",
+       "X is empty (0 x 4 x 2)"},
+      {"x_3x0", v5::Double("X", {3, 0}, {}), "X", "X is empty (3 x 0)"},
+      {"p3_0xp", v5::Double("P3_gt", {0, 4}, {}), "P3_gt",
+       "P3_gt is empty (0 x 4)"},
+      {"p3_3fx0", v5::Double("P3_gt", {6, 0}, {}), "P3_gt",
+       "P3_gt is empty (6 x 0)"},
+      {"w_cell_0x0", v5::Cell("W", {0, 0}, {}), "W",
+       "variable 'W' is a cell array, not a numeric array"},
+      {"w_cell_empty", v5::Cell("W", {1, 1}, {v5::EmptyMatrix()}), "W",
+       "variable 'W' is a cell array, not a numeric array"},
+      {"w_struct_empty_field",
+       v5::Struct("W", {"data", "empty"},
+                  {v5::Double("", {0, 0}, {}), v5::EmptyMatrix()}),
+       "W", "variable 'W' is a struct, not a numeric array"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.file);
+    const std::string path = dir + "/" + c.file + ".mat";
+    WriteBytes(path, v5::Header() + c.variable_bytes);
+    Measurements m;
+    // Found by name and by the automatic choice of W, P3_gt, X.
+    InputOptions named;
+    named.variable = c.variable;
+    EXPECT_EQ(Read(path, named, &m), path + ": " + c.expected);
+    EXPECT_EQ(Read(path, InputOptions(), &m), path + ": " + c.expected);
+  }
+
+  // Empty masks of a good W (2F x P = 4 x 3); an empty W ignores the mask.
+  const std::string w = v5::Double("W", {4, 3}, std::vector<double>(12, 1.0));
+  const std::string path = dir + "/masks.mat";
+  WriteBytes(path, v5::Header() + w + v5::Double("m_0x0", {0, 0}, {}) +
+                       v5::Double("m_0xp", {0, 3}, {}) +
+                       v5::Double("m_fx0", {2, 0}, {}) +
+                       v5::Double("m_2x3x0", {2, 3, 0}, {}) +
+                       v5::Cell("m_cell", {0, 0}, {}) +
+                       v5::Struct("m_struct", {"e"}, {v5::EmptyMatrix()}) +
+                       v5::Double("W_empty", {0, 3}, {}));
+  const std::string shape = "; expected 4 x 3 or 2 x 3 (W is 4 x 3, M = 1)";
+  const std::vector<std::pair<std::string, std::string>> masks = {
+      {"m_0x0", "mask m_0x0 is 0 x 0" + shape},
+      {"m_0xp", "mask m_0xp is 0 x 3" + shape},
+      {"m_fx0", "mask m_fx0 is 2 x 0" + shape},
+      {"m_2x3x0",
+       "variable 'm_2x3x0' is 3-D (2 x 3 x 0); expected a 2-D matrix"},
+      {"m_cell", "variable 'm_cell' is a cell array, not a numeric array"},
+      {"m_struct", "variable 'm_struct' is a struct, not a numeric array"},
+  };
+  for (const auto& [mask, expected] : masks) {
+    InputOptions options;
+    options.mask_variable = mask;
+    Measurements m;
+    EXPECT_EQ(Read(path, options, &m), path + ": " + expected);
+  }
+  InputOptions empty_w;
+  empty_w.variable = "W_empty";
+  empty_w.mask_variable = "m_0x0";
+  Measurements m;
+  EXPECT_EQ(Read(path, empty_w, &m), path + ": W_empty is empty (0 x 3)");
 }
 
 }  // namespace

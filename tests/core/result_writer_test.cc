@@ -273,6 +273,59 @@ TEST(ResultWriter, ResultDirectoryReadsBackWithItsObjectFrame) {
       << s.message();
 }
 
+// Empty files and header-only tables in a result directory (as truth or as
+// the estimate of `nrsfm evaluate`): one error line naming the file.
+TEST(ResultWriter, EmptyResultFilesGiveTheOneLineError) {
+  Model model;
+  Measurements measurements;
+  MakeSmallProblem(&model, &measurements);
+  const std::string root = MakeTempDir("result_reader_empty");
+  const std::string camera_header = "frame,camera,point,x,y,z\n";
+  const std::string object_header = "frame,point,x,y,z\n";
+  const std::string rotation_header =
+      "frame,camera,r11,r12,r13,r21,r22,r23,r31,r32,r33\n";
+  struct Case {
+    std::string name, file, contents, expected;
+  };
+  const std::vector<Case> cases = {
+      {"camera_empty", "points_camera.csv", "",
+       "points_camera.csv: empty file; expected the header "
+       "frame,camera,point,x,y,z"},
+      {"camera_comments", "points_camera.csv", "# nothing\n\n",
+       "points_camera.csv: empty file; expected the header "
+       "frame,camera,point,x,y,z"},
+      {"camera_header_only", "points_camera.csv", camera_header,
+       "points_camera.csv: no data rows after the header"},
+      {"object_empty", "points_object.csv", "",
+       "points_object.csv: empty file; expected the header "
+       "frame,point,x,y,z"},
+      {"object_header_only", "points_object.csv", object_header,
+       "points_object.csv: no data rows after the header"},
+      {"rotations_empty", "rotations.csv", "",
+       "rotations.csv: empty file; expected the header "
+       "frame,camera,r11,r12,r13,r21,r22,r23,r31,r32,r33"},
+      {"rotations_header_only", "rotations.csv", rotation_header,
+       "rotations.csv: no data rows after the header"},
+      {"rotations_other_camera", "rotations.csv",
+       rotation_header + "0,5,1,0,0,0,1,0,0,0,1\n",
+       "rotations.csv: no rotation of frame 0, camera 0"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const std::string dir = root + "/" + c.name;
+    ASSERT_TRUE(
+        WriteReconstruction(dir, measurements, model, SmallReport(), {}).ok());
+    std::ofstream(dir + "/" + c.file) << c.contents;
+    GroundTruth shapes;
+    EXPECT_EQ(ReadResultShapes(dir, 0, &shapes).message(),
+              dir + "/" + c.expected);
+    if (c.file == "points_camera.csv") {
+      EXPECT_EQ(ReadPointsCameraCsv(dir, 0, &shapes).message(),
+                dir + "/" + c.expected);
+    }
+  }
+}
+
 // A reconstruction that left out point 2 and frame 1 (NaN in the model, as
 // solvers/drop_unobserved.h makes it): written with "nan" there and the
 // lists in result.json, read back with NaN in the same places. Other NaN in

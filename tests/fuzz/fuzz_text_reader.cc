@@ -1,5 +1,8 @@
-// libFuzzer target: the text/CSV readers (text matrix W, CSV tables and
-// points_camera.csv of a result directory) on arbitrary bytes.
+// libFuzzer target: the text/CSV readers (text matrix W, CSV tables,
+// points_camera.csv and a whole result directory) on arbitrary bytes. For
+// the directory the input is split at form feeds into points_camera.csv,
+// points_object.csv and rotations.csv (fuzz_input_file.h).
+#include <Eigen/Core>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -11,6 +14,20 @@
 #include "core/result_reader.h"
 #include "core/text_io.h"
 #include "tests/fuzz/fuzz_input_file.h"
+
+namespace {
+
+// Every point finite, or all three coordinates NaN (a point or frame left
+// out of a reconstruction).
+bool PointsFiniteOrLeftOut(const Eigen::Matrix3Xd& points) {
+  for (Eigen::Index p = 0; p < points.cols(); ++p) {
+    if (!points.col(p).allFinite() && !points.col(p).array().isNaN().all())
+      return false;
+  }
+  return true;
+}
+
+}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data,
                                       std::size_t size) {
@@ -37,8 +54,31 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data,
 
   nrsfm::GroundTruth truth;
   if (nrsfm::ReadPointsCameraCsv(path, 0, &truth).ok()) {
+    if (truth.NumFrames() < 1 || truth.NumPoints() < 1) std::abort();
     for (const Eigen::Matrix3Xd& frame : truth.points_in_camera) {
-      if (frame.cols() != truth.NumPoints() || !frame.allFinite())
+      if (frame.cols() != truth.NumPoints() || !PointsFiniteOrLeftOut(frame))
+        std::abort();
+    }
+  }
+
+  const std::string dir = nrsfm::fuzz::WriteInputDirectory(
+      data, size, {"points_camera.csv", "points_object.csv", "rotations.csv"});
+  nrsfm::GroundTruth shapes;
+  if (nrsfm::ReadResultShapes(dir, 0, &shapes).ok()) {
+    if (shapes.NumFrames() < 1 || shapes.NumPoints() < 1 ||
+        !shapes.HasObjectFrame())
+      std::abort();
+    for (int t = 0; t < shapes.NumFrames(); ++t) {
+      // A rotation, or all NaN for a frame left out.
+      const Eigen::Matrix3d& r = shapes.rotations[t];
+      const bool rotation_ok =
+          r.array().isNaN().all() ||
+          (r * r.transpose() - Eigen::Matrix3d::Identity())
+                  .cwiseAbs()
+                  .maxCoeff() <= 1e-6;
+      if (shapes.points_in_camera[t].cols() != shapes.NumPoints() ||
+          shapes.points_in_object[t].cols() != shapes.NumPoints() ||
+          !PointsFiniteOrLeftOut(shapes.points_in_object[t]) || !rotation_ok)
         std::abort();
     }
   }

@@ -1,15 +1,19 @@
 // Writes the seed corpora of the fuzz targets, with the project's own
-// writers, into <out>/{mat,text,list}/ (and empty <out>/work/{mat,text,list}/
-// for the inputs libFuzzer finds while it runs):
+// writers and the hand-made v5 files of tests/mat_v5_bytes.h (uncompressed
+// v5, empty arrays of every shape, cells and structs with empty fields),
+// into <out>/{mat,text,list}/ (and empty <out>/work/{mat,text,list}/ for the
+// inputs libFuzzer finds while it runs):
 //   write_fuzz_seeds <out>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "core/mat_io.h"
 #include "core/measurements.h"
 #include "core/text_io.h"
+#include "tests/mat_v5_bytes.h"
 
 namespace {
 
@@ -32,6 +36,18 @@ Eigen::MatrixXd SmallWithMissing() {
   Eigen::MatrixXd w = SmallW();
   w(2, 1) = w(3, 1) = std::numeric_limits<double>::quiet_NaN();
   return w;
+}
+
+std::vector<double> Values(const Eigen::MatrixXd& m) {
+  return std::vector<double>(m.data(), m.data() + m.size());
+}
+
+bool WriteFile(const std::filesystem::path& path, const std::string& bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  out.close();
+  if (!out) std::fprintf(stderr, "%s: cannot write\n", path.c_str());
+  return static_cast<bool>(out);
 }
 
 }  // namespace
@@ -73,10 +89,67 @@ int main(int argc, char** argv) {
   ok &= Check(nrsfm::WriteMat(mat + "s_rs_v5.mat", MatVersion::kV5,
                               {{"W", SmallW(), {}}, {"S", p3, {}},
                                {"Rs", rs, {}}}));
+  // A W of M = 2 cameras that records its camera count, as nrsfm synth
+  // writes it, with an FM x P mask.
+  ok &= Check(nrsfm::WriteMat(mat + "w_cameras_mask_v5.mat", MatVersion::kV5,
+                              {{"W", SmallWithMissing(), {}},
+                               {"cameras", Eigen::MatrixXd::Constant(1, 1, 2), {}},
+                               {"mask", mask, {}}}));
+  // Empty arrays: a 3-D W with no slice (issue 18), X with no frame.
+  ok &= Check(nrsfm::WriteMat(mat + "w_4x3x0_v5.mat", MatVersion::kV5,
+                              {{"W", Eigen::MatrixXd(0, 0), {4, 3, 0}},
+                               {"mask", Eigen::MatrixXd(0, 3), {}}}));
+  ok &= Check(nrsfm::WriteMat(mat + "x_3x3x0_v73.mat", MatVersion::kV73,
+                              {{"X", Eigen::MatrixXd(0, 0), {3, 3, 0}}}));
+  ok &= Check(nrsfm::WriteMat(mat + "w_0x3_v4.mat", MatVersion::kV4,
+                              {{"W", Eigen::MatrixXd(0, 3), {}}}));
+  // Uncompressed v5 (WriteMat compresses), byte by byte.
+  namespace v5 = nrsfm::testing_util::v5;
+  ok &= WriteFile(mat + "w_mask_raw_v5.mat",
+                  v5::Header() + v5::Double("W", {4, 3}, Values(SmallW())) +
+                      v5::Double("mask", {2, 3}, Values(mask)));
+  ok &= WriteFile(mat + "x_s_rs_raw_v5.mat",
+                  v5::Header() + v5::Double("X", {3, 3, 2}, Values(x)) +
+                      v5::Double("S", {6, 3}, Values(p3)) +
+                      v5::Double("Rs", {4, 3}, Values(rs)));
+  ok &= WriteFile(mat + "empty_raw_v5.mat",
+                  v5::Header() + v5::Double("W", {2, 3, 0}, {}) +
+                      v5::Double("X", {3, 0, 2}, {}) +
+                      v5::Double("P3_gt", {0, 3}, {}) +
+                      v5::Double("mask", {0, 0}, {}));
+  ok &= WriteFile(
+      mat + "cell_struct_raw_v5.mat",
+      v5::Header() +
+          v5::Cell("c", {1, 2},
+                   {v5::EmptyMatrix(), v5::Double("", {0, 0}, {})}) +
+          v5::Struct(
+              "st", {"empty", "w"},
+              {v5::EmptyMatrix(), v5::Double("", {4, 3}, Values(SmallW()))}) +
+          v5::Cell("W", {0, 0}, {}) + v5::Double("P3_gt", {6, 3}, Values(p3)));
 
   const fs::path text = out / "text";
   ok &= Check(nrsfm::WriteTextMatrix((text / "w.txt").string(),
                                      SmallWithMissing()));
+  // A result directory: points_camera.csv, points_object.csv and
+  // rotations.csv separated by form feeds (fuzz_input_file.h).
+  {
+    std::ofstream dir(text / "result_dir.csv");
+    dir << "frame,camera,point,x,y,z\n0,0,0,1,2,3\n0,0,1,4,5,6\n"
+        << "1,0,0,1,2,3\n1,0,1,4,5,6\n1,1,0,0,0,0\n\f"
+        << "frame,point,x,y,z\n0,0,1,2,3\n0,1,4,5,6\n1,0,1,2,3\n1,1,4,5,6\n\f"
+        << "frame,camera,r11,r12,r13,r21,r22,r23,r31,r32,r33\n"
+        << "0,0,1,0,0,0,1,0,0,0,1\n1,0,0,-1,0,1,0,0,0,0,1\n";
+  }
+  {
+    // A reconstruction that left out point 1 and frame 1 (NaN there).
+    std::ofstream dir(text / "result_dir_left_out.csv");
+    dir << "frame,camera,point,x,y,z\n0,0,0,1,2,3\n0,0,1,nan,nan,nan\n"
+        << "1,0,0,nan,nan,nan\n1,0,1,nan,nan,nan\n\f"
+        << "frame,point,x,y,z\n0,0,1,2,3\n0,1,nan,nan,nan\n"
+        << "1,0,nan,nan,nan\n1,1,nan,nan,nan\n\f"
+        << "frame,camera,r11,r12,r13,r21,r22,r23,r31,r32,r33\n"
+        << "0,0,1,0,0,0,1,0,0,0,1\n1,0,nan,nan,nan,nan,nan,nan,nan,nan,nan\n";
+  }
   {
     std::ofstream csv(text / "points_camera.csv");
     csv << "# a result's points\nframe,camera,point,x,y,z\n"

@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/mat_io.h"
+#include "tests/mat_v5_bytes.h"
 #include "tests/test_util.h"
 
 namespace nrsfm {
@@ -211,6 +212,96 @@ TEST_F(BadInputTest, CorruptFiles) {
   bytes = ReadFile(Path("v73.mat"));
   std::ofstream(Path("cut73.mat"), std::ios::binary) << bytes.substr(0, bytes.size() / 2);
   ExpectRejected("cut73.mat", "--K 1", {"cut73.mat"});
+}
+
+// A v5 file whose W is an empty 3-D array (4 x 3 x 0: no slice at all) made
+// `reconstruct` index the first of no slices and die with SIGSEGV. The file
+// is written from the bytes of tests/mat_v5_bytes.h; the same W compressed
+// (v5) and in HDF5 (v7.3) comes from WriteMat.
+TEST_F(BadInputTest, EmptyThreeDimensionalWIsAnErrorNotACrash) {
+  namespace v5 = testing_util::v5;
+  const std::string bytes = v5::Header() + v5::Double("W", {4, 3, 0}, {});
+  std::ofstream(Path("crash.mat"), std::ios::binary).write(bytes.data(), bytes.size());
+  const RunResult r = Run("reconstruct --input crash.mat --K 1 --output out");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.err,
+            "nrsfm reconstruct: error: crash.mat: W is empty (4 x 3 x 0)\n");
+  EXPECT_FALSE(fs::exists(Path("out")));
+
+  for (MatVersion version : {MatVersion::kV5, MatVersion::kV73}) {
+    const std::string name = version == MatVersion::kV5 ? "zlib.mat" : "hdf5.mat";
+    ASSERT_TRUE(WriteMat(Path(name), version, {{"W", Eigen::MatrixXd(0, 0), {4, 3, 0}}}).ok());
+    ExpectRejected(name, "--K 1", {name + ": W is empty (4 x 3 x 0)"});
+  }
+}
+
+// The siblings of that crash: every zero-sized dimension of W, X and P3_gt,
+// an empty mask, an empty cell or a struct with an empty field, as input and
+// as the truth of `reconstruct --truth` and `evaluate`.
+TEST_F(BadInputTest, EmptyVariablesOfEveryKindAreOneLineErrors) {
+  namespace v5 = testing_util::v5;
+  const auto write = [&](const std::string& name, const std::string& variables) {
+    const std::string bytes = v5::Header() + variables;
+    std::ofstream(Path(name), std::ios::binary).write(bytes.data(), bytes.size());
+  };
+  write("w_0xp.mat", v5::Double("W", {0, 8}, {}));
+  ExpectRejected("w_0xp.mat", "--K 1", {"w_0xp.mat: W is empty (0 x 8)"});
+  write("w_2fx0.mat", v5::Double("W", {20, 0}, {}));
+  ExpectRejected("w_2fx0.mat", "--K 1", {"w_2fx0.mat: W is empty (20 x 0)"});
+  write("x_3xpx0.mat", v5::Double("X", {3, 8, 0}, {}));
+  ExpectRejected("x_3xpx0.mat", "--K 1", {"x_3xpx0.mat: X is empty (3 x 8 x 0)"});
+  write("x_3x0xf.mat", v5::Double("X", {3, 0, 10}, {}));
+  ExpectRejected("x_3x0xf.mat", "--K 1",
+                 {"x_3x0xf.mat: X is empty (3 x 0 x 10)"});
+  write("p3_0xp.mat", v5::Double("P3_gt", {0, 8}, {}));
+  ExpectRejected("p3_0xp.mat", "--K 1", {"p3_0xp.mat: P3_gt is empty (0 x 8)"});
+  write("cell.mat", v5::Cell("W", {1, 1}, {v5::EmptyMatrix()}));
+  ExpectRejected("cell.mat", "--K 1",
+                 {"cell.mat: variable 'W' is a cell array, not a numeric array"});
+  write("struct.mat", v5::Struct("W", {"empty"}, {v5::EmptyMatrix()}));
+  ExpectRejected("struct.mat", "--K 1",
+                 {"struct.mat: variable 'W' is a struct, not a numeric array"});
+  const Eigen::MatrixXd w = RotatingW(10, 8);
+  write("mask.mat", v5::Double("W", {20, 8}, std::vector<double>(w.data(), w.data() + w.size())) +
+                        v5::Double("mask", {0, 0}, {}));
+  ExpectRejected("mask.mat", "--K 1 --mask_var mask",
+                 {"mask.mat: mask mask is 0 x 0; expected 20 x 8 or 10 x 8"});
+
+  // Empty truth: X with no frame, S with no rows.
+  write("truth_x.mat", v5::Double("X", {3, 8, 0}, {}));
+  write("truth_s.mat",
+        v5::Double("S", {0, 8}, {}) + v5::Double("Rs", {20, 3}, std::vector<double>(60, 0.0)));
+  WriteW("w.mat", w);
+  ExpectRejected("w.mat", "--K 1 --truth truth_x.mat",
+                 {"truth_x.mat: X is empty (3 x 8 x 0); expected a 3 x P x F array"});
+  ExpectRejected("w.mat", "--K 1 --truth truth_s.mat", {"truth_s.mat: S is empty (0 x 8)"});
+  const RunResult good = Run("reconstruct --input w.mat --K 1 --output o --quiet");
+  ASSERT_EQ(good.exit_code, 0) << good.err;
+  const RunResult evaluated = Run("evaluate --truth truth_x.mat --result o");
+  EXPECT_EQ(evaluated.exit_code, 1) << evaluated.err;
+  EXPECT_EQ(evaluated.err,
+            "nrsfm evaluate: error: truth_x.mat: X is empty (3 x 8 x 0); expected a 3 x P x F "
+            "array\n");
+}
+
+// Two lines of an observation list whose indices imply a W of 2.6e8 entries
+// (2 GB, inside the 2^28-entry limit) in a process limited to 1 GB of
+// address space (ulimit -v): an error naming the sizes, not an uncaught
+// std::bad_alloc (found by fuzz_observation_list).
+TEST_F(BadInputTest, ListImplyingMoreMemoryThanThereIsIsAnError) {
+  if (testing_util::kSanitizedBuild) {
+    GTEST_SKIP() << "the sanitizers reserve far more than 1 GB of address space";
+  }
+  std::ofstream(Path("huge.obs")) << "0 0 0 1 2\n9999 0 13000 3 4\n";
+  const RunResult r = testing_util::RunInDirectory(
+      dir_, "/bin/sh",
+      std::string("-c 'ulimit -v 1000000 && exec ") + NRSFM_CLI +
+          " reconstruct --input huge.obs --K 1 --output o --quiet'");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.err,
+            "nrsfm reconstruct: error: huge.obs: the largest indices (F = 10000, M = 1, "
+            "P = 13001) imply a W of 260020000 entries, more than can be allocated\n");
+  EXPECT_FALSE(fs::exists(Path("o")));
 }
 
 TEST_F(BadInputTest, WrongVariableOrFormat) {
