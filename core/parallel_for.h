@@ -3,14 +3,28 @@
 // only on n, the thread count and the grain, so a body that writes only its
 // own items (or per-worker partial results combined in worker order) gives
 // the same output for a given thread count on every run.
+//
+// The pieces run on a process-wide pool of worker threads that are started
+// once and then wait for work (starting threads per loop cost more than the
+// short loops of the solvers' inner iterations). A loop started while the
+// pool is busy — from one of its own pieces, or from another thread of the
+// caller's — runs its pieces one after another on the calling thread, with
+// the same split and worker indices, so its result does not change.
 #ifndef NRSFM_CORE_PARALLEL_FOR_H_
 #define NRSFM_CORE_PARALLEL_FOR_H_
 
 #include <algorithm>
-#include <thread>
-#include <vector>
+#include <functional>
 
 namespace nrsfm {
+namespace internal {
+
+// Runs piece(0) … piece(count − 1), each on its own thread when the pool is
+// free (piece 0 on the calling thread), else all on the calling thread, and
+// returns when all have finished.
+void RunPieces(int count, const std::function<void(int)>& piece);
+
+}  // namespace internal
 
 // Runs body(begin, end, worker) over [0, n) split into at most `threads`
 // contiguous ranges of at least `grain` items each (fewer ranges when n is
@@ -23,12 +37,10 @@ void ParallelForWorker(int n, int threads, int grain, const Body& body) {
     body(0, n, 0);
     return;
   }
-  std::vector<std::thread> workers;
-  for (int i = 1; i < threads; ++i) {
-    workers.emplace_back([&, i] { body(n * i / threads, n * (i + 1) / threads, i); });
-  }
-  body(0, n / threads, 0);
-  for (std::thread& w : workers) w.join();
+  internal::RunPieces(threads, [&](int i) {
+    body(static_cast<int>(static_cast<long long>(n) * i / threads),
+         static_cast<int>(static_cast<long long>(n) * (i + 1) / threads), i);
+  });
 }
 
 // The same without the worker index: body(begin, end).
