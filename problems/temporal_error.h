@@ -46,6 +46,7 @@
 #include <glog/logging.h>
 #include <Eigen/Core>
 
+#include "problems/jacobian_product.h"
 #include "problems/relative_rotation.h"
 
 namespace nrsfm {
@@ -132,7 +133,11 @@ class RotationAccelerationError {
 // Blocks: l_t (K), l_{t−1} (K), b_p (3K, = [S_1[:, p]; …; S_K[:, p]]).
 // Linear in each block: r = sqrt(λ_S) B_p (l_t − l_{t−1}) with B_p the 3 × K
 // matrix whose column k is S_k[:, p]; analytic Jacobians, K at run time.
-class ShapeTemporalError final : public ceres::CostFunction {
+// The products with its Jacobian are also formed from the parameters
+// (problems/jacobian_product.h): J_{l_t} = −J_{l_{t−1}} = sqrt(λ_S) B_p and
+// J_{b_p} = sqrt(λ_S) (l_t − l_{t−1})ᵀ ⊗ I_3.
+class ShapeTemporalError final : public ceres::CostFunction,
+                                 public JacobianProduct {
  public:
   ShapeTemporalError(int num_bases, double sqrt_weight)
       : num_bases_(num_bases), sqrt_weight_(sqrt_weight) {
@@ -167,6 +172,43 @@ class ShapeTemporalError final : public ceres::CostFunction {
       }
     }
     return true;
+  }
+
+  void AddJacobianProduct(double const* const* parameters, double const* const* x,
+                          double* y) const override {
+    const int k = num_bases_;
+    const double s = sqrt_weight_;
+    const double* basis = parameters[2];  // column b: basis[3b .. 3b + 2]
+    double sum[3] = {0.0, 0.0, 0.0};
+    for (int b = 0; b < k; ++b) {
+      const double dl = (x[0] != nullptr ? x[0][b] : 0.0) - (x[1] != nullptr ? x[1][b] : 0.0);
+      const double change = parameters[0][b] - parameters[1][b];
+      for (int j = 0; j < 3; ++j) {
+        sum[j] += basis[3 * b + j] * dl;
+        if (x[2] != nullptr) sum[j] += change * x[2][3 * b + j];
+      }
+    }
+    for (int j = 0; j < 3; ++j) y[j] += s * sum[j];
+  }
+
+  void AddJacobianTransposeProduct(double const* const* parameters, const double* y,
+                                   double* const* x) const override {
+    const int k = num_bases_;
+    const double s = sqrt_weight_;
+    const double* basis = parameters[2];
+    const double sy[3] = {s * y[0], s * y[1], s * y[2]};
+    for (int b = 0; b < k; ++b) {
+      if (x[0] != nullptr || x[1] != nullptr) {
+        const double dot =
+            basis[3 * b] * sy[0] + basis[3 * b + 1] * sy[1] + basis[3 * b + 2] * sy[2];
+        if (x[0] != nullptr) x[0][b] += dot;
+        if (x[1] != nullptr) x[1][b] -= dot;
+      }
+      if (x[2] != nullptr) {
+        const double change = parameters[0][b] - parameters[1][b];
+        for (int j = 0; j < 3; ++j) x[2][3 * b + j] += change * sy[j];
+      }
+    }
   }
 
  private:

@@ -132,6 +132,7 @@ bool SolveWithStructuredSolver(const SolverOptions& options,
          << " s, preconditioner " << result.preconditioner_seconds
          << " s, conjugate gradients " << result.cg_seconds << " s)";
   summary->ceres_report = report.str();
+  VLOG(1) << "refine: " << summary->ceres_report;
   return true;
 }
 

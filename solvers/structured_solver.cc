@@ -14,6 +14,7 @@
 #include <ceres/manifold.h>
 
 #include "core/parallel_for.h"
+#include "problems/jacobian_product.h"
 
 namespace nrsfm {
 namespace {
@@ -27,9 +28,12 @@ double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// Loops over residuals, groups or points are split over threads in pieces
-// of at least this many items (core/parallel_for.h).
+// Loops are split over threads in pieces of at least this many items
+// (core/parallel_for.h): residual blocks are cheap, a frame group holds a
+// view's residuals, an eliminated block (a point) those of every frame.
 constexpr int kGrain = 64;
+constexpr int kGroupGrain = 8;
+constexpr int kEliminatedGrain = 1;
 
 // The small products with one residual block's Jacobian columns (m × w,
 // row-major with row stride `stride`; m is 2 or 3 here), as plain loops:
@@ -52,6 +56,21 @@ inline void AddAty(const double* a, int m, int w, int stride, const double* y,
     const double* row = a + i * stride;
     const double yi = y[i];
     for (int j = 0; j < w; ++j) out[j] += row[j] * yi;
+  }
+}
+
+// out (wa × wb, column-major with leading dimension ld) += Aᵀ B for the
+// m × wa and m × wb row-major blocks A, B (row strides stride_a, stride_b).
+inline void AddAtB(const double* a, int m, int wa, int stride_a, const double* b, int wb,
+                   int stride_b, double* out, int ld) {
+  for (int r = 0; r < m; ++r) {
+    const double* ar = a + r * stride_a;
+    const double* br = b + r * stride_b;
+    for (int j = 0; j < wb; ++j) {
+      const double bj = br[j];
+      double* column = out + static_cast<std::ptrdiff_t>(j) * ld;
+      for (int i = 0; i < wa; ++i) column[i] += ar[i] * bj;
+    }
   }
 }
 
@@ -87,7 +106,28 @@ struct Residual {
   std::vector<Segment> reduced;  // merged per group
   int eliminated = -1;           // Block index, -1 = none
   int eliminated_jcol = 0;
-  int single_group = -1;         // its only group if it touches exactly one and no shared block
+  // Products with its Jacobian from its parameters (problems/jacobian_product.h),
+  // used in the conjugate gradients instead of the stored Jacobian.
+  const JacobianProduct* product = nullptr;
+};
+
+// Slot pointers for a JacobianProduct call: one per parameter block of a
+// residual, on the stack for the usual few blocks.
+class SlotPointers {
+ public:
+  explicit SlotPointers(std::size_t n) : heap_(n > kStack ? n : 0) {
+    data_ = n > kStack ? heap_.data() : stack_;
+    std::fill(data_, data_ + n, nullptr);
+  }
+  double** data() { return data_; }
+  double const* const* const_data() const { return data_; }
+  double*& operator[](std::size_t i) { return data_[i]; }
+
+ private:
+  static constexpr std::size_t kStack = 8;
+  double* stack_[kStack];
+  std::vector<double*> heap_;
+  double** data_;
 };
 
 // A reference from a target (group, shared block or eliminated block) to the
@@ -114,15 +154,29 @@ class Solver {
   }
 
   bool Evaluate(bool with_jacobian, double* cost);
+  // y (r.m values) += J_r x for the reduced and eliminated parts given
+  // (null = zero), and the transposed products into the parts wanted.
+  void AddResidualJx(const Residual& r, const double* reduced, const double* eliminated,
+                     double* y) const;
+  void AddResidualJty(const Residual& r, const double* y, double* reduced,
+                      double* eliminated) const;
+  // *out (size values) = Σ_i body(i, sum) over the residual blocks in storage
+  // order, each thread into its own sum, added in thread order.
+  template <typename Body>
+  void SumOverResiduals(int size, const Body& body, Eigen::VectorXd* out) const;
   void MultiplyJ(const Eigen::VectorXd* reduced, const Eigen::VectorXd* eliminated,
                  Eigen::VectorXd* rows) const;
   void MultiplyJtReduced(const Eigen::VectorXd& rows, Eigen::VectorXd* out) const;
   void MultiplyJtEliminated(const Eigen::VectorXd& rows, Eigen::VectorXd* out) const;
   void ComputeGradientAndScaling();
+  void ComputeEliminatedGram();  // eliminated_gram_ from the Jacobian
   void FactorEliminated(double mu);
   void SolveEliminated(const Eigen::VectorXd& in, Eigen::VectorXd* out) const;
   void BuildPreconditioner(double mu);
-  void BandSolve(Eigen::MatrixXd* x) const;
+  // Solves L Lᵀ x = x in place with the band factor (x: a vector or a
+  // matrix of right-hand sides).
+  template <typename Matrix>
+  void BandSolve(Matrix* x) const;
   void ApplyPreconditioner(const Eigen::VectorXd& in, Eigen::VectorXd* out) const;
   void ApplyReduced(const Eigen::VectorXd& v, double mu, Eigen::VectorXd* out) const;
   int SolveStep(double mu, Eigen::VectorXd* step_reduced, Eigen::VectorXd* step_eliminated);
@@ -140,13 +194,13 @@ class Solver {
   int band_ = 0;
   std::vector<int> shared_blocks_, eliminated_blocks_;
   std::vector<Residual> residuals_;
-  std::vector<std::vector<Ref>> group_refs_, shared_refs_, eliminated_refs_;
+  std::vector<std::vector<Ref>> group_refs_, eliminated_refs_;
   std::vector<int> residuals_with_shared_;
-  std::vector<int> residuals_without_eliminated_;
   int max_rows_per_residual_ = 0;
   std::vector<double> jacobian_;
   Eigen::VectorXd r_, gradient_reduced_, gradient_eliminated_, d_reduced_, d_eliminated_;
   std::vector<Eigen::LLT<Eigen::MatrixXd>> eliminated_llt_;  // per eliminated block
+  std::vector<Eigen::MatrixXd> eliminated_gram_;  // J_pᵀ J_p per eliminated block
   std::vector<std::vector<Eigen::MatrixXd>> blocks_band_;  // [g][d]: block (g, g − d)
   Eigen::MatrixXd border_, border_solved_;
   Eigen::LLT<Eigen::MatrixXd> corner_llt_;
@@ -200,7 +254,6 @@ bool Solver::Setup(const StructuredLayout& layout, std::string* error) {
     r.row = num_rows_;
     num_rows_ += r.m;
     problem_->GetParameterBlocksForResidualBlock(id, &r.parameters);
-    bool touches_shared = false;
     for (double* values : r.parameters) {
       int block = -1;
       if (!problem_->IsParameterBlockConstant(values)) {
@@ -232,7 +285,6 @@ bool Solver::Setup(const StructuredLayout& layout, std::string* error) {
         } else {
           r.reduced.push_back({b.offset, b.size, r.width, b.group});
         }
-        touches_shared = touches_shared || b.group < 0;
       }
       r.width += b.size;
     }
@@ -245,17 +297,20 @@ bool Solver::Setup(const StructuredLayout& layout, std::string* error) {
       hi = std::max(hi, s.group);
     }
     if (hi >= 0) band_ = std::max(band_, hi - lo);
-    r.single_group = (!touches_shared && hi >= 0 && lo == hi) ? hi : -1;
+    if (r.loss == nullptr) {
+      r.product = dynamic_cast<const JacobianProduct*>(r.cost);
+      for (int block : r.slot_block) {
+        if (block >= 0 && blocks_[block].manifold != nullptr) r.product = nullptr;
+      }
+    }
     residuals_.push_back(std::move(r));
   }
   jacobian_.assign(jac, 0.0);
   r_.setZero(num_rows_);
 
   group_refs_.assign(num_groups, {});
-  shared_refs_.assign(shared_blocks_.size(), {});
   eliminated_refs_.assign(eliminated_blocks_.size(), {});
-  std::vector<int> shared_position(blocks_.size(), -1), eliminated_position(blocks_.size(), -1);
-  for (std::size_t k = 0; k < shared_blocks_.size(); ++k) shared_position[shared_blocks_[k]] = k;
+  std::vector<int> eliminated_position(blocks_.size(), -1);
   for (std::size_t k = 0; k < eliminated_blocks_.size(); ++k) {
     eliminated_position[eliminated_blocks_[k]] = k;
   }
@@ -269,21 +324,9 @@ bool Solver::Setup(const StructuredLayout& layout, std::string* error) {
         with_shared = true;
       }
     }
-    // A shared block's segment: one per slot (segments of shared blocks are
-    // never merged, so col identifies the block).
-    for (std::size_t s = 0; s < r.reduced.size(); ++s) {
-      if (r.reduced[s].group >= 0) continue;
-      for (int k : shared_blocks_) {
-        if (blocks_[k].offset == r.reduced[s].col) {
-          shared_refs_[shared_position[k]].push_back({static_cast<int>(i), static_cast<int>(s)});
-        }
-      }
-    }
     if (with_shared) residuals_with_shared_.push_back(static_cast<int>(i));
     if (r.eliminated >= 0) {
       eliminated_refs_[eliminated_position[r.eliminated]].push_back({static_cast<int>(i), -1});
-    } else {
-      residuals_without_eliminated_.push_back(static_cast<int>(i));
     }
     max_rows_per_residual_ = std::max(max_rows_per_residual_, r.m);
   }
@@ -371,67 +414,133 @@ bool Solver::Evaluate(bool with_jacobian, double* cost) {
   return std::isfinite(*cost);
 }
 
-void Solver::MultiplyJ(const Eigen::VectorXd* reduced, const Eigen::VectorXd* eliminated,
-                       Eigen::VectorXd* rows) const {
-  rows->resize(num_rows_);
-  ParallelFor(static_cast<int>(residuals_.size()), options_.solver.num_threads, kGrain, [&](int begin, int end) {
-    for (int i = begin; i < end; ++i) {
-      const Residual& r = residuals_[i];
-      double* out = rows->data() + r.row;
-      std::fill(out, out + r.m, 0.0);
-      if (reduced != nullptr) {
-        for (const Segment& s : r.reduced) {
-          AddAx(J(r) + s.jcol, r.m, s.width, r.width, reduced->data() + s.col, out);
-        }
-      }
-      if (eliminated != nullptr && r.eliminated >= 0) {
-        const Block& b = blocks_[r.eliminated];
-        AddAx(J(r) + r.eliminated_jcol, r.m, b.size, r.width,
-              eliminated->data() + b.offset, out);
-      }
+void Solver::AddResidualJx(const Residual& r, const double* reduced, const double* eliminated,
+                           double* y) const {
+  if (r.product != nullptr) {
+    SlotPointers x(r.parameters.size());
+    for (std::size_t k = 0; k < r.parameters.size(); ++k) {
+      const int block = r.slot_block[k];
+      if (block < 0) continue;
+      const Block& b = blocks_[block];
+      const double* source = b.eliminated ? eliminated : reduced;
+      if (source != nullptr) x[k] = const_cast<double*>(source) + b.offset;
     }
-  });
-}
-
-void Solver::MultiplyJtReduced(const Eigen::VectorXd& rows, Eigen::VectorXd* out) const {
-  out->setZero(num_reduced_);
-  const int num_groups = static_cast<int>(group_refs_.size());
-  ParallelFor(num_groups, options_.solver.num_threads, kGrain, [&](int begin, int end) {
-    for (int g = begin; g < end; ++g) {
-      for (const Ref& ref : group_refs_[g]) {
-        const Residual& r = residuals_[ref.residual];
-        const Segment& s = r.reduced[ref.segment];
-        AddAty(J(r) + s.jcol, r.m, s.width, r.width, rows.data() + r.row,
-               out->data() + s.col);
-      }
+    r.product->AddJacobianProduct(r.parameters.data(), x.const_data(), y);
+    return;
+  }
+  if (reduced != nullptr) {
+    for (const Segment& s : r.reduced) {
+      AddAx(J(r) + s.jcol, r.m, s.width, r.width, reduced + s.col, y);
     }
-  });
-  for (std::size_t k = 0; k < shared_refs_.size(); ++k) {
-    for (const Ref& ref : shared_refs_[k]) {
-      const Residual& r = residuals_[ref.residual];
-      const Segment& s = r.reduced[ref.segment];
-      out->segment(s.col, s.width).noalias() +=
-          Cols(r, s.jcol, s.width).transpose() * rows.segment(r.row, r.m);
-    }
+  }
+  if (eliminated != nullptr && r.eliminated >= 0) {
+    const Block& b = blocks_[r.eliminated];
+    AddAx(J(r) + r.eliminated_jcol, r.m, b.size, r.width, eliminated + b.offset, y);
   }
 }
 
-void Solver::MultiplyJtEliminated(const Eigen::VectorXd& rows, Eigen::VectorXd* out) const {
-  out->setZero(num_eliminated_);
-  ParallelFor(static_cast<int>(eliminated_blocks_.size()), options_.solver.num_threads, kGrain,
+void Solver::AddResidualJty(const Residual& r, const double* y, double* reduced,
+                            double* eliminated) const {
+  if (r.product != nullptr) {
+    SlotPointers out(r.parameters.size());
+    bool any = false;
+    for (std::size_t k = 0; k < r.parameters.size(); ++k) {
+      const int block = r.slot_block[k];
+      if (block < 0) continue;
+      const Block& b = blocks_[block];
+      double* target = b.eliminated ? eliminated : reduced;
+      if (target != nullptr) {
+        out[k] = target + b.offset;
+        any = true;
+      }
+    }
+    if (any) r.product->AddJacobianTransposeProduct(r.parameters.data(), y, out.data());
+    return;
+  }
+  if (reduced != nullptr) {
+    for (const Segment& s : r.reduced) {
+      AddAty(J(r) + s.jcol, r.m, s.width, r.width, y, reduced + s.col);
+    }
+  }
+  if (eliminated != nullptr && r.eliminated >= 0) {
+    const Block& b = blocks_[r.eliminated];
+    AddAty(J(r) + r.eliminated_jcol, r.m, b.size, r.width, y, eliminated + b.offset);
+  }
+}
+
+template <typename Body>
+void Solver::SumOverResiduals(int size, const Body& body, Eigen::VectorXd* out) const {
+  const int threads = std::max(1, options_.solver.num_threads);
+  std::vector<Eigen::VectorXd> sums(threads);
+  ParallelForWorker(static_cast<int>(residuals_.size()), threads, kGrain,
+                    [&](int begin, int end, int worker) {
+                      Eigen::VectorXd& sum = sums[worker];
+                      sum.setZero(size);
+                      for (int i = begin; i < end; ++i) body(i, sum.data());
+                    });
+  *out = std::move(sums[0]);
+  for (int w = 1; w < threads; ++w) {
+    if (sums[w].size() == size) *out += sums[w];
+  }
+}
+
+void Solver::MultiplyJ(const Eigen::VectorXd* reduced, const Eigen::VectorXd* eliminated,
+                       Eigen::VectorXd* rows) const {
+  rows->resize(num_rows_);
+  ParallelFor(static_cast<int>(residuals_.size()), options_.solver.num_threads, kGrain,
               [&](int begin, int end) {
+                for (int i = begin; i < end; ++i) {
+                  const Residual& r = residuals_[i];
+                  double* out = rows->data() + r.row;
+                  std::fill(out, out + r.m, 0.0);
+                  AddResidualJx(r, reduced != nullptr ? reduced->data() : nullptr,
+                                eliminated != nullptr ? eliminated->data() : nullptr, out);
+                }
+              });
+}
+
+void Solver::MultiplyJtReduced(const Eigen::VectorXd& rows, Eigen::VectorXd* out) const {
+  SumOverResiduals(num_reduced_, [&](int i, double* sum) {
+    const Residual& r = residuals_[i];
+    AddResidualJty(r, rows.data() + r.row, sum, nullptr);
+  }, out);
+}
+
+void Solver::MultiplyJtEliminated(const Eigen::VectorXd& rows, Eigen::VectorXd* out) const {
+  SumOverResiduals(num_eliminated_, [&](int i, double* sum) {
+    const Residual& r = residuals_[i];
+    AddResidualJty(r, rows.data() + r.row, nullptr, sum);
+  }, out);
+}
+
+void Solver::ComputeEliminatedGram() {
+  eliminated_gram_.resize(eliminated_blocks_.size());
+  ParallelFor(static_cast<int>(eliminated_blocks_.size()), options_.solver.num_threads,
+              kEliminatedGrain, [&](int begin, int end) {
+                RowMatrix stacked;
                 for (int k = begin; k < end; ++k) {
                   const Block& b = blocks_[eliminated_blocks_[k]];
+                  // The block's Jacobian rows stacked, then one symmetric
+                  // rank update (the small products one by one cost more).
+                  int rows = 0;
+                  for (const Ref& ref : eliminated_refs_[k]) rows += residuals_[ref.residual].m;
+                  stacked.resize(rows, b.size);
+                  rows = 0;
                   for (const Ref& ref : eliminated_refs_[k]) {
                     const Residual& r = residuals_[ref.residual];
-                    AddAty(J(r) + r.eliminated_jcol, r.m, b.size, r.width,
-                           rows.data() + r.row, out->data() + b.offset);
+                    stacked.middleRows(rows, r.m) = Cols(r, r.eliminated_jcol, b.size);
+                    rows += r.m;
                   }
+                  Eigen::MatrixXd& c = eliminated_gram_[k];
+                  c.setZero(b.size, b.size);
+                  c.selfadjointView<Eigen::Lower>().rankUpdate(stacked.transpose());
+                  c.triangularView<Eigen::StrictlyUpper>() = c.transpose();
                 }
               });
 }
 
 void Solver::ComputeGradientAndScaling() {
+  ComputeEliminatedGram();
   MultiplyJtReduced(r_, &gradient_reduced_);
   MultiplyJtEliminated(r_, &gradient_eliminated_);
   // diag(JᵀJ): the column sums of squares.
@@ -453,16 +562,11 @@ void Solver::ComputeGradientAndScaling() {
 
 void Solver::FactorEliminated(double mu) {
   eliminated_llt_.resize(eliminated_blocks_.size());
-  ParallelFor(static_cast<int>(eliminated_blocks_.size()), options_.solver.num_threads, kGrain,
+  ParallelFor(static_cast<int>(eliminated_blocks_.size()), options_.solver.num_threads, kEliminatedGrain,
               [&](int begin, int end) {
                 for (int k = begin; k < end; ++k) {
                   const Block& b = blocks_[eliminated_blocks_[k]];
-                  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(b.size, b.size);
-                  for (const Ref& ref : eliminated_refs_[k]) {
-                    const Residual& r = residuals_[ref.residual];
-                    const ConstRowMap j = Cols(r, r.eliminated_jcol, b.size);
-                    c.noalias() += j.transpose() * j;
-                  }
+                  Eigen::MatrixXd c = eliminated_gram_[k];
                   c.diagonal() += mu * d_eliminated_.segment(b.offset, b.size);
                   eliminated_llt_[k].compute(c);
                 }
@@ -483,11 +587,7 @@ void Solver::BuildPreconditioner(double mu) {
   const int num_shared = num_reduced_ - num_group_columns_;
   blocks_band_.assign(num_groups, std::vector<Eigen::MatrixXd>(band_ + 1));
   border_ = Eigen::MatrixXd::Zero(num_group_columns_, num_shared);
-  std::vector<int> eliminated_position(blocks_.size(), -1);
-  for (std::size_t k = 0; k < eliminated_blocks_.size(); ++k) {
-    eliminated_position[eliminated_blocks_[k]] = static_cast<int>(k);
-  }
-  ParallelFor(num_groups, options_.solver.num_threads, kGrain, [&](int begin, int end) {
+  ParallelFor(num_groups, options_.solver.num_threads, kGroupGrain, [&](int begin, int end) {
     for (int g = begin; g < end; ++g) {
       for (int d = 0; d <= band_ && g - d >= 0; ++d) {
         blocks_band_[g][d] = Eigen::MatrixXd::Zero(GroupSize(g), GroupSize(g - d));
@@ -495,37 +595,18 @@ void Solver::BuildPreconditioner(double mu) {
       for (const Ref& ref : group_refs_[g]) {
         const Residual& r = residuals_[ref.residual];
         const Segment& a = r.reduced[ref.segment];
-        const ConstRowMap ja = Cols(r, a.jcol, a.width);
         const int row_a = a.col - group_offset_[g];
         for (const Segment& b : r.reduced) {
-          const ConstRowMap jb = Cols(r, b.jcol, b.width);
           if (b.group < 0) {
-            border_.block(a.col, b.col - num_group_columns_, a.width, b.width).noalias() +=
-                ja.transpose() * jb;
+            AddAtB(J(r) + a.jcol, r.m, a.width, r.width, J(r) + b.jcol, b.width, r.width,
+                   &border_(a.col, b.col - num_group_columns_), border_.rows());
             continue;
           }
           const int d = g - b.group;
           if (d < 0) continue;  // the lower triangle of the band only
-          blocks_band_[g][d].block(row_a, b.col - group_offset_[b.group], a.width, b.width).noalias() +=
-              ja.transpose() * jb;
-        }
-      }
-      // The group's own Schur-complement block from the residual blocks that
-      // touch it and one point: − J_gᵀ J_p C̃_p⁻¹ J_pᵀ J_g.
-      for (const Ref& ref : group_refs_[g]) {
-        const Residual& r = residuals_[ref.residual];
-        if (r.single_group != g || r.eliminated < 0 || ref.segment != 0) continue;
-        const Block& p = blocks_[r.eliminated];
-        const ConstRowMap jp = Cols(r, r.eliminated_jcol, p.size);
-        const Eigen::MatrixXd x = eliminated_llt_[eliminated_position[r.eliminated]].solve(
-            Eigen::MatrixXd(jp.transpose()));
-        const Eigen::MatrixXd inner = jp * x;  // m × m
-        for (const Segment& a : r.reduced) {
-          for (const Segment& b : r.reduced) {
-            blocks_band_[g][0]
-                .block(a.col - group_offset_[g], b.col - group_offset_[g], a.width, b.width)
-                .noalias() -= Cols(r, a.jcol, a.width).transpose() * inner * Cols(r, b.jcol, b.width);
-          }
+          Eigen::MatrixXd& block = blocks_band_[g][d];
+          AddAtB(J(r) + a.jcol, r.m, a.width, r.width, J(r) + b.jcol, b.width, r.width,
+                 &block(row_a, b.col - group_offset_[b.group]), block.rows());
         }
       }
       blocks_band_[g][0].diagonal() += mu * d_reduced_.segment(group_offset_[g], GroupSize(g));
@@ -571,7 +652,8 @@ void Solver::BuildPreconditioner(double mu) {
   preconditioner_seconds_ += SecondsSince(start);
 }
 
-void Solver::BandSolve(Eigen::MatrixXd* x) const {
+template <typename Matrix>
+void Solver::BandSolve(Matrix* x) const {
   const int num_groups = static_cast<int>(group_refs_.size());
   for (int g = 0; g < num_groups; ++g) {
     auto xg = x->middleRows(group_offset_[g], GroupSize(g));
@@ -591,7 +673,7 @@ void Solver::BandSolve(Eigen::MatrixXd* x) const {
 
 void Solver::ApplyPreconditioner(const Eigen::VectorXd& in, Eigen::VectorXd* out) const {
   const int num_shared = num_reduced_ - num_group_columns_;
-  Eigen::MatrixXd x = in.head(num_group_columns_);
+  Eigen::VectorXd x = in.head(num_group_columns_);
   BandSolve(&x);
   out->resize(num_reduced_);
   if (num_shared == 0) {
@@ -599,75 +681,41 @@ void Solver::ApplyPreconditioner(const Eigen::VectorXd& in, Eigen::VectorXd* out
     return;
   }
   // [A B; Bᵀ C]: y = (C − Bᵀ A⁻¹ B)⁻¹ (b − Bᵀ A⁻¹ a), x = A⁻¹ a − A⁻¹ B y.
-  const Eigen::VectorXd y = corner_llt_.solve(in.tail(num_shared) - border_.transpose() * x.col(0));
+  const Eigen::VectorXd y = corner_llt_.solve(in.tail(num_shared) - border_.transpose() * x);
   out->head(num_group_columns_) = x.col(0) - border_solved_ * y;
   out->tail(num_shared) = y;
 }
 
 void Solver::ApplyReduced(const Eigen::VectorXd& v, double mu, Eigen::VectorXd* out) const {
   // S v = J_fᵀ (J_f v − J_p C̃⁻¹ J_pᵀ J_f v) + μ D_f v, in two passes over the
-  // Jacobian (it does not fit in the caches, so reading it is the cost):
-  // per point, rows = J_f v of its residuals and J_pᵀ rows; then per frame
-  // group, J_fᵀ (rows − J_p C̃⁻¹ J_pᵀ rows).
-  Eigen::VectorXd rows(num_rows_), projected(num_eliminated_), solved;
-  const auto rows_of = [&](const Residual& r) {
+  // residual blocks in the order their Jacobians are stored (they do not fit
+  // in the caches, so reading them is the cost): rows = J_f v and J_pᵀ rows;
+  // then J_fᵀ (rows − J_p C̃⁻¹ J_pᵀ rows).
+  Eigen::VectorXd rows(num_rows_), projected, solved;
+  SumOverResiduals(num_eliminated_, [&](int i, double* sum) {
+    const Residual& r = residuals_[i];
     double* y = rows.data() + r.row;
     std::fill(y, y + r.m, 0.0);
-    for (const Segment& s : r.reduced) {
-      AddAx(J(r) + s.jcol, r.m, s.width, r.width, v.data() + s.col, y);
-    }
-  };
-  ParallelFor(static_cast<int>(eliminated_blocks_.size()), options_.solver.num_threads, kGrain,
-              [&](int begin, int end) {
-                for (int k = begin; k < end; ++k) {
-                  const Block& b = blocks_[eliminated_blocks_[k]];
-                  std::fill(projected.data() + b.offset, projected.data() + b.offset + b.size,
-                            0.0);
-                  for (const Ref& ref : eliminated_refs_[k]) {
-                    const Residual& r = residuals_[ref.residual];
-                    rows_of(r);
-                    AddAty(J(r) + r.eliminated_jcol, r.m, b.size, r.width,
-                           rows.data() + r.row, projected.data() + b.offset);
-                  }
-                }
-              });
-  for (int i : residuals_without_eliminated_) rows_of(residuals_[i]);
+    AddResidualJx(r, v.data(), nullptr, y);
+    if (r.eliminated >= 0) AddResidualJty(r, y, nullptr, sum);
+  }, &projected);
   SolveEliminated(projected, &solved);
-  out->setZero(num_reduced_);
-  // rows − J_p C̃⁻¹ J_pᵀ rows of one residual, into `y` (r.m values).
-  const auto corrected = [&](const Residual& r, double* y) {
-    std::copy(rows.data() + r.row, rows.data() + r.row + r.m, y);
-    if (r.eliminated < 0) return;
-    const Block& b = blocks_[r.eliminated];
-    const double* jp = J(r) + r.eliminated_jcol;
-    const double* z = solved.data() + b.offset;
-    for (int i = 0; i < r.m; ++i) {
-      double sum = 0.0;
-      for (int j = 0; j < b.size; ++j) sum += jp[i * r.width + j] * z[j];
-      y[i] -= sum;
-    }
-  };
-  const int num_groups = static_cast<int>(group_refs_.size());
-  ParallelFor(num_groups, options_.solver.num_threads, kGrain, [&](int begin, int end) {
-    std::vector<double> y(max_rows_per_residual_);
-    for (int g = begin; g < end; ++g) {
-      for (const Ref& ref : group_refs_[g]) {
-        const Residual& r = residuals_[ref.residual];
-        const Segment& s = r.reduced[ref.segment];
-        corrected(r, y.data());
-        AddAty(J(r) + s.jcol, r.m, s.width, r.width, y.data(), out->data() + s.col);
+  SumOverResiduals(num_reduced_, [&](int i, double* sum) {
+    const Residual& r = residuals_[i];
+    double* y = rows.data() + r.row;  // each residual's own rows: no race
+    if (r.eliminated >= 0) {
+      double correction[8] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+      std::vector<double> heap;
+      double* c = correction;
+      if (r.m > 8) {
+        heap.assign(r.m, 0.0);
+        c = heap.data();
       }
+      AddResidualJx(r, nullptr, solved.data(), c);
+      for (int a = 0; a < r.m; ++a) y[a] -= c[a];
     }
-  });
-  std::vector<double> y(max_rows_per_residual_);
-  for (std::size_t k = 0; k < shared_refs_.size(); ++k) {
-    for (const Ref& ref : shared_refs_[k]) {
-      const Residual& r = residuals_[ref.residual];
-      const Segment& s = r.reduced[ref.segment];
-      corrected(r, y.data());
-      AddAty(J(r) + s.jcol, r.m, s.width, r.width, y.data(), out->data() + s.col);
-    }
-  }
+    AddResidualJty(r, y, sum, nullptr);
+  }, out);
   out->array() += mu * d_reduced_.array() * v.array();
 }
 

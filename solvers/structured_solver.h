@@ -10,15 +10,23 @@
 // (Ceres' Levenberg–Marquardt step and trust-region update) by eliminating
 // the point blocks exactly (Schur complement) and solving the reduced system
 // over the frame blocks by preconditioned conjugate gradients. The
-// preconditioner is exact where the structure is local: the frame blocks'
-// own Schur-complement blocks and every coupling that residual blocks make
-// between frames up to `band` apart (temporal terms), factorised as a block
-// band; only the coupling between frames through shared points (which is
-// dense: every frame sees every point) is left to CG. Shared blocks that
-// touch many frames (rig rotations, …) form a dense border of the
-// preconditioner. Ceres 2.1's own iterative Schur solver cannot use such a
-// preconditioner (its JACOBI and SCHUR_JACOBI ignore the chain, and strong
-// temporal terms then need hundreds of CG iterations per step).
+// preconditioner is the frame blocks' part of JᵀJ + μD — every coupling that
+// residual blocks make between frames up to `band` apart (temporal terms) —
+// factorised as a block band; the coupling between frames through shared
+// points (dense: every frame sees every point) is left to CG. Adding each
+// frame's own Schur-complement block (− J_fᵀ J_p C̃⁻¹ J_pᵀ J_f) to the band
+// was measured to need more CG iterations, not fewer (docs/performance.md).
+// Shared blocks that touch many frames (rig rotations, …) form a dense
+// border of the preconditioner. Ceres 2.1's own iterative Schur solver
+// cannot use such a preconditioner (its JACOBI and SCHUR_JACOBI ignore the
+// chain, and strong temporal terms then need hundreds of CG iterations per
+// step).
+//
+// Products with the Jacobian read the stored Jacobian in storage order, or,
+// for cost functions that provide them (problems/jacobian_product.h), are
+// formed from the parameters; each thread sums into its own vector and the
+// vectors are added in thread order, so results are bit-identical for a
+// given thread count.
 #ifndef NRSFM_SOLVERS_STRUCTURED_SOLVER_H_
 #define NRSFM_SOLVERS_STRUCTURED_SOLVER_H_
 
@@ -44,7 +52,7 @@ struct StructuredLayout {
 
 struct StructuredSolverOptions {
   // Iterations, tolerances, time limit, first radius, threads (results are
-  // identical for any count), progress (iteration 0 = the start) and
+  // identical for a given count), progress (iteration 0 = the start) and
   // stop_requested (asked before every step; true ends the solve,
   // summary.stopped), as for Ceres; linear_solver and verbosity are not
   // read.

@@ -155,5 +155,57 @@ TEST(ShapeTemporalError, InvariantToTheMixingGauge) {
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(r[i], r_mixed[i], 1e-12);
 }
 
+TEST(ShapeTemporalError, JacobianProductsEqualTheEvaluatedJacobian) {
+  // J x and Jᵀ y formed from the parameters (problems/jacobian_product.h)
+  // against the Jacobian Evaluate() returns, every block on and off.
+  std::mt19937 rng(15);
+  for (int k : {1, 2, 5}) {
+    ShapeTemporalError cost(k, 0.8);
+    const std::vector<double> v = Random(5 * k, &rng);
+    const double* parameters[3] = {v.data(), v.data() + k, v.data() + 2 * k};
+    const int sizes[3] = {k, k, 3 * k};
+    std::vector<std::vector<double>> jacobian(3);
+    double* jacobians[3];
+    for (int b = 0; b < 3; ++b) {
+      jacobian[b].resize(3 * sizes[b]);
+      jacobians[b] = jacobian[b].data();
+    }
+    double r[3];
+    ASSERT_TRUE(cost.Evaluate(parameters, r, jacobians));
+    const std::vector<double> x = Random(5 * k, &rng);
+    const std::vector<double> y = Random(3, &rng);
+    for (int mask = 0; mask < 8; ++mask) {
+      const double* xs[3];
+      double expected_y[3] = {0.5, -0.25, 1.0};  // products are added
+      double got_y[3] = {0.5, -0.25, 1.0};
+      std::vector<std::vector<double>> expected_x(3), got_x(3);
+      double* outs[3];
+      int offset = 0;
+      for (int b = 0; b < 3; ++b) {
+        const bool on = (mask >> b) & 1;
+        xs[b] = on ? x.data() + offset : nullptr;
+        expected_x[b].assign(sizes[b], 0.1 * b);
+        got_x[b].assign(sizes[b], 0.1 * b);
+        outs[b] = on ? got_x[b].data() : nullptr;
+        for (int i = 0; i < 3 && on; ++i) {
+          for (int j = 0; j < sizes[b]; ++j) {
+            expected_y[i] += jacobian[b][i * sizes[b] + j] * x[offset + j];
+            expected_x[b][j] += jacobian[b][i * sizes[b] + j] * y[i];
+          }
+        }
+        offset += sizes[b];
+      }
+      cost.AddJacobianProduct(parameters, xs, got_y);
+      cost.AddJacobianTransposeProduct(parameters, y.data(), outs);
+      for (int i = 0; i < 3; ++i) EXPECT_NEAR(got_y[i], expected_y[i], 1e-14) << k << " " << mask;
+      for (int b = 0; b < 3; ++b) {
+        for (int j = 0; j < sizes[b]; ++j) {
+          EXPECT_NEAR(got_x[b][j], expected_x[b][j], 1e-14) << k << " " << mask << " " << b;
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace nrsfm

@@ -1,0 +1,35 @@
+// Products with a residual block's Jacobian computed from its parameters,
+// for a solver that multiplies by the Jacobian many times per step
+// (solvers/structured_solver.h: every conjugate-gradient iteration).
+//
+// A stored Jacobian is read from memory at every product; a cost function
+// whose Jacobian is structured (repeated or mostly zero entries) can form
+// the same products from its parameters with far less memory traffic. The
+// temporal shape prior is one: its Jacobian is 3 × 5K per frame pair and
+// point, of which 3K entries hold the point's basis (shared by every frame)
+// and 3K the frame's weight change (problems/temporal_error.h).
+#ifndef NRSFM_PROBLEMS_JACOBIAN_PRODUCT_H_
+#define NRSFM_PROBLEMS_JACOBIAN_PRODUCT_H_
+
+namespace nrsfm {
+
+// For a residual block whose parameter blocks have no manifold (the tangent
+// is the ambient space) and no robust loss. Both products are with the
+// Jacobian at `parameters`, exactly the one Evaluate() gives there.
+class JacobianProduct {
+ public:
+  virtual ~JacobianProduct() = default;
+
+  // y (num_residuals) += Σ_b J_b x[b]; a null x[b] is zero.
+  virtual void AddJacobianProduct(double const* const* parameters,
+                                  double const* const* x, double* y) const = 0;
+
+  // x[b] += J_bᵀ y for every b whose x[b] is not null.
+  virtual void AddJacobianTransposeProduct(double const* const* parameters,
+                                           const double* y,
+                                           double* const* x) const = 0;
+};
+
+}  // namespace nrsfm
+
+#endif  // NRSFM_PROBLEMS_JACOBIAN_PRODUCT_H_
