@@ -52,6 +52,16 @@ Status CheckFinite(const char* flag, double value) {
   return Status::OK();
 }
 
+// The Check() of default `Options` with one flag's value set by `set`, its
+// error under the flag's name: the library owns the rule, the message names
+// the flag the value came from.
+template <typename Options, typename Set>
+Status CheckFlag(const std::string& flag, Set set) {
+  Options options;
+  set(&options);
+  return options.Check().WithContext("--" + flag);
+}
+
 std::string FormatDouble(double value) {
   std::ostringstream s;
   s << std::setprecision(6) << value;
@@ -136,31 +146,22 @@ Status BuildReconstructOptions(const CommandFlags& flags, ReconstructOptions* op
           .WithContext("--linear_solver"));
   NRSFM_RETURN_IF_ERROR(ParsePriorMode(flags.priors, &options->priors)
                             .WithContext("--priors"));
-  // One flag per extra term (problems/extra_terms.h).
+  // One flag per extra term (problems/extra_terms.h); 0 leaves the term out.
+  // The cameras a term needs are checked once the input is read
+  // (CheckTermCameras).
   const std::vector<ExtraTerm>& terms = ExtraTerms();
   for (std::size_t i = 0; i < terms.size(); ++i) {
-    const std::string flag = std::string("--") + terms[i].flag;
     const double weight = flags.term_weights[i];
-    if (!(std::isfinite(weight) && weight >= 0.0)) {
-      return Status::Error(flag + " must be a finite number >= 0, got " +
-                           FormatDouble(weight));
-    }
-    // --cameras 0 (from the file) is checked once the file is read.
-    if (weight > 0.0 && flags.cameras != 0 && flags.cameras < terms[i].min_cameras) {
-      return Status::Error(flag + " needs synchronised cameras: --cameras must be >= " +
-                           std::to_string(terms[i].min_cameras) + ", got " +
-                           std::to_string(flags.cameras));
-    }
-    if (weight > 0.0) options->problem.term_weights[terms[i].name] = weight;
+    if (weight == 0.0) continue;
+    NRSFM_RETURN_IF_ERROR(CheckFlag<ProblemOptions>(
+        terms[i].flag, [&](ProblemOptions* o) { o->term_weights[terms[i].name] = weight; }));
+    options->problem.term_weights[terms[i].name] = weight;
   }
   if (flags.K == "auto") {
-    if (flags.K_max < 2) {
-      return Status::Error("--K_max must be >= 2, got " + std::to_string(flags.K_max));
-    }
-    if (!(std::isfinite(flags.K_threshold) && flags.K_threshold >= 1.0)) {
-      return Status::Error("--K_threshold must be a finite number >= 1, got " +
-                           FormatDouble(flags.K_threshold));
-    }
+    NRSFM_RETURN_IF_ERROR(CheckFlag<SelectNumBasesOptions>(
+        "K_max", [&](SelectNumBasesOptions* o) { o->max_num_bases = flags.K_max; }));
+    NRSFM_RETURN_IF_ERROR(CheckFlag<SelectNumBasesOptions>(
+        "K_threshold", [&](SelectNumBasesOptions* o) { o->threshold = flags.K_threshold; }));
   }
   // A weight given on the command line is a manual choice of the terms.
   if (!options->problem.term_weights.empty()) options->priors = PriorMode::kManual;
@@ -184,12 +185,9 @@ Status CheckTermCameras(const CommandFlags& flags, const std::string& input,
                         int num_cameras) {
   const std::vector<ExtraTerm>& terms = ExtraTerms();
   for (std::size_t i = 0; i < terms.size(); ++i) {
-    if (flags.term_weights[i] > 0.0 && num_cameras < terms[i].min_cameras) {
-      return Status::Error(std::string("--") + terms[i].flag +
-                           " needs synchronised cameras: M must be >= " +
-                           std::to_string(terms[i].min_cameras) + ", but " + input +
-                           " has M = " + std::to_string(num_cameras));
-    }
+    if (!(flags.term_weights[i] > 0.0)) continue;
+    NRSFM_RETURN_IF_ERROR(terms[i].CheckCameras(num_cameras)
+                              .WithContext(input + ": --" + terms[i].flag));
   }
   return Status::OK();
 }

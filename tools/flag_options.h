@@ -47,15 +47,18 @@ Status ParseNumBasesFlag(const std::string& value, bool* auto_k, int* num_bases)
 // Every reconstruct flag that sets a library option (--init, --priors,
 // --robust, --robust_scale, --linear_solver, --max_iterations, --threads,
 // --seed and the extra terms' weights; with --K auto it checks --K_max and
-// --K_threshold, which RunReconstruction reads). Errors name the flag and
-// value.
+// --K_threshold, which RunReconstruction reads). The library's Check()
+// judges every value; its errors come under the flag's name, e.g.
+// "--K_max: K selection: max_num_bases must be >= 2, got 1".
 Status BuildReconstructOptions(const CommandFlags& flags, ReconstructOptions* options);
 
 // --var, --mask_var, --format and --cameras.
 InputOptions BuildInputOptions(const CommandFlags& flags);
 
 // After the input is read: every term given a weight has the cameras it
-// needs; `input` names the input in the message.
+// needs (ExtraTerm::CheckCameras); the error names `input` and the flag,
+// e.g. "s.mat: --rigidity: needs data from M >= 2 synchronised cameras, got
+// M = 1".
 Status CheckTermCameras(const CommandFlags& flags, const std::string& input,
                         int num_cameras);
 

@@ -38,8 +38,15 @@ TEST(BuildReconstructOptions, NamesTheFlagAndTheValue) {
       << BuildReconstructOptions(flags, &options).message();
   flags = CommandFlags();
   flags.term_weights[0] = -1.0;
+  // The rule is ProblemOptions::Check()'s; the message names the flag.
   EXPECT_EQ(BuildReconstructOptions(flags, &options).message(),
-            std::string("--") + ExtraTerms()[0].flag + " must be a finite number >= 0, got -1");
+            std::string("--") + ExtraTerms()[0].flag + ": problem options: term weight " +
+                ExtraTerms()[0].name + " must be finite and >= 0, got -1");
+  flags = CommandFlags();
+  flags.K = "auto";
+  flags.K_max = 1;
+  EXPECT_EQ(BuildReconstructOptions(flags, &options).message(),
+            "--K_max: K selection: max_num_bases must be >= 2, got 1");
   bool auto_k = false;
   int k = 0;
   EXPECT_EQ(ParseNumBasesFlag("0", &auto_k, &k).message(),
