@@ -262,9 +262,6 @@ struct FunctionOptions {
   std::vector<const Flag*> flags;      // the keywords, in --help order
 };
 
-const std::set<std::string> kToolOnly = {"input", "output", "overwrite", "ply", "quiet",
-                                         "truth", "truth_var", "result"};
-
 FunctionOptions MakeOptions(const std::string& command, std::set<std::string> left_out) {
   FunctionOptions options;
   options.command = command;
@@ -282,7 +279,7 @@ FunctionOptions MakeOptions(const std::string& command, std::set<std::string> le
 // printing, and K and cameras (arguments).
 const FunctionOptions& ReconstructOptionsOf() {
   static const FunctionOptions options = [] {
-    std::set<std::string> left_out = kToolOnly;
+    std::set<std::string> left_out = tools::ToolOnlyFlags();
     left_out.insert({"var", "mask_var", "format", "K", "cameras"});
     return MakeOptions("reconstruct", left_out);
   }();

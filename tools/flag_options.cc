@@ -1,8 +1,10 @@
 #include "tools/flag_options.h"
 
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <iomanip>
+#include <set>
 #include <sstream>
 
 #include <Eigen/Core>
@@ -67,6 +69,13 @@ std::string FormatDouble(double value) {
   s << std::setprecision(6) << value;
   return s.str();
 }
+
+// A flag's value as result.json's "options" write it.
+std::string FlagText(const std::string& value) { return value; }
+std::string FlagText(int value) { return std::to_string(value); }
+std::string FlagText(std::uint64_t value) { return std::to_string(value); }
+std::string FlagText(double value) { return FormatDouble(value); }
+std::string FlagText(bool value) { return value ? "true" : "false"; }
 
 }  // namespace
 
@@ -223,26 +232,26 @@ Status RunReconstruction(const CommandFlags& flags, const ReconstructOptions& op
   return context.empty() ? status : status.WithContext(context);
 }
 
+const std::set<std::string>& ToolOnlyFlags() {
+  static const std::set<std::string> names = {"input", "output", "overwrite", "ply",
+                                              "quiet", "truth", "truth_var", "result"};
+  return names;
+}
+
 std::vector<std::pair<std::string, std::string>> OptionList(const CommandFlags& flags,
                                                             int num_bases) {
   std::vector<std::pair<std::string, std::string>> list = {
-      {"K", std::to_string(num_bases)},
-      {"K_flag", flags.K},
-      {"var", flags.var},
-      {"mask_var", flags.mask_var},
-      {"format", flags.format},
-      {"cameras", std::to_string(flags.cameras)},
-      {"init", flags.init},
-      {"priors", flags.priors}};
+      {"K", std::to_string(num_bases)}, {"K_flag", flags.K}};
+#define NRSFM_ADD_OPTION(type, name, value, help)                                   \
+  if (std::string(#name) != "K" && ToolOnlyFlags().count(#name) == 0 &&             \
+      !FlagHelpFor(help, "reconstruct").empty()) {                                  \
+    list.emplace_back(#name, FlagText(flags.name));                                 \
+  }
+  NRSFM_COMMAND_FLAGS(NRSFM_ADD_OPTION)
+#undef NRSFM_ADD_OPTION
   for (std::size_t i = 0; i < ExtraTerms().size(); ++i) {
     list.emplace_back(ExtraTerms()[i].flag, FormatDouble(flags.term_weights[i]));
   }
-  list.insert(list.end(), {{"robust", flags.robust},
-                           {"robust_scale", FormatDouble(flags.robust_scale)},
-                           {"max_iterations", std::to_string(flags.max_iterations)},
-                           {"threads", std::to_string(flags.threads)},
-                           {"linear_solver", flags.linear_solver},
-                           {"seed", std::to_string(flags.seed)}});
   return list;
 }
 

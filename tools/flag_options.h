@@ -6,6 +6,7 @@
 #ifndef NRSFM_TOOLS_FLAG_OPTIONS_H_
 #define NRSFM_TOOLS_FLAG_OPTIONS_H_
 
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -82,8 +83,16 @@ Status RunReconstruction(const CommandFlags& flags, const ReconstructOptions& op
                          const Measurements& measurements, const std::string& context,
                          ReconstructionRun* run);
 
-// The flags a reconstruction used, as result.json's "options"; `cameras`
-// is the flag as given.
+// The flags about the tool's own files and printing (input, output,
+// overwrite, ply, quiet, truth, truth_var, result): not options of a
+// reconstruction, so neither in result.json's "options" nor keywords of the
+// Python module.
+const std::set<std::string>& ToolOnlyFlags();
+
+// The flags a reconstruction used, as result.json's "options": K (the K
+// used) and K_flag (as given), every other flag of NRSFM_COMMAND_FLAGS that
+// serves reconstruct and is not in ToolOnlyFlags() (in that list's order,
+// as given: `cameras` 0 = from the file), then the extra terms' weights.
 std::vector<std::pair<std::string, std::string>> OptionList(const CommandFlags& flags,
                                                             int num_bases);
 

@@ -1,6 +1,8 @@
 // The steps the nrsfm tool and the Python module share (tools/flag_options.h).
 #include "tools/flag_options.h"
 
+#include <map>
+
 #include <gtest/gtest.h>
 
 namespace nrsfm {
@@ -53,6 +55,27 @@ TEST(BuildReconstructOptions, NamesTheFlagAndTheValue) {
             "--K must be an integer >= 1 or 'auto', got '0'");
   ASSERT_TRUE(ParseNumBasesFlag("auto", &auto_k, &k).ok());
   EXPECT_TRUE(auto_k);
+}
+
+// result.json's "options" come from the one flag list and the term table:
+// every reconstruct flag but the tool's own files, once.
+TEST(OptionList, EveryReconstructFlagOnce) {
+  CommandFlags flags;
+  flags.K = "auto";
+  const std::vector<std::pair<std::string, std::string>> list = OptionList(flags, 3);
+  std::map<std::string, std::string> options;
+  for (const auto& [name, value] : list) EXPECT_TRUE(options.emplace(name, value).second) << name;
+  EXPECT_EQ(options["K"], "3");
+  EXPECT_EQ(options["K_flag"], "auto");
+#define NRSFM_CHECK_OPTION(type, name, value, help)                                 \
+  EXPECT_EQ(options.count(#name) > 0, !FlagHelpFor(help, "reconstruct").empty() && \
+                                           ToolOnlyFlags().count(#name) == 0)       \
+      << #name;
+  NRSFM_COMMAND_FLAGS(NRSFM_CHECK_OPTION)
+#undef NRSFM_CHECK_OPTION
+  for (const ExtraTerm& term : ExtraTerms()) EXPECT_EQ(options[term.flag], "0") << term.flag;
+  EXPECT_EQ(options["K_threshold"], "1.1");
+  EXPECT_EQ(options["seed"], "1");
 }
 
 }  // namespace
