@@ -255,11 +255,11 @@ Status RotationsFromTriple(const Measurements& centered, int num_bases,
   for (int t = 1; t < f; ++t) {
     if (std::abs(alignment(t)) >= kLinkAlignment) ++links;
   }
-  summary->temporal_signs = f >= 2 && links >= kMinLinkedFraction * (f - 1);
+  const bool temporal_signs = f >= 2 && links >= kMinLinkedFraction * (f - 1);
   std::vector<int> segment_start = {0};
   for (int t = 1; t < f; ++t) {
     const double a = alignment(t);  // against the (possibly turned) frame t − 1
-    if (summary->temporal_signs && std::abs(a) >= kLinkAlignment) {
+    if (temporal_signs && std::abs(a) >= kLinkAlignment) {
       if (a < 0.0) (*rotations)[t] = half_turn * (*rotations)[t];
     } else {
       segment_start.push_back(t);

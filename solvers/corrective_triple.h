@@ -62,8 +62,7 @@ inline constexpr double kTripleEqualCost = 1e-10;
 inline constexpr int kTripleMaxIterations = 200;
 
 struct CorrectiveTripleSummary {
-  bool temporal_signs = false;  // whether frames were linked in time
-  int sign_segments = 0;        // segments of one sign (F when not linked)
+  int sign_segments = 0;  // segments of one sign (F when not linked in time)
 };
 
 // `q_hat` is 2F × 3K (F ≥ 2, K ≥ 1). Fills `g` (3K × 3) with the start of

@@ -71,11 +71,12 @@ struct PriorRuleOptions {
 struct PriorDecision {
   double track_step = -1;   // m_1 / spread; -1 when F < 2 or no frame pair shares a point
   double track_order = -1;  // max_L m_L / m_1; -1 when F < 8 or m_1 is not defined or 0
-  bool video = false;
-  bool basis_absorbs_rotation = false;  // 3K ≥ min_basis_fraction · P
+  bool video = false;        // track_order ≥ min_track_order
   double path_acceleration_deg = -1;  // a_4 − a_1 / 16 of the start; -1 when not measured (no temporal_shape, F < 9)
-  bool constant_angular_velocity = false;
-  std::map<std::string, double> term_weights;  // the weights chosen (empty: none)
+  // The weights chosen (empty: none): temporal_shape when a video's basis
+  // absorbs rotation (fact 2), rotation_acceleration when its path has
+  // constant angular velocity (fact 3).
+  std::map<std::string, double> term_weights;
 };
 
 // Diagnostic (track_step for L = 1): m_L / spread, the median track motion

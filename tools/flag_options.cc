@@ -282,7 +282,12 @@ ReconstructionReport MakeReport(const CommandFlags& flags, const std::string& in
                         {"track_order", result.priors.track_order},
                         {"path_acceleration_deg", result.priors.path_acceleration_deg},
                         {"largest_view_angle_deg", result.largest_view_angle_deg},
-                        {"refine_converged", result.refine.converged ? 1.0 : 0.0}};
+                        {"refine_converged", result.refine.converged ? 1.0 : 0.0},
+                        {"start_completion_rms", result.start.completion_rms},
+                        {"start_subblock_rank1_defect", result.start.subblock_rank1_defect},
+                        {"start_rigid_rms", result.start.rigid_rms},
+                        {"start_triple_sign_segments",
+                         static_cast<double>(result.start.triple_sign_segments)}};
   if (!result.refine.usable) {
     report.warnings.push_back("refinement not usable: " + result.refine.message);
   }
