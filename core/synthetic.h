@@ -116,11 +116,11 @@ Status GenerateSuperquadric(const SuperquadricOptions& options,
 // truth.rig_rotations (angle-axis (0, baseline, 0)) and truth.rig_scales.
 // Self-occlusion (`self_occlusion`): each point has the outward normal n of
 // the rest shape; the camera looks along +z, so the point is visible in view
-// (t, c) iff (R_tc n)_z < 0 (deformation ignored). Measured with the defaults:
-// 11.7–19.8 % of the entries missing per camera over seeds 1–30 (seed 1:
-// 14.7 % camera 0, 16.8 % camera 1). Every view keeps at least 4 points and
-// every point at least one observation (the most camera-facing ones are made
-// visible when needed). Gaussian noise as in the random-basis data.
+// (t, c) iff (R_tc n)_z < 0 (deformation ignored); the share of entries it
+// hides with the defaults is measured in docs/benchmark.md. Every view keeps
+// at least 4 points and every point at least one observation (the most
+// camera-facing ones are made visible when needed). Gaussian noise as in the
+// random-basis data.
 struct ShoeOptions {
   int num_frames = 500;               // F, >= 2
   int num_points = 110;               // P, >= 10
