@@ -870,8 +870,10 @@ Tracks Read(py::handle path_object, const py::kwargs& kwargs) {
     ThrowValueError("--cameras must be >= 1 (or 0: from the file), got " +
                     std::to_string(flags.cameras));
   }
+  InputOptions input;
+  Check(tools::BuildInputOptions(flags, &input));
   Measurements m;
-  const Status status = ReadMeasurements(path, tools::BuildInputOptions(flags), &m);
+  const Status status = ReadMeasurements(path, input, &m);
   if (!status.ok()) ThrowFileError(path, status);
   return TracksOf(m);
 }

@@ -33,7 +33,8 @@
   X(std::string, mask_var, ::nrsfm::InputOptions().mask_variable,                \
     "reconstruct, view: optional visibility-mask variable of a .mat input "      \
     "(nonzero = visible).")                                                      \
-  X(std::string, format, ::nrsfm::InputOptions().format,                         \
+  X(std::string, format,                                                         \
+    ::nrsfm::InputFormatName(::nrsfm::InputOptions().format),                    \
     "reconstruct, view: input format auto|mat|text|list.")                       \
   X(int, cameras, ::nrsfm::InputOptions().num_cameras,                           \
     "reconstruct: number of synchronised cameras M of a W input with 2FM rows; " \

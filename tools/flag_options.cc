@@ -181,13 +181,12 @@ Status BuildReconstructOptions(const CommandFlags& flags, ReconstructOptions* op
   return options->Check();
 }
 
-InputOptions BuildInputOptions(const CommandFlags& flags) {
-  InputOptions input;
-  input.variable = flags.var;
-  input.mask_variable = flags.mask_var;
-  input.num_cameras = flags.cameras;
-  input.format = flags.format;
-  return input;
+Status BuildInputOptions(const CommandFlags& flags, InputOptions* input) {
+  *input = InputOptions();
+  input->variable = flags.var;
+  input->mask_variable = flags.mask_var;
+  input->num_cameras = flags.cameras;
+  return ParseInputFormat(flags.format, &input->format).WithContext("--format");
 }
 
 Status CheckTermCameras(const CommandFlags& flags, const std::string& input,

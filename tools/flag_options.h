@@ -53,8 +53,8 @@ Status ParseNumBasesFlag(const std::string& value, bool* auto_k, int* num_bases)
 // "--K_max: K selection: max_num_bases must be >= 2, got 1".
 Status BuildReconstructOptions(const CommandFlags& flags, ReconstructOptions* options);
 
-// --var, --mask_var, --format and --cameras.
-InputOptions BuildInputOptions(const CommandFlags& flags);
+// --var, --mask_var, --format and --cameras; errors on an unknown --format.
+Status BuildInputOptions(const CommandFlags& flags, InputOptions* input);
 
 // After the input is read: every term given a weight has the cameras it
 // needs (ExtraTerm::CheckCameras); the error names `input` and the flag,
