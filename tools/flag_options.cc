@@ -404,24 +404,25 @@ Status Synthesize(const CommandFlags& flags, SyntheticSequence* sequence) {
   }
   NRSFM_RETURN_IF_ERROR(CheckFinite("noise", flags.noise));
   NRSFM_RETURN_IF_ERROR(CheckFinite("missing", flags.missing));
+  // --frames, --noise, --missing and --seed of the random and superquadric data.
+  const auto set_sequence = [&flags](SmoothSequenceOptions* o) {
+    if (flags.frames != -1) o->num_frames = flags.frames;
+    o->noise_stddev = flags.noise;
+    o->missing_fraction = flags.missing;
+    o->seed = flags.seed;
+  };
   if (flags.dataset == "random") {
     RandomBasisOptions o;
-    if (flags.frames != -1) o.num_frames = flags.frames;
+    set_sequence(&o);
     if (flags.points != -1) o.num_points = flags.points;
     if (k != -1) o.num_bases = k;
-    o.noise_stddev = flags.noise;
-    o.missing_fraction = flags.missing;
-    o.seed = flags.seed;
     return GenerateRandomBasis(o, sequence);
   }
   if (flags.dataset == "superquadric") {
     if (k != -1) return Status::Error("--K is fixed (4) for the superquadric dataset");
     SuperquadricOptions o;
-    if (flags.frames != -1) o.num_frames = flags.frames;
+    set_sequence(&o);
     if (flags.points != -1) o.num_points = flags.points;
-    o.noise_stddev = flags.noise;
-    o.missing_fraction = flags.missing;
-    o.seed = flags.seed;
     return GenerateSuperquadric(o, sequence);
   }
   if (flags.dataset == "shoe") {
