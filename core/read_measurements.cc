@@ -7,12 +7,21 @@
 #include <sstream>
 #include <vector>
 
+#include "core/enum_names.h"
 #include "core/mat_io.h"
+#include "core/option_checker.h"
 #include "core/shape_layouts.h"
 #include "core/text_io.h"
 
 namespace nrsfm {
 namespace {
+
+constexpr EnumName<InputFormat> kInputFormatNames[] = {
+    {InputFormat::kAuto, "auto"},
+    {InputFormat::kMat, "mat"},
+    {InputFormat::kText, "text"},
+    {InputFormat::kList, "list"},
+};
 
 std::string Lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) {
@@ -21,20 +30,20 @@ std::string Lower(std::string s) {
   return s;
 }
 
-Status DetectFormat(const std::string& path, const std::string& requested,
-                    std::string* format) {
-  if (requested != "auto") {
+Status DetectFormat(const std::string& path, InputFormat requested,
+                    InputFormat* format) {
+  if (requested != InputFormat::kAuto) {
     *format = requested;
     return Status::OK();
   }
   const std::string ext =
       Lower(std::filesystem::path(path).extension().string());
   if (ext == ".mat") {
-    *format = "mat";
+    *format = InputFormat::kMat;
   } else if (ext == ".txt" || ext == ".csv" || ext == ".tsv" || ext == ".dat") {
-    *format = "text";
+    *format = InputFormat::kText;
   } else if (ext == ".obs" || ext == ".list") {
-    *format = "list";
+    *format = InputFormat::kList;
   } else {
     return Status::Error(
         path + ": cannot tell the input format from the extension '" + ext +
@@ -210,37 +219,40 @@ Status ReadMatMeasurements(const std::string& path, const InputOptions& options,
 
 }  // namespace
 
+const char* InputFormatName(InputFormat format) {
+  return NameOf(kInputFormatNames, format);
+}
+
+Status ParseInputFormat(const std::string& name, InputFormat* format) {
+  return ParseName(kInputFormatNames, name, "input format", format);
+}
+
 Status InputOptions::Check() const {
-  if (num_cameras < 0) {
-    return Status::Error("input options: num_cameras must be >= 1 (or 0: from the file), got " +
-                         std::to_string(num_cameras));
-  }
-  if (format != "auto" && format != "mat" && format != "text" &&
-      format != "list") {
-    return Status::Error(
-        "input options: format must be auto, mat, text or list, got '" +
-        format + "'");
-  }
-  return Status::OK();
+  OptionChecker check("input options");
+  check.Require(num_cameras >= 0, "num_cameras must be >= 1 (or 0: from the file), got " +
+                                      std::to_string(num_cameras));
+  check.Require(NameOf(kInputFormatNames, format) != std::string("unknown"),
+                "invalid format " + std::to_string(static_cast<int>(format)));
+  return check.status();
 }
 
 Status ReadMeasurements(const std::string& path, const InputOptions& options,
                         Measurements* measurements) {
   NRSFM_RETURN_IF_ERROR(options.Check());
-  std::string format;
+  InputFormat format = InputFormat::kAuto;
   NRSFM_RETURN_IF_ERROR(DetectFormat(path, options.format, &format));
-  if (format != "mat" &&
+  if (format != InputFormat::kMat &&
       (!options.variable.empty() || !options.mask_variable.empty())) {
     return Status::Error(
         path +
         ": a variable or mask variable can only be named for .mat "
         "input (this is read as " +
-        format + ")");
+        InputFormatName(format) + ")");
   }
   Measurements m;
-  if (format == "mat") {
+  if (format == InputFormat::kMat) {
     NRSFM_RETURN_IF_ERROR(ReadMatMeasurements(path, options, &m));
-  } else if (format == "text") {
+  } else if (format == InputFormat::kText) {
     Eigen::MatrixXd w;
     NRSFM_RETURN_IF_ERROR(ReadTextMatrix(path, &w));
     NRSFM_RETURN_IF_ERROR(

@@ -1,7 +1,7 @@
 // Measurements from an input file (README.md, "Input formats"): a MATLAB .mat file, a text
 // matrix W, or an observation list.
 //
-// Format (options.format = "auto" decides by the extension, any case):
+// Format (options.format = kAuto decides by the extension, any case):
 //   .mat                      MATLAB v4, v5 or v7.3 (core/mat_io.h)
 //   .txt .csv .tsv .dat       text matrix W, 2FM × P (core/text_io.h)
 //   .obs .list                observation list "frame camera point u v"
@@ -36,6 +36,16 @@
 
 namespace nrsfm {
 
+enum class InputFormat {
+  kAuto,  // by the extension (above)
+  kMat,   // MATLAB .mat
+  kText,  // text matrix W
+  kList,  // observation list
+};
+// "auto", "mat", "text", "list"; the error lists them.
+const char* InputFormatName(InputFormat format);
+Status ParseInputFormat(const std::string& name, InputFormat* format);
+
 struct InputOptions {
   // .mat variable with the measurements; "" = auto: W, then P3_gt, then X.
   std::string variable;
@@ -46,9 +56,9 @@ struct InputOptions {
   // largest camera index + 1, else 1. A value >= 1 must agree with what the
   // file records (an error names both). P3_gt and X are monocular (M = 1).
   int num_cameras = 0;
-  // "auto" (by extension) | "mat" | "text" | "list".
-  std::string format = "auto";
+  InputFormat format = InputFormat::kAuto;
 
+  // Errors on num_cameras < 0 and a format not in the enum.
   Status Check() const;
 };
 

@@ -40,26 +40,33 @@ struct SyntheticSequence {
   Model truth;
 };
 
-// Random basis shapes (Torresani et al. 2001): points uniform in the unit cube [-0.5, 0.5]³
-// for every basis (then centred); weights l_t1 = 1 (first basis dominant, the
-// rigid component) and l_tk ~ N(0, deformation²) i.i.d. for k > 1; rotations
-// R_t = Rz(c_t) Ry(b_t) Rx(a_t) whose three angles follow smooth random curves
-// (two random-phase sinusoids, ~0.5–3 cycles over the sequence) within
-// ±max_rotation_deg / 2 (so the sequence spans up to max_rotation_deg about
-// every axis); zero translations; Gaussian noise of std `noise_stddev` (in
-// the units of W) on every visible entry; round(missing_fraction · F · P)
-// entries removed uniformly at random, skipping any removal that would leave a
-// frame or a point with fewer than 2 visible entries (so very high fractions
-// are not always reached). Noise-free W has rank 3K when P ≥ 3K and F is large.
-struct RandomBasisOptions {
+// The frames, camera path, noise and missing entries of the random-basis and
+// the superquadric sequences: rotations R_t = Rz(c_t) Ry(b_t) Rx(a_t) whose
+// three angles follow smooth random curves (two random-phase sinusoids,
+// ~0.5–3 cycles over the sequence) within ±max_rotation_deg / 2 (so the
+// sequence spans up to max_rotation_deg about every axis; the same seed and F
+// give the same rotations); zero translations; Gaussian noise of std
+// `noise_stddev` (in the units of W) on every visible entry;
+// round(missing_fraction · F · P) entries removed uniformly at random,
+// skipping any removal that would leave a frame or a point with fewer than 2
+// visible entries (so very high fractions are not always reached).
+struct SmoothSequenceOptions {
   int num_frames = 300;            // F, >= 2
-  int num_points = 50;             // P, >= 1
-  int num_bases = 5;               // K (of the generating model), >= 1
-  double deformation = 0.3;        // std of l_tk, k > 1 (basis 1 weight is 1)
   double max_rotation_deg = 90.0;  // span of the rotation about each axis, deg
   double noise_stddev = 0.0;       // Gaussian noise on W (input units), >= 0
   double missing_fraction = 0.0;   // fraction of entries removed, [0, 1)
   std::uint64_t seed = 1;          // any value
+};
+
+// Random basis shapes (Torresani et al. 2001): points uniform in the unit cube [-0.5, 0.5]³
+// for every basis (then centred); weights l_t1 = 1 (first basis dominant, the
+// rigid component) and l_tk ~ N(0, deformation²) i.i.d. for k > 1; camera
+// path, noise and missing entries of SmoothSequenceOptions. Noise-free W has
+// rank 3K when P ≥ 3K and F is large.
+struct RandomBasisOptions : SmoothSequenceOptions {
+  int num_points = 50;             // P, >= 1
+  int num_bases = 5;               // K (of the generating model), >= 1
+  double deformation = 0.3;        // std of l_tk, k > 1 (basis 1 weight is 1)
 
   // Errors name the field and value: F < 2, P < 1, K < 1, negative or
   // non-finite deformation or noise, rotation span outside [0, 360] deg,
@@ -75,15 +82,11 @@ Status GenerateRandomBasis(const RandomBasisOptions& options,
 // deform independently: mode o scales the points of octant o radially, faded
 // smoothly to zero at the octant's three planes, with a smooth weight in
 // [−0.5, 0.5]. Exact model, K = 4: basis 1 = the rest shape (weight 1), bases
-// 2–4 = the octant modes. Rotations, noise and missing entries as in the
-// random-basis data (the same seed and F give the same rotations).
-struct SuperquadricOptions {
-  int num_frames = 300;            // F, >= 2
-  int num_points = 200;            // P, >= 1
-  double max_rotation_deg = 90.0;  // span of the rotation about each axis, deg
-  double noise_stddev = 0.0;       // Gaussian noise on W (input units), >= 0
-  double missing_fraction = 0.0;   // fraction of entries removed, [0, 1)
-  std::uint64_t seed = 1;          // any value
+// 2–4 = the octant modes. Camera path, noise and missing entries of
+// SmoothSequenceOptions (the same as the random-basis data's for the same
+// seed and F).
+struct SuperquadricOptions : SmoothSequenceOptions {
+  int num_points = 200;  // P, >= 1
 
   // Errors as for RandomBasisOptions.
   Status Check() const;
@@ -116,11 +119,11 @@ Status GenerateSuperquadric(const SuperquadricOptions& options,
 // truth.rig_rotations (angle-axis (0, baseline, 0)) and truth.rig_scales.
 // Self-occlusion (`self_occlusion`): each point has the outward normal n of
 // the rest shape; the camera looks along +z, so the point is visible in view
-// (t, c) iff (R_tc n)_z < 0 (deformation ignored). Measured with the defaults:
-// 11.7–19.8 % of the entries missing per camera over seeds 1–30 (seed 1:
-// 14.7 % camera 0, 16.8 % camera 1). Every view keeps at least 4 points and
-// every point at least one observation (the most camera-facing ones are made
-// visible when needed). Gaussian noise as in the random-basis data.
+// (t, c) iff (R_tc n)_z < 0 (deformation ignored); the share of entries it
+// hides with the defaults is measured in docs/benchmark.md. Every view keeps
+// at least 4 points and every point at least one observation (the most
+// camera-facing ones are made visible when needed). Gaussian noise as in the
+// random-basis data.
 struct ShoeOptions {
   int num_frames = 500;               // F, >= 2
   int num_points = 110;               // P, >= 10

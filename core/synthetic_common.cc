@@ -127,5 +127,21 @@ void FillMeasurements(const Model& truth, const VisibilityMask& visible,
 // ---- Shoe geometry (object frame: x from heel −0.5 to toe +0.5, y up, the
 // sole at y = kSoleY, z lateral (−) to medial (+); camera 0 at rest looks
 
+void CheckSmoothSequence(const SmoothSequenceOptions& options, OptionChecker* check) {
+  check->AtLeast("num_frames", options.num_frames, 2);
+  check->InRange("max_rotation_deg", options.max_rotation_deg, 0.0, 360.0, false);
+  check->FiniteAtLeast("noise_stddev", options.noise_stddev, 0.0);
+  check->InRange("missing_fraction", options.missing_fraction, 0.0, 1.0, true);
+}
+
+void FinishSmoothSequence(const SmoothSequenceOptions& options, SyntheticSequence* sequence) {
+  const Model& truth = sequence->truth;
+  Random missing(options.seed, kMissingStream);
+  FillMeasurements(truth,
+                   RandomMissing(truth.NumViews(), truth.num_points,
+                                 options.missing_fraction, &missing),
+                   options.noise_stddev, options.seed, &sequence->measurements);
+}
+
 }  // namespace synthetic
 }  // namespace nrsfm

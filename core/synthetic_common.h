@@ -11,7 +11,9 @@
 
 #include "core/measurements.h"
 #include "core/model.h"
+#include "core/option_checker.h"
 #include "core/random.h"
+#include "core/synthetic.h"
 
 namespace nrsfm {
 namespace synthetic {
@@ -73,6 +75,16 @@ void RemoveAtRandom(double fraction, Random* random, VisibilityMask* visible);
 void FillMeasurements(const Model& truth, const VisibilityMask& visible,
                       double noise_stddev, std::uint64_t seed,
                       Measurements* measurements);
+
+// The rules of the SmoothSequenceOptions fields (F ≥ 2, rotation span in
+// [0, 360] deg, noise finite and ≥ 0, missing fraction in [0, 1)), added to
+// the generator's `check`.
+void CheckSmoothSequence(const SmoothSequenceOptions& options, OptionChecker* check);
+
+// The last step of the random-basis and superquadric generators: the
+// measurements of sequence->truth with the missing entries (RandomMissing,
+// the missing stream of the seed) and the noise of `options`.
+void FinishSmoothSequence(const SmoothSequenceOptions& options, SyntheticSequence* sequence);
 
 }  // namespace synthetic
 }  // namespace nrsfm

@@ -9,21 +9,17 @@ namespace nrsfm {
 
 using synthetic::kGeometryStream;
 using synthetic::kMotionStream;
-using synthetic::kMissingStream;
 using synthetic::SetSmoothRotations;
 using synthetic::CentreBasis;
-using synthetic::RandomMissing;
-using synthetic::FillMeasurements;
+using synthetic::CheckSmoothSequence;
+using synthetic::FinishSmoothSequence;
 
 Status RandomBasisOptions::Check() const {
   OptionChecker check("RandomBasisOptions");
-  check.AtLeast("num_frames", num_frames, 2);
+  CheckSmoothSequence(*this, &check);
   check.AtLeast("num_points", num_points, 1);
   check.AtLeast("num_bases", num_bases, 1);
   check.FiniteAtLeast("deformation", deformation, 0.0);
-  check.InRange("max_rotation_deg", max_rotation_deg, 0.0, 360.0, false);
-  check.FiniteAtLeast("noise_stddev", noise_stddev, 0.0);
-  check.InRange("missing_fraction", missing_fraction, 0.0, 1.0, true);
   return check.status();
 }
 
@@ -33,7 +29,6 @@ Status GenerateRandomBasis(const RandomBasisOptions& options,
   NRSFM_RETURN_IF_ERROR(options.Check());
   Random geometry(options.seed, kGeometryStream);
   Random motion(options.seed, kMotionStream);
-  Random missing(options.seed, kMissingStream);
   Model& truth = sequence->truth;
   truth.Resize(options.num_frames, 1, options.num_points, options.num_bases);
   for (int k = 0; k < options.num_bases; ++k) {
@@ -51,10 +46,7 @@ Status GenerateRandomBasis(const RandomBasisOptions& options,
       truth.weights(k, t) = options.deformation * motion.Normal();
     }
   }
-  FillMeasurements(truth,
-                   RandomMissing(truth.NumViews(), truth.num_points,
-                                 options.missing_fraction, &missing),
-                   options.noise_stddev, options.seed, &sequence->measurements);
+  FinishSmoothSequence(options, sequence);
   return Status::OK();
 }
 

@@ -12,7 +12,6 @@ namespace nrsfm {
 using synthetic::kPi;
 using synthetic::kGeometryStream;
 using synthetic::kMotionStream;
-using synthetic::kMissingStream;
 using synthetic::SmoothCurve;
 using synthetic::RandomCurve;
 using synthetic::Tau;
@@ -20,16 +19,13 @@ using synthetic::SmoothStep;
 using synthetic::SignedPower;
 using synthetic::SetSmoothRotations;
 using synthetic::CentreBasis;
-using synthetic::RandomMissing;
-using synthetic::FillMeasurements;
+using synthetic::CheckSmoothSequence;
+using synthetic::FinishSmoothSequence;
 
 Status SuperquadricOptions::Check() const {
   OptionChecker check("SuperquadricOptions");
-  check.AtLeast("num_frames", num_frames, 2);
+  CheckSmoothSequence(*this, &check);
   check.AtLeast("num_points", num_points, 1);
-  check.InRange("max_rotation_deg", max_rotation_deg, 0.0, 360.0, false);
-  check.FiniteAtLeast("noise_stddev", noise_stddev, 0.0);
-  check.InRange("missing_fraction", missing_fraction, 0.0, 1.0, true);
   return check.status();
 }
 
@@ -43,7 +39,6 @@ Status GenerateSuperquadric(const SuperquadricOptions& options,
   constexpr double kOctants[3][3] = {{1, 1, 1}, {-1, -1, 1}, {1, -1, -1}};
   Random geometry(options.seed, kGeometryStream);
   Random motion(options.seed, kMotionStream);
-  Random missing(options.seed, kMissingStream);
   Model& truth = sequence->truth;
   truth.Resize(options.num_frames, 1, options.num_points, 4);
   Eigen::Matrix3Xd rest(3, options.num_points);
@@ -79,10 +74,7 @@ Status GenerateSuperquadric(const SuperquadricOptions& options,
       truth.weights(o + 1, t) = 0.5 * curve(Tau(t, options.num_frames));
     }
   }
-  FillMeasurements(truth,
-                   RandomMissing(truth.NumViews(), truth.num_points,
-                                 options.missing_fraction, &missing),
-                   options.noise_stddev, options.seed, &sequence->measurements);
+  FinishSmoothSequence(options, sequence);
   return Status::OK();
 }
 

@@ -148,6 +148,12 @@ const std::vector<ExtraTerm>& ExtraTerms() {
   return terms;
 }
 
+Status ExtraTerm::CheckCameras(int num_cameras) const {
+  if (num_cameras >= min_cameras) return Status::OK();
+  return Status::Error("needs data from M >= " + std::to_string(min_cameras) +
+                       " synchronised cameras, got M = " + std::to_string(num_cameras));
+}
+
 const ExtraTerm* FindExtraTerm(const std::string& name) {
   for (const ExtraTerm& term : ExtraTerms()) {
     if (name == term.name) return &term;
@@ -163,12 +169,9 @@ Status AddExtraTerms(const ProblemOptions& options, ProblemBuilder* builder,
   std::vector<int> counts(terms.size(), 0);
   const int num_cameras = builder->model()->num_cameras;
   for (const ExtraTerm& term : terms) {
-    if (options.TermWeight(term.name) > 0.0 && num_cameras < term.min_cameras) {
-      return Status::Error(std::string(term.name) + " term: needs data from M >= " +
-                           std::to_string(term.min_cameras) +
-                           " synchronised cameras, got M = " +
-                           std::to_string(num_cameras));
-    }
+    if (!(options.TermWeight(term.name) > 0.0)) continue;
+    NRSFM_RETURN_IF_ERROR(
+        term.CheckCameras(num_cameras).WithContext(std::string(term.name) + " term"));
   }
   for (std::size_t i = 0; i < terms.size(); ++i) {
     const double weight = options.TermWeight(terms[i].name);

@@ -40,6 +40,11 @@ struct ExtraTerm {
   const char* meaning;  // one line: the residual and when to use the term
   int min_cameras;      // the term needs M ≥ min_cameras
   AddFunction add;
+
+  // The one check of min_cameras (AddExtraTerms, the nrsfm tool): an error
+  // "needs data from M >= <min_cameras> synchronised cameras, got M = <M>"
+  // when num_cameras is too few.
+  Status CheckCameras(int num_cameras) const;
 };
 
 // Every extra term, in the order AddExtraTerms adds them.

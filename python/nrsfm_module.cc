@@ -262,9 +262,6 @@ struct FunctionOptions {
   std::vector<const Flag*> flags;      // the keywords, in --help order
 };
 
-const std::set<std::string> kToolOnly = {"input", "output", "overwrite", "ply", "quiet",
-                                         "truth", "truth_var", "result"};
-
 FunctionOptions MakeOptions(const std::string& command, std::set<std::string> left_out) {
   FunctionOptions options;
   options.command = command;
@@ -282,7 +279,7 @@ FunctionOptions MakeOptions(const std::string& command, std::set<std::string> le
 // printing, and K and cameras (arguments).
 const FunctionOptions& ReconstructOptionsOf() {
   static const FunctionOptions options = [] {
-    std::set<std::string> left_out = kToolOnly;
+    std::set<std::string> left_out = tools::ToolOnlyFlags();
     left_out.insert({"var", "mask_var", "format", "K", "cameras"});
     return MakeOptions("reconstruct", left_out);
   }();
@@ -873,8 +870,10 @@ Tracks Read(py::handle path_object, const py::kwargs& kwargs) {
     ThrowValueError("--cameras must be >= 1 (or 0: from the file), got " +
                     std::to_string(flags.cameras));
   }
+  InputOptions input;
+  Check(tools::BuildInputOptions(flags, &input));
   Measurements m;
-  const Status status = ReadMeasurements(path, tools::BuildInputOptions(flags), &m);
+  const Status status = ReadMeasurements(path, input, &m);
   if (!status.ok()) ThrowFileError(path, status);
   return TracksOf(m);
 }

@@ -120,9 +120,8 @@ void AlternateFromRigid(const Measurements& centered, int num_bases,
             << std::sqrt(cost / centered.NumVisible());
     if (!(previous - cost > kStopRelativeDecrease * previous)) break;
   }
-  summary->final_rms = std::sqrt(cost / centered.NumVisible());
   VLOG(1) << "alternation: K = " << k << ", rigid RMS " << summary->rigid_rms
-          << ", after " << rounds << " rounds " << summary->final_rms;
+          << ", after " << rounds << " rounds " << std::sqrt(cost / centered.NumVisible());
 }
 
 }  // namespace nrsfm

@@ -21,8 +21,8 @@
 //      frame's cost. Rounds stop early when the cost drops by less than
 //      1e-10 (relative).
 // Every step is an exact minimiser or a step kept only when it helps, so the
-// cost never increases: final_rms ≤ rigid_rms (up to the 1e-12 relative
-// damping of the linear solves). δT_t corrects the centring of frames with
+// cost never increases: the returned model's RMS is at most rigid_rms (up to
+// the 1e-12 relative damping of the linear solves). δT_t corrects the centring of frames with
 // missing entries; it stays 0 for a frame that sees every point.
 #ifndef NRSFM_SOLVERS_ALTERNATION_H_
 #define NRSFM_SOLVERS_ALTERNATION_H_
@@ -47,7 +47,6 @@ struct AlternationOptions {
 
 struct AlternationSummary {
   double rigid_rms = 0.0;  // RMS over visible entries of the step-1 model, input units
-  double final_rms = 0.0;  // … of the returned model
 };
 
 // What every start built on the alternation needs: one camera (CHECKed),

@@ -38,29 +38,31 @@ constexpr double kLinkAlignment = 1.5;
 constexpr double kMinLinkedFraction = 0.9;
 
 // Levenberg–Marquardt over G (Ceres' defaults, first radius 1e4) with tight
-// tolerances. `exact`: dense QR of the one 2N × 9K Jacobian (accurate to the
-// last bits, for the final solve); otherwise its normal equations (half the
-// work, for the screening and the polish on a subset).
-ceres::Solver::Options TripleSolverOptions(int max_iterations, bool exact) {
+// tolerances.
+SolverOptions TripleSolverOptions(int max_iterations) {
   SolverOptions options;
   options.max_iterations = max_iterations;
   options.function_tolerance = 1e-14;
   options.gradient_tolerance = 1e-16;
   options.parameter_tolerance = 1e-14;
   options.initial_trust_region_radius = 1e4;
-  ceres::Solver::Options ceres_options = ToCeresOptions(options);
+  return options;
+}
+
+// The linear solver of a triple solve. `exact`: dense QR of the one
+// 2N × 9K Jacobian (accurate to the last bits, for the final solve);
+// otherwise its normal equations (half the work, for the screening and the
+// polish on a subset).
+void SetTripleLinearSolver(bool exact, ceres::Solver::Options* options) {
   if (exact) {
-    ceres_options.linear_solver_type = ceres::DENSE_QR;
+    options->linear_solver_type = ceres::DENSE_QR;
   } else {
-    ceres_options.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+    options->linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
     // The gauges (scale, rotation of G) make JᵀJ singular; the damping μ D,
     // μ = 1 / radius, keeps it positive definite only while the radius stays
     // far below 1 / (machine precision), so it is capped there.
-    ceres_options.max_trust_region_radius = 1e8;
+    options->max_trust_region_radius = 1e8;
   }
-  std::string invalid;
-  CHECK(ceres_options.IsValid(&invalid)) << invalid;  // fixed options
-  return ceres_options;
 }
 
 // The rows of Q̂ of at most `max_frames` frames spread evenly over the
@@ -79,15 +81,22 @@ Eigen::MatrixXd FrameSubset(const Eigen::MatrixXd& q_hat, int max_frames) {
   return rows;
 }
 
-// Runs LM on G from its value over the frames of `rows` (TripleSolverOptions);
-// the cost per frame
-// (Ceres cost / N), infinity when the solve fails or G is not finite.
+// Runs LM on G from its value over the frames of `rows` (TripleSolverOptions,
+// SetTripleLinearSolver); the cost per frame (Ceres cost / N), infinity when
+// the solve fails or G is not finite.
 double SolveTriple(const Eigen::MatrixXd& rows, int max_iterations, bool exact,
                    Eigen::MatrixXd* g) {
   ceres::Problem problem;
   problem.AddResidualBlock(OrthonormalityError::Create(rows), nullptr, g->data());
   ceres::Solver::Summary summary;
-  ceres::Solve(TripleSolverOptions(max_iterations, exact), &problem, &summary);
+  const Status status = SolveCeres(
+      TripleSolverOptions(max_iterations),
+      [exact](ceres::Solver::Options* options) {
+        SetTripleLinearSolver(exact, options);
+        return Status::OK();
+      },
+      &problem, &summary);
+  CHECK(status.ok()) << status.message();  // fixed options
   if (!summary.IsSolutionUsable() || !g->allFinite()) {
     return std::numeric_limits<double>::infinity();
   }
@@ -255,11 +264,11 @@ Status RotationsFromTriple(const Measurements& centered, int num_bases,
   for (int t = 1; t < f; ++t) {
     if (std::abs(alignment(t)) >= kLinkAlignment) ++links;
   }
-  summary->temporal_signs = f >= 2 && links >= kMinLinkedFraction * (f - 1);
+  const bool temporal_signs = f >= 2 && links >= kMinLinkedFraction * (f - 1);
   std::vector<int> segment_start = {0};
   for (int t = 1; t < f; ++t) {
     const double a = alignment(t);  // against the (possibly turned) frame t − 1
-    if (summary->temporal_signs && std::abs(a) >= kLinkAlignment) {
+    if (temporal_signs && std::abs(a) >= kLinkAlignment) {
       if (a < 0.0) (*rotations)[t] = half_turn * (*rotations)[t];
     } else {
       segment_start.push_back(t);

@@ -18,11 +18,12 @@
 // within kTripleEqualCost per frame of the lowest count as equal (on
 // noise-free data every exact triple has cost ~1e-20): of those the triple
 // whose scale c_t stays furthest from zero is kept (a triple whose weight
-// passes near zero in some frame gives a poorly determined rotation there). On the real sequences of docs/priors.md a
-// start that ends in the global minimum is already among the lowest after
-// the screening (it converges in few iterations; starts bound for a local
-// minimum take 50–200). G is found up to G → α G U (scale, rotation,
-// reflection: the global gauges).
+// passes near zero in some frame gives a poorly determined rotation there).
+// The screening relies on a start bound for the global minimum converging in
+// far fewer iterations than one bound for a local minimum, so that it is
+// among the lowest after the screening (measured on the real sequences in
+// docs/factorization.md, section 5). G is found up to G → α G U (scale,
+// rotation, reflection: the global gauges).
 //
 // The sign of c_t is not fixed by the constraints (−Π R_t is Π R'_t for R_t
 // turned by 180° about the optical axis, the frame reversed in depth).
@@ -46,8 +47,8 @@
 namespace nrsfm {
 
 // Starts of G screened by SolveCorrectiveTriple: the Tomasi-Kanade triple,
-// then random ones (on pickup, K = 12, about one random start in eight
-// reaches the global minimum).
+// then random ones (the share of random starts that reach the global
+// minimum is measured in docs/factorization.md, section 5).
 inline constexpr int kTripleStarts = 32;
 // Levenberg-Marquardt iterations of the screening, and its frames.
 inline constexpr int kTripleScreenIterations = 10;
@@ -62,8 +63,7 @@ inline constexpr double kTripleEqualCost = 1e-10;
 inline constexpr int kTripleMaxIterations = 200;
 
 struct CorrectiveTripleSummary {
-  bool temporal_signs = false;  // whether frames were linked in time
-  int sign_segments = 0;        // segments of one sign (F when not linked)
+  int sign_segments = 0;  // segments of one sign (F when not linked in time)
 };
 
 // `q_hat` is 2F × 3K (F ≥ 2, K ≥ 1). Fills `g` (3K × 3) with the start of

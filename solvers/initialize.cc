@@ -147,8 +147,10 @@ Status CenterData(const StartOptions& options, const Measurements& data,
 // The start on camera 0 (step 3 of the header) for a named method.
 struct CameraZeroStart {
   Model model;
-  bool indefinite = false;
-  int sign_segments = -1;  // triple start only
+  bool indefinite = false;              // the metric upgrade's H was clamped
+  double subblock_rank1_defect = -1.0;  // factorization start only
+  double rigid_rms = -1.0;              // rigid and triple starts only
+  int sign_segments = -1;               // triple start only
 };
 
 Status StartOnCameraZero(const StartOptions& options, const Measurements& camera0,
@@ -159,6 +161,7 @@ Status StartOnCameraZero(const StartOptions& options, const Measurements& camera
       NRSFM_RETURN_IF_ERROR(
           FactorizationStart(camera0, options.num_bases, &start->model, &summary));
       start->indefinite = summary.metric_upgrade_was_indefinite;
+      start->subblock_rank1_defect = summary.mean_subblock_rank1_defect;
       return Status::OK();
     }
     case StartMethod::kRigid: {
@@ -166,6 +169,7 @@ Status StartOnCameraZero(const StartOptions& options, const Measurements& camera
       NRSFM_RETURN_IF_ERROR(RigidStart(camera0, options.num_bases, options.alternation,
                                        options.seed, &start->model, &summary));
       start->indefinite = summary.metric_upgrade_was_indefinite;
+      start->rigid_rms = summary.alternation.rigid_rms;
       return Status::OK();
     }
     case StartMethod::kTriple: {
@@ -173,6 +177,7 @@ Status StartOnCameraZero(const StartOptions& options, const Measurements& camera
       NRSFM_RETURN_IF_ERROR(TripleStart(camera0, options.num_bases, options.alternation,
                                         options.seed, num_threads, &start->model,
                                         &summary));
+      start->rigid_rms = summary.alternation.rigid_rms;
       start->sign_segments = summary.triple.sign_segments;
       return Status::OK();
     }
@@ -258,7 +263,8 @@ Status Initialize(const StartOptions& options, const Measurements& measurements,
 
   summary->method = options.method;
   summary->reprojection_rms = ReprojectionRms(measurements, result);
-  summary->metric_upgrade_was_indefinite = start.indefinite;
+  summary->subblock_rank1_defect = start.subblock_rank1_defect;
+  summary->rigid_rms = start.rigid_rms;
   summary->triple_sign_segments = start.sign_segments;
   if (start.sign_segments > 1 && start.sign_segments < measurements.num_frames) {
     summary->warnings.push_back(

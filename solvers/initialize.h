@@ -66,11 +66,20 @@ struct StartSummary {
   StartMethod method = StartMethod::kFactorization;  // the start computed
   double reprojection_rms = 0;  // RMS 2-D distance over visible entries, input units
   double completion_rms = -1;   // fit residual RMS of the low-rank completion on visible entries, -1 if data complete
-  bool metric_upgrade_was_indefinite = false;  // H had an eigenvalue clamped (solvers/metric_upgrade.h)
+  // Factorization start: mean σ₂/σ₁ of the reordered per-frame blocks, how
+  // much its rank-1 step discards (solvers/factorization_start.h); -1 for
+  // the other starts.
+  double subblock_rank1_defect = -1;
+  // Rigid and triple starts: RMS over camera 0's visible entries of the rigid
+  // model the alternation starts from (solvers/alternation.h), input units;
+  // -1 for the factorization start.
+  double rigid_rms = -1;
   // Triple start: segments of frames with one rotation sign (1 = every frame
   // linked in time; F = one decision per frame; solvers/corrective_triple.h);
   // -1 for the other starts. 1 < segments < F adds a warning.
   int triple_sign_segments = -1;
+  // A start with fewer bases than K, a triple start split into sign
+  // segments, a metric upgrade whose H was clamped (the depth is unreliable).
   std::vector<std::string> warnings;
   double seconds = 0;  // wall time of Initialize
 };

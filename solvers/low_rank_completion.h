@@ -33,9 +33,8 @@
 //   far from the data while the visible residual barely moves; with it they
 //   stay near the smallest-norm completion. On noise-free data it biases an
 //   exactly determined completion by about ridge_floor² relative (measured
-//   on 30 % missing at random, data RMS 0.3, ridge_floor 5e-4: RMS error
-//   5e-8, largest 3e-7);
-//   ridge_floor = 0 gives an exact fit.
+//   in docs/factorization.md, section 1); ridge_floor = 0 gives an exact
+//   fit.
 //   Every normal matrix N also gets a Tikhonov term `damping · tr(N) / n`
 //   on its diagonal so that a rank-deficient row or column cannot produce
 //   Inf/NaN.

@@ -96,9 +96,9 @@ void DecideVideoPriors(const PriorRuleOptions& options,
   decision->track_step = MedianTrackStep(measurements);
   decision->track_order = TrackOrder(measurements);
   decision->video = decision->track_order >= options.min_track_order;
-  decision->basis_absorbs_rotation =
+  const bool basis_absorbs_rotation =
       3.0 * num_bases >= options.min_basis_fraction * measurements.num_points;
-  if (decision->video && decision->basis_absorbs_rotation) {
+  if (decision->video && basis_absorbs_rotation) {
     decision->term_weights[kTemporalShapeTerm] = options.temporal_shape_weight;
   }
 }
@@ -107,10 +107,10 @@ void DecidePathPrior(const PriorRuleOptions& options, const Model& start,
                      PriorDecision* decision) {
   if (decision->term_weights.count(kTemporalShapeTerm) == 0) return;
   decision->path_acceleration_deg = PathAccelerationDeg(start);
-  decision->constant_angular_velocity =
+  const bool constant_angular_velocity =
       decision->path_acceleration_deg >= 0.0 &&
       decision->path_acceleration_deg < options.max_path_acceleration_deg;
-  if (decision->constant_angular_velocity) {
+  if (constant_angular_velocity) {
     decision->term_weights[kRotationAccelerationTerm] =
         options.rotation_acceleration_weight;
   }

@@ -9,16 +9,11 @@
 //    frames than between neighbours, while frames in no order (independent
 //    views, random rotations or deformations) are as far apart at every lag.
 //    The track order is max over L = 2, 4, 8, … ≤ F/2 of m_L / m_1, and the
-//    frames are a video when it is at least min_track_order. Frames in no
-//    order are as far apart at every lag (the medians agree to a few % for
-//    F ≥ 100); noise adds the same to every m_L, so a noisy video shows its
-//    order only at long lags. Measured (docs/priors.md): the four motion
-//    capture sequences 14–23 (face 14.0), frames in random order 0.96–1.0,
-//    the random-basis data (smooth rotations, deformation drawn anew in
-//    every frame) 1.40; the Akhter et al. sequences re-projected under a
-//    120° orbit with noise of 1 / 3 / 5 % of the image size 5.0–7.5 /
-//    1.9–2.7 / 1.4–1.8 (face 17.7 / 7.0 / 4.4). m_1 / spread (track_step)
-//    is reported as a diagnostic.
+//    frames are a video when it is at least min_track_order. Noise adds the
+//    same to every m_L, so a noisy video shows its order only at long lags.
+//    The track order of real, shuffled, synthetic and noisy re-projected
+//    sequences is measured in docs/priors.md. m_1 / spread (track_step) is
+//    reported as a diagnostic.
 // 2. Can the basis absorb a rotation error? When 3K ≥ min_basis_fraction · P
 //    the shape space spans most of what P points can do, and a slow drift of
 //    the rotations is fitted as well by the basis: the rotations drift by
@@ -26,8 +21,8 @@
 //    A video with such a basis gets the shape's smoothness in time
 //    (temporal_shape, at temporal_shape_weight), which ties the object frame
 //    over the sequence. With fewer bases the data fix the rotations and the
-//    term would only bias the shapes (superquadric data, P = 60, K = 4:
-//    e3D 4e-11 without it, 0.09 with it), so none is added.
+//    term would only bias the shapes (measured in docs/priors.md), so none
+//    is added.
 // 3. Does the camera move at constant angular velocity? Asked only when
 //    the temporal_shape term is on (2.). The start's camera path (camera 0):
 //    with a_L the median over t of
@@ -36,9 +31,8 @@
 //    rotations from frame to frame (noise in the tracks) adds about a_1 to
 //    a_1 and a_1 / L² to a_L, so the difference keeps the acceleration of the
 //    path itself. When it is below max_path_acceleration_deg (a turntable or
-//    an orbiting rig: the starts of the Akhter et al. sequences, exactly
-//    constant, measure 0.003–0.03 °/frame², with noise of 1–5 % of the
-//    image size up to 0.04; the real path of face 0.33), the refinement
+//    an orbiting rig; the starts' values on constant and real camera paths,
+//    with and without noise, are measured in docs/priors.md), the refinement
 //    keeps it constant with the rotation_acceleration term at
 //    rotation_acceleration_weight, strong enough to act as a constraint.
 //    Without it the rotations of such data drift by several degrees over the
@@ -71,11 +65,12 @@ struct PriorRuleOptions {
 struct PriorDecision {
   double track_step = -1;   // m_1 / spread; -1 when F < 2 or no frame pair shares a point
   double track_order = -1;  // max_L m_L / m_1; -1 when F < 8 or m_1 is not defined or 0
-  bool video = false;
-  bool basis_absorbs_rotation = false;  // 3K ≥ min_basis_fraction · P
+  bool video = false;        // track_order ≥ min_track_order
   double path_acceleration_deg = -1;  // a_4 − a_1 / 16 of the start; -1 when not measured (no temporal_shape, F < 9)
-  bool constant_angular_velocity = false;
-  std::map<std::string, double> term_weights;  // the weights chosen (empty: none)
+  // The weights chosen (empty: none): temporal_shape when a video's basis
+  // absorbs rotation (fact 2), rotation_acceleration when its path has
+  // constant angular velocity (fact 3).
+  std::map<std::string, double> term_weights;
 };
 
 // Diagnostic (track_step for L = 1): m_L / spread, the median track motion

@@ -46,7 +46,7 @@ Status ReconstructOptions::Check() const {
 namespace {
 
 // One start followed by its refinement. With priors = auto the start's
-// camera path decides the path prior (`decision` holds the video decision).
+// camera path decides the path prior (`video` holds the video decision).
 Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
                       const Measurements& measurements, const PriorDecision& video,
                       ReconstructResult* result) {

@@ -77,9 +77,9 @@ inline constexpr double kLittleRotationDeg = 60.0;
 // - otherwise both the factorization and the rigid starts are refined and
 //   the lower refined cost is kept (a usable solution before an unusable
 //   one). A start's own reprojection error does not tell which basin it is
-//   in: on superquadric data (F = 80, P = 60, K = 4) the rigid start fits
-//   better (RMS 0.003 vs 0.046) but refines to e3D 0.79, the factorisation
-//   start to e3D 4e-11. Costs one extra refinement.
+//   in: the start that fits the tracks better can refine to the worse
+//   result (measured in docs/factorization.md, section 7). Costs one extra
+//   refinement.
 // result->start.method says which start was kept.
 // Points and frames with too few observations for the start are first left
 // out (solvers/drop_unobserved.h): the rest is reconstructed as above and

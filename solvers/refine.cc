@@ -187,21 +187,21 @@ Status SolveProblem(const SolverOptions& options, ProblemBuilder* builder,
     if (!solved) choice = LinearSolverChoice::kIterativeSchur;
   }
   if (!solved) {
-    ceres::Solver::Options solver_options = ToCeresOptions(options);
     ProgressCallback callback(options);
-    solver_options.callbacks.push_back(&callback);
-    LinearSolverChoice used = LinearSolverChoice::kAuto;
-    NRSFM_RETURN_IF_ERROR(ConfigureLinearSolver(choice, builder, &solver_options, &used)
-                              .WithContext("refine"));
-    summary->linear_solver = LinearSolverName(used);
-    std::string invalid;
-    if (!solver_options.IsValid(&invalid)) {
-      return Status::Error("refine: invalid Ceres options: " + invalid);
-    }
-    summary->build_seconds = SecondsSince(start);
-
     ceres::Solver::Summary ceres_summary;
-    ceres::Solve(solver_options, builder->problem(), &ceres_summary);
+    NRSFM_RETURN_IF_ERROR(
+        SolveCeres(options,
+                   [&](ceres::Solver::Options* solver_options) {
+                     solver_options->callbacks.push_back(&callback);
+                     LinearSolverChoice used = LinearSolverChoice::kAuto;
+                     NRSFM_RETURN_IF_ERROR(
+                         ConfigureLinearSolver(choice, builder, solver_options, &used));
+                     summary->linear_solver = LinearSolverName(used);
+                     summary->build_seconds = SecondsSince(start);
+                     return Status::OK();
+                   },
+                   builder->problem(), &ceres_summary)
+            .WithContext("refine"));
     callback.ReportRemaining(ceres_summary);
 
     summary->stopped = callback.stopped();

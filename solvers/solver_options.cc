@@ -1,5 +1,9 @@
 #include "solvers/solver_options.h"
 
+#include <string>
+
+#include <glog/logging.h>
+
 #include "core/option_checker.h"
 
 namespace nrsfm {
@@ -31,6 +35,20 @@ ceres::Solver::Options ToCeresOptions(const SolverOptions& options) {
   ceres_options.logging_type = ceres::SILENT;
   ceres_options.minimizer_progress_to_stdout = false;
   return ceres_options;
+}
+
+Status SolveCeres(const SolverOptions& options,
+                  const std::function<Status(ceres::Solver::Options*)>& configure,
+                  ceres::Problem* problem, ceres::Solver::Summary* summary) {
+  CHECK(problem != nullptr && summary != nullptr);
+  ceres::Solver::Options ceres_options = ToCeresOptions(options);
+  NRSFM_RETURN_IF_ERROR(configure(&ceres_options));
+  std::string invalid;
+  if (!ceres_options.IsValid(&invalid)) {
+    return Status::Error("invalid Ceres options: " + invalid);
+  }
+  ceres::Solve(ceres_options, problem, summary);
+  return Status::OK();
 }
 
 }  // namespace nrsfm

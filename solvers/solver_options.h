@@ -1,12 +1,13 @@
 // How the one Ceres problem is solved: Levenberg–Marquardt with a linear
 // solver chosen from the problem's structure (problems/linear_solver_choice.h).
 // Refine() (solvers/refine.h) and the corrective triple's small solves
-// (solvers/corrective_triple.cc) both run Ceres through ToCeresOptions().
+// (solvers/corrective_triple.cc) both run Ceres through SolveCeres().
 #ifndef NRSFM_SOLVERS_SOLVER_OPTIONS_H_
 #define NRSFM_SOLVERS_SOLVER_OPTIONS_H_
 
 #include <functional>
 
+#include <ceres/problem.h>
 #include <ceres/solver.h>
 
 #include "core/status.h"
@@ -61,6 +62,15 @@ struct SolverOptions {
 // default: set it with ConfigureLinearSolver (problems/
 // linear_solver_choice.h) or directly; progress and verbosity are Refine()'s.
 ceres::Solver::Options ToCeresOptions(const SolverOptions& options);
+
+// Solves `problem` with ToCeresOptions(options), on which `configure` sets
+// what SolverOptions does not hold (the linear solver and its ordering,
+// callbacks, …): the options are checked (ceres::Solver::Options::IsValid)
+// before ceres::Solve. Errors with the error of `configure`, or "invalid
+// Ceres options: <reason>"; `summary` is Ceres' own.
+Status SolveCeres(const SolverOptions& options,
+                  const std::function<Status(ceres::Solver::Options*)>& configure,
+                  ceres::Problem* problem, ceres::Solver::Summary* summary);
 
 }  // namespace nrsfm
 

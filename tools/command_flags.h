@@ -33,7 +33,8 @@
   X(std::string, mask_var, ::nrsfm::InputOptions().mask_variable,                \
     "reconstruct, view: optional visibility-mask variable of a .mat input "      \
     "(nonzero = visible).")                                                      \
-  X(std::string, format, ::nrsfm::InputOptions().format,                         \
+  X(std::string, format,                                                         \
+    ::nrsfm::InputFormatName(::nrsfm::InputOptions().format),                    \
     "reconstruct, view: input format auto|mat|text|list.")                       \
   X(int, cameras, ::nrsfm::InputOptions().num_cameras,                           \
     "reconstruct: number of synchronised cameras M of a W input with 2FM rows; " \
@@ -55,9 +56,10 @@
     "reconstruct: replace an earlier result directory; view: replace the page.") \
   X(bool, ply, false, "reconstruct: also write one PLY file per frame.")         \
   X(std::string, init, ::nrsfm::StartMethodName(::nrsfm::StartOptions().method), \
-    "reconstruct: start auto|factorization|rigid|triple (auto: the triple "      \
-    "start for a video with 3K >= P/2, else the factorization and rigid "        \
-    "starts both refined, the lower cost kept; docs/priors.md).")                \
+    "reconstruct: start auto|factorization|rigid|triple (auto: with --priors "   \
+    "auto, the triple start for a video with 3K >= P/2; otherwise the "          \
+    "factorization and rigid starts both refined, the lower cost kept; "         \
+    "docs/priors.md).")                                                          \
   X(std::string, priors,                                                         \
     ::nrsfm::PriorModeName(::nrsfm::ReconstructOptions().priors),                \
     "reconstruct: auto|manual. auto chooses the temporal terms from the data "   \

@@ -49,9 +49,10 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
     }
   }
 
+  InputOptions input_options;
+  NRSFM_RETURN_IF_ERROR(BuildInputOptions(flags, &input_options));
   Measurements measurements;
-  NRSFM_RETURN_IF_ERROR(
-      ReadMeasurements(flags.input, BuildInputOptions(flags), &measurements));
+  NRSFM_RETURN_IF_ERROR(ReadMeasurements(flags.input, input_options, &measurements));
   NRSFM_RETURN_IF_ERROR(CheckTermCameras(flags, flags.input, measurements.num_cameras));
 
   GroundTruth truth;

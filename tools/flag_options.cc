@@ -1,8 +1,10 @@
 #include "tools/flag_options.h"
 
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <iomanip>
+#include <set>
 #include <sstream>
 
 #include <Eigen/Core>
@@ -52,11 +54,28 @@ Status CheckFinite(const char* flag, double value) {
   return Status::OK();
 }
 
+// The Check() of default `Options` with one flag's value set by `set`, its
+// error under the flag's name: the library owns the rule, the message names
+// the flag the value came from.
+template <typename Options, typename Set>
+Status CheckFlag(const std::string& flag, Set set) {
+  Options options;
+  set(&options);
+  return options.Check().WithContext("--" + flag);
+}
+
 std::string FormatDouble(double value) {
   std::ostringstream s;
   s << std::setprecision(6) << value;
   return s.str();
 }
+
+// A flag's value as result.json's "options" write it.
+std::string FlagText(const std::string& value) { return value; }
+std::string FlagText(int value) { return std::to_string(value); }
+std::string FlagText(std::uint64_t value) { return std::to_string(value); }
+std::string FlagText(double value) { return FormatDouble(value); }
+std::string FlagText(bool value) { return value ? "true" : "false"; }
 
 }  // namespace
 
@@ -136,31 +155,22 @@ Status BuildReconstructOptions(const CommandFlags& flags, ReconstructOptions* op
           .WithContext("--linear_solver"));
   NRSFM_RETURN_IF_ERROR(ParsePriorMode(flags.priors, &options->priors)
                             .WithContext("--priors"));
-  // One flag per extra term (problems/extra_terms.h).
+  // One flag per extra term (problems/extra_terms.h); 0 leaves the term out.
+  // The cameras a term needs are checked once the input is read
+  // (CheckTermCameras).
   const std::vector<ExtraTerm>& terms = ExtraTerms();
   for (std::size_t i = 0; i < terms.size(); ++i) {
-    const std::string flag = std::string("--") + terms[i].flag;
     const double weight = flags.term_weights[i];
-    if (!(std::isfinite(weight) && weight >= 0.0)) {
-      return Status::Error(flag + " must be a finite number >= 0, got " +
-                           FormatDouble(weight));
-    }
-    // --cameras 0 (from the file) is checked once the file is read.
-    if (weight > 0.0 && flags.cameras != 0 && flags.cameras < terms[i].min_cameras) {
-      return Status::Error(flag + " needs synchronised cameras: --cameras must be >= " +
-                           std::to_string(terms[i].min_cameras) + ", got " +
-                           std::to_string(flags.cameras));
-    }
-    if (weight > 0.0) options->problem.term_weights[terms[i].name] = weight;
+    if (weight == 0.0) continue;
+    NRSFM_RETURN_IF_ERROR(CheckFlag<ProblemOptions>(
+        terms[i].flag, [&](ProblemOptions* o) { o->term_weights[terms[i].name] = weight; }));
+    options->problem.term_weights[terms[i].name] = weight;
   }
   if (flags.K == "auto") {
-    if (flags.K_max < 2) {
-      return Status::Error("--K_max must be >= 2, got " + std::to_string(flags.K_max));
-    }
-    if (!(std::isfinite(flags.K_threshold) && flags.K_threshold >= 1.0)) {
-      return Status::Error("--K_threshold must be a finite number >= 1, got " +
-                           FormatDouble(flags.K_threshold));
-    }
+    NRSFM_RETURN_IF_ERROR(CheckFlag<SelectNumBasesOptions>(
+        "K_max", [&](SelectNumBasesOptions* o) { o->max_num_bases = flags.K_max; }));
+    NRSFM_RETURN_IF_ERROR(CheckFlag<SelectNumBasesOptions>(
+        "K_threshold", [&](SelectNumBasesOptions* o) { o->threshold = flags.K_threshold; }));
   }
   // A weight given on the command line is a manual choice of the terms.
   if (!options->problem.term_weights.empty()) options->priors = PriorMode::kManual;
@@ -171,25 +181,21 @@ Status BuildReconstructOptions(const CommandFlags& flags, ReconstructOptions* op
   return options->Check();
 }
 
-InputOptions BuildInputOptions(const CommandFlags& flags) {
-  InputOptions input;
-  input.variable = flags.var;
-  input.mask_variable = flags.mask_var;
-  input.num_cameras = flags.cameras;
-  input.format = flags.format;
-  return input;
+Status BuildInputOptions(const CommandFlags& flags, InputOptions* input) {
+  *input = InputOptions();
+  input->variable = flags.var;
+  input->mask_variable = flags.mask_var;
+  input->num_cameras = flags.cameras;
+  return ParseInputFormat(flags.format, &input->format).WithContext("--format");
 }
 
 Status CheckTermCameras(const CommandFlags& flags, const std::string& input,
                         int num_cameras) {
   const std::vector<ExtraTerm>& terms = ExtraTerms();
   for (std::size_t i = 0; i < terms.size(); ++i) {
-    if (flags.term_weights[i] > 0.0 && num_cameras < terms[i].min_cameras) {
-      return Status::Error(std::string("--") + terms[i].flag +
-                           " needs synchronised cameras: M must be >= " +
-                           std::to_string(terms[i].min_cameras) + ", but " + input +
-                           " has M = " + std::to_string(num_cameras));
-    }
+    if (!(flags.term_weights[i] > 0.0)) continue;
+    NRSFM_RETURN_IF_ERROR(terms[i].CheckCameras(num_cameras)
+                              .WithContext(input + ": --" + terms[i].flag));
   }
   return Status::OK();
 }
@@ -225,26 +231,26 @@ Status RunReconstruction(const CommandFlags& flags, const ReconstructOptions& op
   return context.empty() ? status : status.WithContext(context);
 }
 
+const std::set<std::string>& ToolOnlyFlags() {
+  static const std::set<std::string> names = {"input", "output", "overwrite", "ply",
+                                              "quiet", "truth", "truth_var", "result"};
+  return names;
+}
+
 std::vector<std::pair<std::string, std::string>> OptionList(const CommandFlags& flags,
                                                             int num_bases) {
   std::vector<std::pair<std::string, std::string>> list = {
-      {"K", std::to_string(num_bases)},
-      {"K_flag", flags.K},
-      {"var", flags.var},
-      {"mask_var", flags.mask_var},
-      {"format", flags.format},
-      {"cameras", std::to_string(flags.cameras)},
-      {"init", flags.init},
-      {"priors", flags.priors}};
+      {"K", std::to_string(num_bases)}, {"K_flag", flags.K}};
+#define NRSFM_ADD_OPTION(type, name, value, help)                                   \
+  if (std::string(#name) != "K" && ToolOnlyFlags().count(#name) == 0 &&             \
+      !FlagHelpFor(help, "reconstruct").empty()) {                                  \
+    list.emplace_back(#name, FlagText(flags.name));                                 \
+  }
+  NRSFM_COMMAND_FLAGS(NRSFM_ADD_OPTION)
+#undef NRSFM_ADD_OPTION
   for (std::size_t i = 0; i < ExtraTerms().size(); ++i) {
     list.emplace_back(ExtraTerms()[i].flag, FormatDouble(flags.term_weights[i]));
   }
-  list.insert(list.end(), {{"robust", flags.robust},
-                           {"robust_scale", FormatDouble(flags.robust_scale)},
-                           {"max_iterations", std::to_string(flags.max_iterations)},
-                           {"threads", std::to_string(flags.threads)},
-                           {"linear_solver", flags.linear_solver},
-                           {"seed", std::to_string(flags.seed)}});
   return list;
 }
 
@@ -275,7 +281,12 @@ ReconstructionReport MakeReport(const CommandFlags& flags, const std::string& in
                         {"track_order", result.priors.track_order},
                         {"path_acceleration_deg", result.priors.path_acceleration_deg},
                         {"largest_view_angle_deg", result.largest_view_angle_deg},
-                        {"refine_converged", result.refine.converged ? 1.0 : 0.0}};
+                        {"refine_converged", result.refine.converged ? 1.0 : 0.0},
+                        {"start_completion_rms", result.start.completion_rms},
+                        {"start_subblock_rank1_defect", result.start.subblock_rank1_defect},
+                        {"start_rigid_rms", result.start.rigid_rms},
+                        {"start_triple_sign_segments",
+                         static_cast<double>(result.start.triple_sign_segments)}};
   if (!result.refine.usable) {
     report.warnings.push_back("refinement not usable: " + result.refine.message);
   }
@@ -393,24 +404,25 @@ Status Synthesize(const CommandFlags& flags, SyntheticSequence* sequence) {
   }
   NRSFM_RETURN_IF_ERROR(CheckFinite("noise", flags.noise));
   NRSFM_RETURN_IF_ERROR(CheckFinite("missing", flags.missing));
+  // --frames, --noise, --missing and --seed of the random and superquadric data.
+  const auto set_sequence = [&flags](SmoothSequenceOptions* o) {
+    if (flags.frames != -1) o->num_frames = flags.frames;
+    o->noise_stddev = flags.noise;
+    o->missing_fraction = flags.missing;
+    o->seed = flags.seed;
+  };
   if (flags.dataset == "random") {
     RandomBasisOptions o;
-    if (flags.frames != -1) o.num_frames = flags.frames;
+    set_sequence(&o);
     if (flags.points != -1) o.num_points = flags.points;
     if (k != -1) o.num_bases = k;
-    o.noise_stddev = flags.noise;
-    o.missing_fraction = flags.missing;
-    o.seed = flags.seed;
     return GenerateRandomBasis(o, sequence);
   }
   if (flags.dataset == "superquadric") {
     if (k != -1) return Status::Error("--K is fixed (4) for the superquadric dataset");
     SuperquadricOptions o;
-    if (flags.frames != -1) o.num_frames = flags.frames;
+    set_sequence(&o);
     if (flags.points != -1) o.num_points = flags.points;
-    o.noise_stddev = flags.noise;
-    o.missing_fraction = flags.missing;
-    o.seed = flags.seed;
     return GenerateSuperquadric(o, sequence);
   }
   if (flags.dataset == "shoe") {

@@ -6,6 +6,7 @@
 #ifndef NRSFM_TOOLS_FLAG_OPTIONS_H_
 #define NRSFM_TOOLS_FLAG_OPTIONS_H_
 
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -47,15 +48,18 @@ Status ParseNumBasesFlag(const std::string& value, bool* auto_k, int* num_bases)
 // Every reconstruct flag that sets a library option (--init, --priors,
 // --robust, --robust_scale, --linear_solver, --max_iterations, --threads,
 // --seed and the extra terms' weights; with --K auto it checks --K_max and
-// --K_threshold, which RunReconstruction reads). Errors name the flag and
-// value.
+// --K_threshold, which RunReconstruction reads). The library's Check()
+// judges every value; its errors come under the flag's name, e.g.
+// "--K_max: K selection: max_num_bases must be >= 2, got 1".
 Status BuildReconstructOptions(const CommandFlags& flags, ReconstructOptions* options);
 
-// --var, --mask_var, --format and --cameras.
-InputOptions BuildInputOptions(const CommandFlags& flags);
+// --var, --mask_var, --format and --cameras; errors on an unknown --format.
+Status BuildInputOptions(const CommandFlags& flags, InputOptions* input);
 
 // After the input is read: every term given a weight has the cameras it
-// needs; `input` names the input in the message.
+// needs (ExtraTerm::CheckCameras); the error names `input` and the flag,
+// e.g. "s.mat: --rigidity: needs data from M >= 2 synchronised cameras, got
+// M = 1".
 Status CheckTermCameras(const CommandFlags& flags, const std::string& input,
                         int num_cameras);
 
@@ -79,8 +83,16 @@ Status RunReconstruction(const CommandFlags& flags, const ReconstructOptions& op
                          const Measurements& measurements, const std::string& context,
                          ReconstructionRun* run);
 
-// The flags a reconstruction used, as result.json's "options"; `cameras`
-// is the flag as given.
+// The flags about the tool's own files and printing (input, output,
+// overwrite, ply, quiet, truth, truth_var, result): not options of a
+// reconstruction, so neither in result.json's "options" nor keywords of the
+// Python module.
+const std::set<std::string>& ToolOnlyFlags();
+
+// The flags a reconstruction used, as result.json's "options": K (the K
+// used) and K_flag (as given), every other flag of NRSFM_COMMAND_FLAGS that
+// serves reconstruct and is not in ToolOnlyFlags() (in that list's order,
+// as given: `cameras` 0 = from the file), then the extra terms' weights.
 std::vector<std::pair<std::string, std::string>> OptionList(const CommandFlags& flags,
                                                             int num_bases);
 

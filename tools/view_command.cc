@@ -19,7 +19,8 @@ Status RunView(const CommandFlags& flags, std::ostream& out) {
   options.input_path = flags.input;
   options.input_variable = flags.var;
   options.input_mask_variable = flags.mask_var;
-  options.input_format = flags.format;
+  NRSFM_RETURN_IF_ERROR(
+      ParseInputFormat(flags.format, &options.input_format).WithContext("--format"));
   ViewData data;
   NRSFM_RETURN_IF_ERROR(GatherViewData(options, &data));
   const std::string html =

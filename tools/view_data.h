@@ -23,6 +23,7 @@
 #include <Eigen/Core>
 
 #include "core/metrics.h"
+#include "core/read_measurements.h"
 #include "core/status.h"
 
 namespace nrsfm {
@@ -36,7 +37,7 @@ struct ViewDataOptions {
   // The 2D tracks the result was reconstructed from (any input format of
   // core/read_measurements.h); "" = none. Read with the result's M cameras.
   std::string input_path, input_variable, input_mask_variable;
-  std::string input_format = "auto";
+  InputFormat input_format = InputFormat::kAuto;
 };
 
 struct ViewData {

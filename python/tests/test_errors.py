@@ -26,13 +26,15 @@ OPTION_ERRORS = [
     ({"robust": "tukey"}, ["--robust", "tukey"], None),
     ({"linear_solver": "magic"}, ["--linear_solver", "magic"], None),
     ({"priors": "some"}, ["--priors", "some"], None),
-    ({"temporal": -1.0}, ["--temporal", "-1"], "--temporal must be a finite number >= 0, got -1"),
+    ({"temporal": -1.0}, ["--temporal", "-1"],
+     "--temporal: problem options: term weight temporal_weights must be finite and >= 0, got -1"),
     ({"smoothness": float("nan")}, ["--smoothness", "nan"], None),
     ({"max_iterations": -1}, ["--max_iterations", "-1"], None),
     ({"threads": 0}, ["--threads", "0"], None),
-    ({"K_max": 1, "K": "auto"}, ["--K_max", "1", "--K", "auto"], "--K_max must be >= 2, got 1"),
+    ({"K_max": 1, "K": "auto"}, ["--K_max", "1", "--K", "auto"],
+     "--K_max: K selection: max_num_bases must be >= 2, got 1"),
     ({"K_threshold": 0.5, "K": "auto"}, ["--K_threshold", "0.5", "--K", "auto"],
-     "--K_threshold must be a finite number >= 1, got 0.5"),
+     "--K_threshold: K selection: threshold must be finite and >= 1, got 0.5"),
 ]
 
 
@@ -84,7 +86,7 @@ def bad_data():
         ("mask u and v differ", w, {"mask": np.eye(20, 8)}, "u and v of one view"),
         ("cameras 0", w, {"cameras": 0}, "cameras must be >= 1, got 0"),
         ("rigidity, one camera", w, {"rigidity": 1.0},
-         "--rigidity needs synchronised cameras: --cameras must be >= 2, got 1"),
+         "W: --rigidity: needs data from M >= 2 synchronised cameras, got M = 1"),
         ("too little left", np.where(np.arange(8) < 5, np.nan, w), {"K": 1},
          "too few observations for K = 1"),
     ]
@@ -200,8 +202,8 @@ def test_read_raises_value_error_for_bad_contents(tmp_path):
     (tmp_path / "w.dat").write_text("1 2\n3 4\n")
     (tmp_path / "w.txtx").write_text("1 2\n3 4\n")
     assert "cannot tell the input format" in message(nrsfm.read, tmp_path / "w.txtx")
-    assert "format must be auto, mat, text or list" in \
-        message(nrsfm.read, tmp_path / "w.dat", format="xml")
+    assert message(nrsfm.read, tmp_path / "w.dat", format="xml") == \
+        '--format: input format: unknown value "xml" (expected one of auto, mat, text, list)'
 
 
 def test_read_takes_the_cameras_from_the_file_and_names_both_counts(tmp_path):

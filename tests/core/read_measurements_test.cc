@@ -165,7 +165,7 @@ TEST(ReadMeasurements, TextAndListInputs) {
 
   std::ofstream(dir + "/w.data") << "0 0 0 1 2\n0 1 1 3 4\n";
   InputOptions list;
-  list.format = "list";
+  list.format = InputFormat::kList;
   ASSERT_EQ(Read(dir + "/w.data", list, &m), "OK");
   EXPECT_EQ(m.num_cameras, 2);
   EXPECT_EQ(m.NumVisible(), 2);
@@ -325,10 +325,15 @@ TEST(ReadMeasurements, BadInputsGiveClearErrors) {
   text_with_var.variable = "W";
   EXPECT_TRUE(Contains(Read(dir + "/w.txt", text_with_var, &m),
                        "can only be named for .mat input"));
+  InputFormat format = InputFormat::kAuto;
+  EXPECT_EQ(ParseInputFormat("xml", &format).message(),
+            "input format: unknown value \"xml\" (expected one of auto, mat, text, list)");
+  ASSERT_TRUE(ParseInputFormat("list", &format).ok());
+  EXPECT_EQ(format, InputFormat::kList);
+  EXPECT_STREQ(InputFormatName(InputFormat::kText), "text");
   InputOptions bad_format;
-  bad_format.format = "xml";
-  EXPECT_TRUE(Contains(Read(dir + "/w.txt", bad_format, &m),
-                       "format must be auto, mat, text"));
+  bad_format.format = static_cast<InputFormat>(7);
+  EXPECT_TRUE(Contains(Read(dir + "/w.txt", bad_format, &m), "invalid format 7"));
   InputOptions negative_cameras;  // 0 = from the file
   negative_cameras.num_cameras = -1;
   EXPECT_TRUE(Contains(negative_cameras.Check().message(),

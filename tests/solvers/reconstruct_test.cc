@@ -181,11 +181,9 @@ TEST(Reconstruct, VideoWithLargeBasisTakesTheTripleStartAndTemporalTerms) {
   ASSERT_TRUE(Reconstruct(options, video.measurements, &result).ok());
   ASSERT_TRUE(result.refine.usable);
   EXPECT_TRUE(result.priors.video);
-  EXPECT_TRUE(result.priors.basis_absorbs_rotation);
   EXPECT_GT(result.priors.track_order, 1.25);
   EXPECT_EQ(result.start.method, StartMethod::kTriple);
   EXPECT_EQ(result.priors.term_weights.count(kTemporalShapeTerm), 1u);
-  EXPECT_TRUE(result.priors.constant_angular_velocity);
   EXPECT_LT(result.priors.path_acceleration_deg, 0.1);
   EXPECT_EQ(result.priors.term_weights.count(kRotationAccelerationTerm), 1u);
   EXPECT_NEAR(result.largest_view_angle_deg, 150.0, 5.0);

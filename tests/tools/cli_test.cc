@@ -229,10 +229,11 @@ TEST_F(CliTest, ExtraTermFlags) {
   ASSERT_EQ(Run("synth --dataset shoe --frames 40 --cameras 2 --output s.mat").exit_code, 0);
   ASSERT_EQ(Run("synth --dataset shoe --frames 40 --output s1.mat").exit_code, 0);
   ExpectFailure("reconstruct --input s1.mat --K 2 --rigidity 10 --output o",
-                "--rigidity needs synchronised cameras: M must be >= 2, but s1.mat has M = 1",
+                "s1.mat: --rigidity: needs data from M >= 2 synchronised cameras, got M = 1",
                 "o");
-  ExpectFailure("reconstruct --input s.mat --K 2 --cameras 1 --rigidity 10 --output o",
-                "--rigidity needs synchronised cameras: --cameras must be >= 2, got 1", "o");
+  ExpectFailure("reconstruct --input s1.mat --K 2 --cameras 1 --rigidity 10 --output o",
+                "s1.mat: --rigidity: needs data from M >= 2 synchronised cameras, got M = 1",
+                "o");
   ExpectFailure("reconstruct --input s.mat --cameras 2 --K 2 --temporal -1 --output o",
                 ">= 0", "o");
   ExpectFailure("reconstruct --input s.mat --K 2 --temporal_shape -1 --output o", ">= 0", "o");

@@ -1,6 +1,8 @@
 // The steps the nrsfm tool and the Python module share (tools/flag_options.h).
 #include "tools/flag_options.h"
 
+#include <map>
+
 #include <gtest/gtest.h>
 
 namespace nrsfm {
@@ -38,14 +40,42 @@ TEST(BuildReconstructOptions, NamesTheFlagAndTheValue) {
       << BuildReconstructOptions(flags, &options).message();
   flags = CommandFlags();
   flags.term_weights[0] = -1.0;
+  // The rule is ProblemOptions::Check()'s; the message names the flag.
   EXPECT_EQ(BuildReconstructOptions(flags, &options).message(),
-            std::string("--") + ExtraTerms()[0].flag + " must be a finite number >= 0, got -1");
+            std::string("--") + ExtraTerms()[0].flag + ": problem options: term weight " +
+                ExtraTerms()[0].name + " must be finite and >= 0, got -1");
+  flags = CommandFlags();
+  flags.K = "auto";
+  flags.K_max = 1;
+  EXPECT_EQ(BuildReconstructOptions(flags, &options).message(),
+            "--K_max: K selection: max_num_bases must be >= 2, got 1");
   bool auto_k = false;
   int k = 0;
   EXPECT_EQ(ParseNumBasesFlag("0", &auto_k, &k).message(),
             "--K must be an integer >= 1 or 'auto', got '0'");
   ASSERT_TRUE(ParseNumBasesFlag("auto", &auto_k, &k).ok());
   EXPECT_TRUE(auto_k);
+}
+
+// result.json's "options" come from the one flag list and the term table:
+// every reconstruct flag but the tool's own files, once.
+TEST(OptionList, EveryReconstructFlagOnce) {
+  CommandFlags flags;
+  flags.K = "auto";
+  const std::vector<std::pair<std::string, std::string>> list = OptionList(flags, 3);
+  std::map<std::string, std::string> options;
+  for (const auto& [name, value] : list) EXPECT_TRUE(options.emplace(name, value).second) << name;
+  EXPECT_EQ(options["K"], "3");
+  EXPECT_EQ(options["K_flag"], "auto");
+#define NRSFM_CHECK_OPTION(type, name, value, help)                                 \
+  EXPECT_EQ(options.count(#name) > 0, !FlagHelpFor(help, "reconstruct").empty() && \
+                                           ToolOnlyFlags().count(#name) == 0)       \
+      << #name;
+  NRSFM_COMMAND_FLAGS(NRSFM_CHECK_OPTION)
+#undef NRSFM_CHECK_OPTION
+  for (const ExtraTerm& term : ExtraTerms()) EXPECT_EQ(options[term.flag], "0") << term.flag;
+  EXPECT_EQ(options["K_threshold"], "1.1");
+  EXPECT_EQ(options["seed"], "1");
 }
 
 }  // namespace
