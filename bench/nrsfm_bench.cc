@@ -12,8 +12,8 @@
 //   --threads         Ceres threads
 //   --plots           write plots (gnuplot, SVG); skipped with a note if absent
 //   --mocap_sequences comma-separated .mat stems (default: every file)
-//   --max_seconds     wall-time cap of each shoe, mocap and robustness refinement (default
-//                     run: 30; one suite alone or --full: none)
+//   --max_seconds     wall-time cap of each shoe, mocap, robustness and scale refinement
+//                     (default run: 30; one suite alone or --full: none)
 //   --jobs            reconstructions run at once (default 2)
 //   --max_iterations  LM iterations per refinement (default: the library's)
 //   --strategy        mocap: default | plain | triple, ts joined by '+' | all
@@ -45,9 +45,10 @@ DEFINE_bool(plots, true, "write plots with gnuplot (SVG)");
 DEFINE_string(mocap_sequences, "",
               "comma-separated .mat stems the mocap suite runs ('' = all)");
 DEFINE_double(max_seconds, 30.0,
-              "wall-time cap of each shoe and mocap refinement in seconds in "
-              "the default run (0 = none); one suite alone (--suite=shoe, "
-              "mocap) or --full runs uncapped unless this flag is given");
+              "wall-time cap of each shoe, mocap, robustness and scale "
+              "refinement in seconds in the default run (0 = none); one suite "
+              "alone (--suite=shoe, mocap, ...) or --full runs uncapped unless "
+              "this flag is given");
 DEFINE_int32(jobs, 2,
              "reconstructions run at once (paper-random, superquadric, shoe, "
              "mocap; the scale suite always runs one at a time)");
