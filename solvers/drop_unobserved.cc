@@ -31,6 +31,14 @@ int FewestPointsOfFrame(const Measurements& m, const std::vector<bool>& point_ke
 
 }  // namespace
 
+int MinViewsPerPoint(int num_bases) {
+  return std::max(2, (3 * num_bases + 1) / 2);
+}
+
+int MinPointsPerView(int num_bases) {
+  return std::max(4, (num_bases + 6) / 2);
+}
+
 Status FindUnobserved(const Measurements& measurements, int num_bases,
                       Unobserved* unobserved) {
   CHECK(unobserved != nullptr);
@@ -44,10 +52,9 @@ Status FindUnobserved(const Measurements& measurements, int num_bases,
           std::min(2LL * m.num_frames, static_cast<long long>(m.num_points))) {
     return Status::OK();
   }
-  // What any start needs (K' = 1: solvers/initialize.h starts with fewer
-  // bases when the data allow no more): per view, per point.
-  const int needed_points = kMinPointsPerView;
-  const int needed_views = kMinViewsPerPoint;
+  // What the model with K bases needs (header): per view, per point.
+  const int needed_points = MinPointsPerView(num_bases);
+  const int needed_views = MinViewsPerPoint(num_bases);
   const int needed_for_k = 3 * num_bases + 1;
   std::vector<bool> point_kept(m.num_points, true), frame_kept(m.num_frames, true);
   for (bool changed = true; changed;) {
@@ -167,9 +174,10 @@ std::string UnobservedWarning(const Measurements& measurements,
                               const Unobserved& unobserved) {
   const Measurements& m = measurements;
   std::ostringstream out;
-  out << "left out of the reconstruction (a start needs every point seen in at least "
-      << kMinViewsPerPoint << " views and every frame's views to see at least "
-      << kMinPointsPerView << " points), NaN in the result:";
+  out << "left out of the reconstruction (K = " << unobserved.num_bases
+      << " needs every point seen in at least " << MinViewsPerPoint(unobserved.num_bases)
+      << " views and every frame's views to see at least "
+      << MinPointsPerView(unobserved.num_bases) << " points), NaN in the result:";
   const Eigen::VectorXi per_point = m.VisiblePerPoint();
   const int num_points = static_cast<int>(unobserved.points.size());
   for (int i = 0; i < num_points && i < kMaxListed; ++i) {

@@ -41,9 +41,11 @@ void Hide(Measurements* m, int view, int point) {
   m->W.block<2, 1>(2 * view, point).setConstant(NAN);
 }
 
-TEST(FindUnobserved, PointsAndFramesBelowWhatTheStartNeeds) {
-  // Any start needs a point in 2 views and 4 points in a view (K' = 1;
-  // Initialize() starts with fewer bases than K when the data allow no more).
+TEST(FindUnobserved, PointsAndFramesBelowWhatTheModelNeeds) {
+  // K = 2: a point's 6 basis parameters need 3 views, a view's pose and the
+  // frame's weights 4 points.
+  EXPECT_EQ(MinViewsPerPoint(2), 3);
+  EXPECT_EQ(MinPointsPerView(2), 4);
   Measurements m = Sequence(20, 12, 2).measurements;
   Unobserved unobserved;
   ASSERT_TRUE(FindUnobserved(m, 2, &unobserved).ok());
@@ -61,9 +63,31 @@ TEST(FindUnobserved, PointsAndFramesBelowWhatTheStartNeeds) {
 
   const std::string warning = UnobservedWarning(m, unobserved);
   EXPECT_EQ(warning,
-            "left out of the reconstruction (a start needs every point seen in at least 2 "
+            "left out of the reconstruction (K = 2 needs every point seen in at least 3 "
             "views and every frame's views to see at least 4 points), NaN in the result: "
             "point 4 (seen in 1 view), point 9 (seen in 0 views); frame 5 (sees 2 points of those kept)");
+}
+
+// The thresholds grow with K: 2K·… equations for 3K basis unknowns per
+// point, 2 per point seen for the view's pose and the frame's K weights.
+TEST(FindUnobserved, ThresholdsAreWhatKBasesNeed) {
+  EXPECT_EQ(MinViewsPerPoint(1), 2);
+  EXPECT_EQ(MinViewsPerPoint(3), 5);   // 2 · 5 = 10 >= 9
+  EXPECT_EQ(MinViewsPerPoint(4), 6);   // 2 · 6 = 12 >= 12
+  EXPECT_EQ(MinViewsPerPoint(12), 18);
+  EXPECT_EQ(MinPointsPerView(1), 4);
+  EXPECT_EQ(MinPointsPerView(4), 5);   // 2 · 5 = 10 >= 4 + 5
+  EXPECT_EQ(MinPointsPerView(12), 9);  // 2 · 9 = 18 >= 12 + 5
+  // A point seen in 5 views is kept at K = 3 and left out at K = 4 (the
+  // shoe of seed 7: keeping it made the whole start drop to K' = 3).
+  Measurements m = Sequence(20, 16, 1).measurements;
+  for (int t = 5; t < 20; ++t) Hide(&m, t, 11);
+  Unobserved unobserved;
+  ASSERT_TRUE(FindUnobserved(m, 3, &unobserved).ok());
+  EXPECT_TRUE(unobserved.empty());
+  ASSERT_TRUE(FindUnobserved(m, 4, &unobserved).ok());
+  EXPECT_EQ(unobserved.points, (std::vector<int>{11}));
+  EXPECT_TRUE(unobserved.frames.empty());
 }
 
 TEST(FindUnobserved, LeavingOutCascadesUntilNothingChanges) {
@@ -206,6 +230,34 @@ TEST(Reconstruct, LeavesOutAPointSeenOnceAndAFrameThatSeesNothing) {
               errors.e3d_camera, errors.e3d, result.refine.reprojection_rms);
   EXPECT_LT(errors.e3d_camera, 1e-4);
   EXPECT_LT(result.refine.reprojection_rms, 1e-6);
+}
+
+// A point seen in too few views for K bases is left out rather than lowering
+// the whole start to fewer bases: K = 3 needs 5 views per point; point 5 is
+// seen in 4. The start keeps all 3 bases (no "fewer bases" warning) and the
+// rest is exact.
+TEST(Reconstruct, APointSeenTooRarelyForKIsLeftOutAndTheStartKeepsK) {
+  SyntheticSequence s = Sequence(40, 20, 3, 0.05);
+  Measurements& m = s.measurements;
+  for (int t = 4; t < 40; ++t) Hide(&m, t, 5);
+  for (int t = 0; t < 4; ++t) {
+    m.visible(t, 5) = true;
+    m.W.block<2, 1>(2 * t, 5) = s.truth.Project(t, 0).col(5);
+  }
+  ReconstructOptions options;
+  options.start.num_bases = 3;
+  ReconstructResult result;
+  ASSERT_TRUE(Reconstruct(options, m, &result).ok());
+  ASSERT_TRUE(result.refine.usable) << result.refine.message;
+  EXPECT_EQ(result.dropped_points, (std::vector<int>{5}));
+  EXPECT_TRUE(result.dropped_frames.empty());
+  for (const std::string& warning : result.start.warnings) {
+    EXPECT_EQ(warning.find("allow a start with at most"), std::string::npos) << warning;
+  }
+  ShapeErrors errors;
+  ASSERT_TRUE(EvaluateShapes(ShapesOfModel(s.truth), ShapesOfModel(result.model), &errors).ok());
+  EXPECT_EQ(errors.unscored_points, (std::vector<int>{5}));
+  EXPECT_LT(errors.e3d_camera, 1e-4);
 }
 
 }  // namespace

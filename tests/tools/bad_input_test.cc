@@ -153,7 +153,7 @@ TEST_F(BadInputTest, AllMissingPointOrFrameIsLeftOutAndNaN) {
   WriteW("lost.mat", w);
   const RunResult r = Run("reconstruct --input lost.mat --K 1 --output o --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  EXPECT_NE(r.out.find("warning: left out of the reconstruction (a start needs every point "
+  EXPECT_NE(r.out.find("warning: left out of the reconstruction (K = 1 needs every point "
                        "seen in at least 2 views and every frame's views to see at least 4 "
                        "points), NaN in the result: point 4 (seen in 0 views); frame 3 (sees "
                        "0 points of those kept)"),

@@ -185,11 +185,13 @@ TEST_F(CliTest, CamerasComeFromTheFile) {
   EXPECT_EQ(result["options"]["cameras"], "0");  // as given: from the file
 }
 
-// Seeds 6 and 7 of the one-camera shoe have points seen in too few frames
-// for the start (the same on the default 500 frames and on the 100 used
-// here: seed 6 points 40, 41, 85 seen once; seed 7 points 41, 42): they are
-// left out, named, NaN in the result, and the rest is exact; evaluate scores
-// the rest and lists what it did not score.
+// Seeds 6 and 7 of the one-camera shoe have points seen in too few views
+// for K = 4 (6 needed; on the 100 frames used here seed 6 points 40, 41, 85
+// and seed 7 points 41, 42 are seen once; on the default 500 frames seed 7's
+// point 41 is seen in 5 views, which the rule leaves out too, and the result
+// is as exact; tests/solvers/drop_unobserved_test.cc has that case): they
+// are left out, named, NaN in the result, and the rest is exact; evaluate
+// scores the rest and lists what it did not score.
 TEST_F(CliTest, ShoeSeedsWithPointsSeenTooRarelyReconstruct) {
   std::vector<std::vector<int>> dropped = {{40, 41, 85}, {41, 42}};
   std::vector<int> seeds = {6, 7};
