@@ -129,8 +129,7 @@ LinearSolverChoice ChooseLinearSolver(const ProblemStructure& structure) {
     return LinearSolverChoice::kSparseNormalCholesky;
   }
   if (!structure.points_are_independent) return LinearSolverChoice::kCgnr;
-  return structure.frame_coupling > 0 ? LinearSolverChoice::kStructured
-                                      : LinearSolverChoice::kIterativeSchur;
+  return LinearSolverChoice::kStructured;
 }
 
 Status ConfigureLinearSolver(LinearSolverChoice choice, ProblemBuilder* builder,

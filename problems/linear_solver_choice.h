@@ -9,11 +9,13 @@
 // pays O(F · (3KP)²) or O(P · ((5 + K)F)²) flops per step to form it, while
 // the iterative solvers pay O(nnz(J)) per conjugate-gradient step. The rule
 // (ChooseLinearSolver):
-//   free point blocks, no residual coupling two points,
-//   residuals coupling frames (the temporal terms)      → structured (points
-//   eliminated, conjugate gradients over the frame chain with a block-band
-//   preconditioner; solvers/structured_solver.h)
-//   free point blocks, no residual coupling two points  → ITERATIVE_SCHUR
+//   free point blocks, no residual coupling two points  → structured (points
+//   eliminated, conjugate gradients over the frames with a block-band
+//   preconditioner that is exact for every coupling the temporal terms
+//   make; solvers/structured_solver.h). Without temporal terms it does what
+//   ITERATIVE_SCHUR with JACOBI does, in less time per step
+//   (docs/performance.md); a problem whose blocks it cannot lay out (a free
+//   block of an unknown kind) falls back to ITERATIVE_SCHUR
 //   no free point block (poses / weights only; JᵀJ is then block-diagonal
 //   per frame plus what other terms couple)              → SPARSE_NORMAL_CHOLESKY
 //   point blocks coupled (e.g. basis smoothness)         → CGNR (the points

@@ -17,8 +17,12 @@ def test_noise_free_round_trip_recovers_the_truth(random_sequence):
     assert np.max(np.abs(reprojection(r) - s.W)[visible]) < 1e-8
     errors = nrsfm.evaluate(s.truth, r)
     print("noise-free K = 3, 10 % missing:", errors)
-    assert errors["e3d"] < 1e-6
-    assert errors["error3d_pct"] < 1e-4
+    # The shapes of this generator are independent from frame to frame, so
+    # each frame's depth sign is unobservable (its camera turned by 180 degrees
+    # about the optical axis with negated weights projects the same); e3D's one
+    # alignment for the whole sequence would score which sign each frame took.
+    # frob_zsign chooses the sign per frame: every depth is exact.
+    assert errors["frob_zsign"] < 1e-6
     assert (errors["F"], errors["P"]) == (80, 30)
     # The summary is result.json of the tool.
     summary = r.summary

@@ -94,15 +94,15 @@ TEST(LinearSolverChoice, AutoRule) {
   drink.num_other_parameters = 1102 * 17;
   drink.num_residuals = 2 * 1102 * 41;
   drink.schur_matrix_entries = 1102.0 * 17 * 1102 * 17;
-  EXPECT_EQ(ChooseLinearSolver(drink), LinearSolverChoice::kIterativeSchur);
+  EXPECT_EQ(ChooseLinearSolver(drink), LinearSolverChoice::kStructured);
 
-  ProblemStructure tiny = drink;  // (F, P, K) = (30, 15, 3): still iterative
+  ProblemStructure tiny = drink;  // (F, P, K) = (30, 15, 3): the same
   tiny.num_point_blocks = 15;
   tiny.num_point_parameters = 15 * 9;
   tiny.num_other_parameters = 30 * 8;
   tiny.num_residuals = 2 * 30 * 15;
   tiny.schur_matrix_entries = 240.0 * 240.0;
-  EXPECT_EQ(ChooseLinearSolver(tiny), LinearSolverChoice::kIterativeSchur);
+  EXPECT_EQ(ChooseLinearSolver(tiny), LinearSolverChoice::kStructured);
 
   ProblemStructure poses_only = drink;  // every point block constant
   poses_only.num_point_blocks = 0;

@@ -157,8 +157,8 @@ TEST(Determinism, TwoThreadsAreBitIdentical) { CheckRunsAgree(2); }
 // threads. There Ceres 2.1's SchurEliminator adds the contributions of the
 // point chunks to shared blocks of the reduced system under a mutex, in
 // thread-scheduling order, so the last bits differ; the runs then agree to
-// rounding (checked below). The default (auto -> iterative_schur here) and
-// num_threads = 1 are bit-identical.
+// rounding (checked below). The default (auto -> structured here) is
+// bit-identical for any thread count.
 TEST(Determinism, EveryLinearSolverIsBitIdentical) {
   const SyntheticSequence s = Sequence();
   StartOptions start_options = Options(1).start;

@@ -62,7 +62,13 @@ TEST(Reconstruct, NoiseFreeIsExact) {
 
 // Noise of 1 % of the data spread: the reconstruction is as good as the
 // least-squares optimum near the truth (refinement started from the truth)
-// up to a factor 2 in e3D.
+// up to a factor 2, in the relative Frobenius error with a per-frame depth
+// sign. Not in e3D: these shapes are independent from frame to frame, so
+// each frame's depth sign is unobservable (turning the frame's camera by
+// 180° about its optical axis and negating its weights reverses its depth
+// and leaves every projection unchanged), and e3D's one alignment for the
+// whole sequence scores which sign each frame happened to end on: 0.0049
+// or 0.0145 at the same cost for two starts of the same data.
 TEST(Reconstruct, OnePercentNoiseIsWithinTwiceTheTrueModelRefit) {
   const double spread = Sequence(0.0, 0.0).measurements.ImageSpreadRms();
   const SyntheticSequence s = Sequence(0.01 * spread, 0.0);
@@ -75,17 +81,19 @@ TEST(Reconstruct, OnePercentNoiseIsWithinTwiceTheTrueModelRefit) {
   ASSERT_TRUE(Refine(ProblemOptions(), SolverOptions(), s.measurements, &refit, &refit_summary).ok());
   ASSERT_TRUE(refit_summary.usable);
 
-  const double e3d = E3D(s.truth, result.model);
-  const double e3d_refit = E3D(s.truth, refit);
+  const double frob = ComputeFrobeniusZSign(CameraFrameShapes(s.truth),
+                                            CameraFrameShapes(result.model));
+  const double frob_refit =
+      ComputeFrobeniusZSign(CameraFrameShapes(s.truth), CameraFrameShapes(refit));
   std::printf(
-      "1%% noise: e3D reconstruction %.4e (rms %.4e), true-model refit %.4e "
+      "1%% noise: frob_zsign reconstruction %.4e (rms %.4e), true-model refit %.4e "
       "(rms %.4e), ratio %.3f\n",
-      e3d, result.refine.reprojection_rms, e3d_refit, refit_summary.reprojection_rms,
-      e3d / e3d_refit);
-  ::testing::Test::RecordProperty("e3d_reconstruction", std::to_string(e3d));
-  ::testing::Test::RecordProperty("e3d_true_model_refit", std::to_string(e3d_refit));
-  EXPECT_LT(e3d, 2.0 * e3d_refit);
-  EXPECT_GT(e3d_refit, 0.0);
+      frob, result.refine.reprojection_rms, frob_refit, refit_summary.reprojection_rms,
+      frob / frob_refit);
+  ::testing::Test::RecordProperty("frob_zsign_reconstruction", std::to_string(frob));
+  ::testing::Test::RecordProperty("frob_zsign_true_model_refit", std::to_string(frob_refit));
+  EXPECT_LT(frob, 2.0 * frob_refit);
+  EXPECT_GT(frob_refit, 0.0);
 }
 
 TEST(Reconstruct, ThirtyPercentMissingStillConverges) {

@@ -75,7 +75,7 @@ TEST(StructuredSolver, ReachesTheOptimumOfTheExactSolver) {
   }
 }
 
-TEST(StructuredSolver, AutoChoosesItWhenTermsCoupleFrames) {
+TEST(StructuredSolver, AutoChoosesItWhenThePointsCanBeEliminated) {
   const Case c = MakeCase(0.0);
   Model model = c.start;
   RefineSummary summary;
@@ -84,7 +84,7 @@ TEST(StructuredSolver, AutoChoosesItWhenTermsCoupleFrames) {
   model = c.start;
   ASSERT_TRUE(Refine(ProblemOptions(), SolverOptions(), c.sequence.measurements, &model,
                      &summary).ok());
-  EXPECT_EQ(summary.linear_solver, "iterative_schur");
+  EXPECT_EQ(summary.linear_solver, "structured");
 }
 
 TEST(StructuredSolver, SameResultForTheSameThreadCount) {
