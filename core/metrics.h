@@ -154,6 +154,24 @@ GroundTruth ShapesOfModel(const Model& model, int camera = 0);
 // that F, M and P of the two agree.
 double ReprojectionRms(const Measurements& measurements, const Model& model);
 
+// The sum under the root of ReprojectionRms,
+//   Σ_{visible (t,c,p)} ||w_tcp − model.Project(t, c)[:, p]||²,
+// in squared units of W (0 when nothing is visible). Same CHECKs.
+double ReprojectionSquaredError(const Measurements& measurements,
+                                const Model& model);
+
+// ReprojectionRms of reprojections given as a matrix in the layout of
+// Measurements::W ((2FM) × P, e.g. read back from a result directory), per
+// frame and over all: frame_rms(t) over the visible entries of frame t (all
+// its cameras; NaN when none is visible), rms over every visible entry (NaN
+// when none). CHECKs the size of `reprojections`.
+struct FrameReprojectionRms {
+  Eigen::VectorXd frame_rms;  // F entries, units of W
+  double rms = 0.0;           // units of W
+};
+FrameReprojectionRms ComputeFrameReprojectionRms(
+    const Measurements& measurements, const Eigen::MatrixXd& reprojections);
+
 // Camera-frame shapes X_tc = model.ShapeInCamera(t, camera) of every frame,
 // 3 × P each (no translation).
 std::vector<Eigen::Matrix3Xd> CameraFrameShapes(const Model& model,
