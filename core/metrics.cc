@@ -361,6 +361,19 @@ Status EvaluateShapes(const GroundTruth& truth, const GroundTruth& estimate,
   return Status::OK();
 }
 
+std::vector<std::pair<std::string, double>> MetricList(const ShapeErrors& errors) {
+  std::vector<std::pair<std::string, double>> list = {
+      {"e3d", errors.e3d},
+      {"e3d_camera", errors.e3d_camera},
+      {"frob_zsign", errors.frob_zsign},
+      {"error3d_pct", errors.error3d_pct},
+      {"zerror_pct", errors.zerror_pct}};
+  if (!std::isnan(errors.rotation_error)) {
+    list.emplace_back("rotation_error", errors.rotation_error);
+  }
+  return list;
+}
+
 const std::vector<Eigen::Matrix3Xd>& ScoredShapes(const GroundTruth& shapes,
                                                   EvaluationFrame frame) {
   return frame == EvaluationFrame::kObject ? shapes.points_in_object

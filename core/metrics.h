@@ -15,6 +15,8 @@
 #define NRSFM_CORE_METRICS_H_
 
 #include <limits>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -136,6 +138,12 @@ struct ShapeErrors {
 // or every point. NaN in the truth, and ±Inf anywhere, are errors.
 Status EvaluateShapes(const GroundTruth& truth, const GroundTruth& estimate,
                       ShapeErrors* errors);
+
+// The metrics of `errors` under the one set of names that result.json,
+// `nrsfm evaluate`, `nrsfm view` and the benchmarks use, in this order: e3d,
+// e3d_camera, frob_zsign, error3d_pct, zerror_pct, and rotation_error when it
+// was computed (not NaN).
+std::vector<std::pair<std::string, double>> MetricList(const ShapeErrors& errors);
 
 // The two sequences EvaluateShapes compares for the e3D of `errors.e3d_frame`:
 // the object-frame shapes for EvaluationFrame::kObject, the camera frame

@@ -298,19 +298,6 @@ ReconstructionReport MakeReport(const CommandFlags& flags, const std::string& in
   return report;
 }
 
-std::vector<std::pair<std::string, double>> MetricList(const ShapeErrors& errors) {
-  std::vector<std::pair<std::string, double>> list = {
-      {"e3d", errors.e3d},
-      {"e3d_camera", errors.e3d_camera},
-      {"frob_zsign", errors.frob_zsign},
-      {"error3d_pct", errors.error3d_pct},
-      {"zerror_pct", errors.zerror_pct}};
-  if (!std::isnan(errors.rotation_error)) {
-    list.emplace_back("rotation_error", errors.rotation_error);
-  }
-  return list;
-}
-
 std::string EvaluationJson(const ShapeErrors& errors) {
   nlohmann::ordered_json line;
   for (const auto& [name, value] : MetricList(errors)) line[name] = value;
