@@ -187,9 +187,7 @@ SweepResult SweepK(
       j["seed"] = r + 1;
       j["ok"] = o.ok;
       if (!o.message.empty()) j["message"] = o.message;
-      j["error3d_pct"] = o.errors.error3d_pct;
-      j["zerror_pct"] = o.errors.zerror_pct;
-      j["e3d"] = o.errors.e3d;
+      AddMetrics(o.errors, &j);
       j["reprojection_rms"] = o.reprojection_rms;
       j["start"] = o.start;
       j["iterations"] = o.iterations;
@@ -337,6 +335,10 @@ Json ContextBlock(int threads) {
       "USE_OPENMP)' /usr/include/ceres/internal/config.h 2>/dev/null | "
       "awk '{print $2}' | tr '\\n' ' '");
   return context;
+}
+
+void AddMetrics(const ShapeErrors& errors, Json* j) {
+  for (const auto& [name, value] : MetricList(errors)) (*j)[name] = value;
 }
 
 std::string WritePlot(const BenchConfig& config, const PlotSpec& spec) {

@@ -147,6 +147,10 @@ class Table {
 // Date, host, cores, threads, compiler, Ceres/Eigen versions, BLAS/LAPACK.
 Json ContextBlock(int threads);
 
+// Sets (*j)[name] = value for every metric of `errors` (MetricList,
+// core/metrics.h: the names result.json and `nrsfm evaluate` use).
+void AddMetrics(const ShapeErrors& errors, Json* j);
+
 // A line plot: one curve per series. Written as <output_dir>/<name>.svg
 // (gnuplot, svg terminal) with its data in <name>.dat and script in <name>.gp.
 struct PlotSeries {

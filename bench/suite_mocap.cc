@@ -82,13 +82,8 @@ Json OutcomeJson(const RunOutcome& o) {
   Json j;
   j["ok"] = o.ok;
   if (!o.message.empty()) j["message"] = o.message;
-  j["e3d"] = o.errors.e3d;
+  AddMetrics(o.errors, &j);
   j["e3d_frame"] = EvaluationFrameName(o.errors.e3d_frame);
-  j["e3d_camera"] = o.errors.e3d_camera;
-  if (!std::isnan(o.errors.rotation_error)) j["rotation_error"] = o.errors.rotation_error;
-  j["frob_zsign"] = o.errors.frob_zsign;
-  j["error3d_pct"] = o.errors.error3d_pct;
-  j["zerror_pct"] = o.errors.zerror_pct;
   j["reprojection_rms"] = o.reprojection_rms;
   j["start"] = o.start;
   j["iterations"] = o.iterations;

@@ -174,13 +174,10 @@ Status RunRobustnessSuite(const BenchConfig& config, Json* out) {
     j["ok"] = ok;
     if (!run.made.ok()) j["message"] = run.made.message();
     if (!o.message.empty()) j["message"] = o.message;
-    j["frob_zsign"] = o.errors.frob_zsign;
+    AddMetrics(o.errors, &j);
+    j["e3d_frame"] = EvaluationFrameName(o.errors.e3d_frame);
     j["flat_frob_zsign"] = run.flat;
     if (lee >= 0) j["lee_2016_frob_zsign"] = lee;
-    j["e3d"] = o.errors.e3d;
-    j["e3d_frame"] = EvaluationFrameName(o.errors.e3d_frame);
-    j["e3d_camera"] = o.errors.e3d_camera;
-    if (!std::isnan(o.errors.rotation_error)) j["rotation_error"] = o.errors.rotation_error;
     j["little_rotation_warning"] = warned;
     j["start"] = o.start;
     j["iterations"] = o.iterations;

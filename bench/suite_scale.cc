@@ -61,8 +61,7 @@ Json TimeOne(const Size& size, int threads, double max_seconds) {
   j["converged"] = o.converged;
   j["seconds_per_iteration"] = o.seconds_per_iteration;
   j["linear_solver"] = o.linear_solver;
-  j["error3d_pct"] = o.errors.error3d_pct;
-  j["e3d"] = o.errors.e3d;
+  AddMetrics(o.errors, &j);
   return j;
 }
 

@@ -66,6 +66,34 @@ double MeanPointDistance(const std::vector<Eigen::Matrix3Xd>& residuals) {
   return sum / static_cast<double>(residuals.size());
 }
 
+// Σ_{visible (t,c,p)} ||w_tcp − projected(t, c)[:, p]||², summed in the order
+// t, c, p; with `frame_sums` / `frame_counts` also each frame's part of the
+// sum and its number of visible entries (F each).
+template <typename Projection>
+double SumSquaredDistances(const Measurements& measurements,
+                           const Projection& projected,
+                           Eigen::VectorXd* frame_sums,
+                           Eigen::VectorXi* frame_counts) {
+  if (frame_sums != nullptr) frame_sums->setZero(measurements.num_frames);
+  if (frame_counts != nullptr) frame_counts->setZero(measurements.num_frames);
+  double sum_squared = 0.0;
+  for (int t = 0; t < measurements.num_frames; ++t) {
+    for (int c = 0; c < measurements.num_cameras; ++c) {
+      const Eigen::Matrix2Xd projection = projected(t, c);
+      const int view = measurements.View(t, c);
+      for (int p = 0; p < measurements.num_points; ++p) {
+        if (!measurements.visible(view, p)) continue;
+        const double squared =
+            (measurements.Observation(t, c, p) - projection.col(p)).squaredNorm();
+        sum_squared += squared;
+        if (frame_sums != nullptr) (*frame_sums)(t) += squared;
+        if (frame_counts != nullptr) ++(*frame_counts)(t);
+      }
+    }
+  }
+  return sum_squared;
+}
+
 }  // namespace
 
 double ComputeE3D(const std::vector<Eigen::Matrix3Xd>& truth,
@@ -333,6 +361,19 @@ Status EvaluateShapes(const GroundTruth& truth, const GroundTruth& estimate,
   return Status::OK();
 }
 
+std::vector<std::pair<std::string, double>> MetricList(const ShapeErrors& errors) {
+  std::vector<std::pair<std::string, double>> list = {
+      {"e3d", errors.e3d},
+      {"e3d_camera", errors.e3d_camera},
+      {"frob_zsign", errors.frob_zsign},
+      {"error3d_pct", errors.error3d_pct},
+      {"zerror_pct", errors.zerror_pct}};
+  if (!std::isnan(errors.rotation_error)) {
+    list.emplace_back("rotation_error", errors.rotation_error);
+  }
+  return list;
+}
+
 const std::vector<Eigen::Matrix3Xd>& ScoredShapes(const GroundTruth& shapes,
                                                   EvaluationFrame frame) {
   return frame == EvaluationFrame::kObject ? shapes.points_in_object
@@ -353,25 +394,43 @@ GroundTruth ShapesOfModel(const Model& model, int camera) {
 }
 
 double ReprojectionRms(const Measurements& measurements, const Model& model) {
+  const double sum_squared = ReprojectionSquaredError(measurements, model);
+  const int count = measurements.NumVisible();
+  if (count == 0) return std::numeric_limits<double>::quiet_NaN();
+  return std::sqrt(sum_squared / count);
+}
+
+double ReprojectionSquaredError(const Measurements& measurements,
+                                const Model& model) {
   CHECK_EQ(measurements.num_frames, model.num_frames);
   CHECK_EQ(measurements.num_cameras, model.num_cameras);
   CHECK_EQ(measurements.num_points, model.num_points);
-  double sum_squared = 0.0;
-  int count = 0;
+  return SumSquaredDistances(
+      measurements, [&](int t, int c) { return model.Project(t, c); }, nullptr,
+      nullptr);
+}
+
+FrameReprojectionRms ComputeFrameReprojectionRms(
+    const Measurements& measurements, const Eigen::MatrixXd& reprojections) {
+  CHECK_EQ(reprojections.rows(), measurements.W.rows());
+  CHECK_EQ(reprojections.cols(), measurements.num_points);
+  Eigen::VectorXd frame_sums;
+  Eigen::VectorXi frame_counts;
+  const double total = SumSquaredDistances(
+      measurements,
+      [&](int t, int c) {
+        return reprojections.middleRows<2>(measurements.Row(t, c));
+      },
+      &frame_sums, &frame_counts);
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  FrameReprojectionRms rms;
+  rms.frame_rms = Eigen::VectorXd::Constant(measurements.num_frames, kNaN);
   for (int t = 0; t < measurements.num_frames; ++t) {
-    for (int c = 0; c < measurements.num_cameras; ++c) {
-      const Eigen::Matrix2Xd projected = model.Project(t, c);
-      const int view = measurements.View(t, c);
-      for (int p = 0; p < measurements.num_points; ++p) {
-        if (!measurements.visible(view, p)) continue;
-        sum_squared += (measurements.Observation(t, c, p) - projected.col(p))
-                           .squaredNorm();
-        ++count;
-      }
-    }
+    if (frame_counts(t) > 0) rms.frame_rms(t) = std::sqrt(frame_sums(t) / frame_counts(t));
   }
-  if (count == 0) return std::numeric_limits<double>::quiet_NaN();
-  return std::sqrt(sum_squared / count);
+  const int count = frame_counts.sum();
+  rms.rms = count > 0 ? std::sqrt(total / count) : kNaN;
+  return rms;
 }
 
 std::vector<Eigen::Matrix3Xd> CameraFrameShapes(const Model& model,

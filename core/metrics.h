@@ -15,6 +15,8 @@
 #define NRSFM_CORE_METRICS_H_
 
 #include <limits>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -137,6 +139,12 @@ struct ShapeErrors {
 Status EvaluateShapes(const GroundTruth& truth, const GroundTruth& estimate,
                       ShapeErrors* errors);
 
+// The metrics of `errors` under the one set of names that result.json,
+// `nrsfm evaluate`, `nrsfm view` and the benchmarks use, in this order: e3d,
+// e3d_camera, frob_zsign, error3d_pct, zerror_pct, and rotation_error when it
+// was computed (not NaN).
+std::vector<std::pair<std::string, double>> MetricList(const ShapeErrors& errors);
+
 // The two sequences EvaluateShapes compares for the e3D of `errors.e3d_frame`:
 // the object-frame shapes for EvaluationFrame::kObject, the camera frame
 // otherwise.
@@ -153,6 +161,24 @@ GroundTruth ShapesOfModel(const Model& model, int camera = 0);
 // N the number of visible observations. NaN when nothing is visible. CHECKs
 // that F, M and P of the two agree.
 double ReprojectionRms(const Measurements& measurements, const Model& model);
+
+// The sum under the root of ReprojectionRms,
+//   Σ_{visible (t,c,p)} ||w_tcp − model.Project(t, c)[:, p]||²,
+// in squared units of W (0 when nothing is visible). Same CHECKs.
+double ReprojectionSquaredError(const Measurements& measurements,
+                                const Model& model);
+
+// ReprojectionRms of reprojections given as a matrix in the layout of
+// Measurements::W ((2FM) × P, e.g. read back from a result directory), per
+// frame and over all: frame_rms(t) over the visible entries of frame t (all
+// its cameras; NaN when none is visible), rms over every visible entry (NaN
+// when none). CHECKs the size of `reprojections`.
+struct FrameReprojectionRms {
+  Eigen::VectorXd frame_rms;  // F entries, units of W
+  double rms = 0.0;           // units of W
+};
+FrameReprojectionRms ComputeFrameReprojectionRms(
+    const Measurements& measurements, const Eigen::MatrixXd& reprojections);
 
 // Camera-frame shapes X_tc = model.ShapeInCamera(t, camera) of every frame,
 // 3 × P each (no translation).

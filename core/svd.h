@@ -1,7 +1,7 @@
 // Thin singular value decompositions of dense matrices, A = U diag(σ) Vᵀ
 // with σ in decreasing order: the one owner of Eigen's dense dynamic-size
-// SVDs in the library (each instantiation of BDCSVD<MatrixXd> costs about a
-// minute of compile time in the sanitizer build; docs/performance.md).
+// SVDs in the library, so that they are compiled once (their compile time is
+// measured in docs/performance.md).
 #ifndef NRSFM_CORE_SVD_H_
 #define NRSFM_CORE_SVD_H_
 

@@ -1,7 +1,8 @@
 // The residual terms beyond the data term, described once: the table of
 // ExtraTerms() (problems/extra_terms.cc) is what ProblemOptions::Check(), the
 // problem builder (AddExtraTerms), the nrsfm tool's flags and result.json
-// read. Each term has a weight λ ≥ 0 in ProblemOptions::term_weights (0, the
+// read. Each term has one name, which is also its flag and its key in
+// result.json, and a weight λ ≥ 0 in ProblemOptions::term_weights (0, the
 // default, leaves it out); λ multiplies the term's cost, so its functor
 // applies √λ. The terms, their equations and their units are in
 // docs/problem.md, which also says how to add one (a functor header and one
@@ -19,10 +20,11 @@
 namespace nrsfm {
 
 // The names of the terms (ExtraTerm::name, keys of
-// ProblemOptions::term_weights), for code that sets a weight.
+// ProblemOptions::term_weights, the nrsfm tool's flags), for code that sets a
+// weight.
 inline constexpr char kSmoothnessTerm[] = "smoothness";
 inline constexpr char kRigidityTerm[] = "rigidity";
-inline constexpr char kTemporalWeightsTerm[] = "temporal_weights";
+inline constexpr char kTemporalTerm[] = "temporal";
 inline constexpr char kTemporalRotationsTerm[] = "temporal_rotations";
 inline constexpr char kTemporalShapeTerm[] = "temporal_shape";
 inline constexpr char kRotationAccelerationTerm[] = "rotation_acceleration";
@@ -34,8 +36,9 @@ struct ExtraTerm {
   using AddFunction = Status (*)(double weight, const ProblemOptions& options,
                                  ProblemBuilder* builder, int* num_blocks);
 
-  const char* name;     // key of ProblemOptions::term_weights
-  const char* flag;     // the nrsfm tool's flag (--flag λ) and result.json key
+  // Key of ProblemOptions::term_weights, the nrsfm tool's flag (--name λ)
+  // and the key in result.json's options and term_weights.
+  const char* name;
   const char* units;    // of λ
   const char* meaning;  // one line: the residual and when to use the term
   int min_cameras;      // the term needs M ≥ min_cameras

@@ -22,11 +22,11 @@
 // DynamicReprojectionError takes K at run time (any K).
 //
 // These functors are the reference definition of the residual. The builder
-// (problems/problem_builder.h) uses the hand-differentiated equivalent of
-// problems/reprojection_cost_function.h, 4-7× faster per Jacobian for
-// K = 12; the library instantiates only DynamicReprojectionError (for
-// ProblemOptions::autodiff), the tests ReprojectionError<K> for a few K
-// (each K costs compile time; docs/performance.md).
+// (problems/problem_builder.h) uses the faster hand-differentiated
+// equivalent of problems/reprojection_cost_function.h; the library
+// instantiates only DynamicReprojectionError (for ProblemOptions::autodiff),
+// the tests ReprojectionError<K> for a few K (each K costs compile time).
+// Both costs are measured in docs/performance.md.
 #ifndef NRSFM_PROBLEMS_REPROJECTION_ERROR_H_
 #define NRSFM_PROBLEMS_REPROJECTION_ERROR_H_
 

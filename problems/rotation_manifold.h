@@ -7,8 +7,7 @@
 // instead of ω + δ. The additive update's Jacobian is far from orthogonal
 // when |ω| is large (it is singular at |ω| = 2π), which makes the first LM
 // steps of a refinement rejected one after another; the multiplicative
-// update is isotropic at every ω. On yoga (F 307, P 41, K 10) the same
-// optimum is reached in 37 instead of 160 iterations (docs/performance.md).
+// update is isotropic at every ω (measured in docs/performance.md).
 #ifndef NRSFM_PROBLEMS_ROTATION_MANIFOLD_H_
 #define NRSFM_PROBLEMS_ROTATION_MANIFOLD_H_
 

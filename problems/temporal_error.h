@@ -1,4 +1,4 @@
-// Temporal smoothness priors for video-like input (the temporal_weights,
+// Temporal smoothness priors for video-like input (the temporal,
 // temporal_rotations, temporal_shape and rotation_acceleration extra terms,
 // docs/problem.md), one residual block per pair of consecutive frames
 // (t − 1, t), t = 1 … F − 1:

@@ -233,11 +233,11 @@ const std::vector<Flag>& Flags() {
 #undef NRSFM_PYTHON_FLAG
     const std::vector<ExtraTerm>& terms = ExtraTerms();
     for (std::size_t i = 0; i < terms.size(); ++i) {
-      list.push_back({terms[i].flag, "float", tools::TermFlagHelp(terms[i]),
+      list.push_back({terms[i].name, "float", tools::TermFlagHelp(terms[i]),
                       [i](const CommandFlags& f) {
                         return py::object(py::float_(f.term_weights[i]));
                       },
-                      [i, name = std::string(terms[i].flag)](CommandFlags* f, py::handle v) {
+                      [i, name = std::string(terms[i].name)](CommandFlags* f, py::handle v) {
                         f->term_weights[i] = FlagType<double>::FromPython(v, name);
                       }});
     }

@@ -5,6 +5,7 @@
 
 #include <glog/logging.h>
 
+#include "core/metrics.h"
 #include "core/option_checker.h"
 #include "core/random.h"
 #include "solvers/basis_weight_fit.h"
@@ -102,7 +103,7 @@ void AlternateFromRigid(const Measurements& centered, int num_bases,
     }
   }
   model->SetBasisShape(0, rigid_shape);
-  double cost = CenteredCost(centered, *model);
+  double cost = ReprojectionSquaredError(centered, *model);
   summary->rigid_rms = std::sqrt(cost / centered.NumVisible());
 
   // Step 2: the alternation.
@@ -115,7 +116,7 @@ void AlternateFromRigid(const Measurements& centered, int num_bases,
     if (update_rotations) RefineRotations(centered, model);
     ++rounds;
     const double previous = cost;
-    cost = CenteredCost(centered, *model);
+    cost = ReprojectionSquaredError(centered, *model);
     VLOG(2) << "alternation round " << round + 1 << ": RMS "
             << std::sqrt(cost / centered.NumVisible());
     if (!(previous - cost > kStopRelativeDecrease * previous)) break;

@@ -1,6 +1,5 @@
 #include "solvers/basis_weight_fit.h"
 
-#include <cmath>
 #include <vector>
 
 #include <Eigen/Cholesky>
@@ -120,24 +119,6 @@ void CentreBasisKeepingProjections(Model* model) {
     model->translations.col(t) +=
         model->Rotation(t, 0).topRows<2>() * (means * model->weights.col(t));
   }
-}
-
-double CenteredCost(const Measurements& centered, const Model& model) {
-  CheckMonocular(centered, model);
-  double cost = 0.0;
-  for (int t = 0; t < model.num_frames; ++t) {
-    const Eigen::Matrix2Xd projected = model.Project(t, 0);
-    for (int p = 0; p < model.num_points; ++p) {
-      if (!centered.visible(t, p)) continue;
-      cost += (centered.Observation(t, 0, p) - projected.col(p)).squaredNorm();
-    }
-  }
-  return cost;
-}
-
-double CenteredRms(const Measurements& centered, const Model& model) {
-  const int n = centered.NumVisible();
-  return n > 0 ? std::sqrt(CenteredCost(centered, model) / n) : 0.0;
 }
 
 }  // namespace nrsfm

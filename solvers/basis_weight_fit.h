@@ -32,11 +32,6 @@ void FitWeightsGivenBasis(const Measurements& centered, double damping,
 // least-squares δT_t = 0: its translation is the 2D mean of the frame.
 void CentreBasisKeepingProjections(Model* model);
 
-// Σ over visible (t, p) of ||w̃_tp − (Π R_t S_t[:, p] + δT_t)||², and the RMS
-// of the same 2D distances.
-double CenteredCost(const Measurements& centered, const Model& model);
-double CenteredRms(const Measurements& centered, const Model& model);
-
 }  // namespace nrsfm
 
 #endif  // NRSFM_SOLVERS_BASIS_WEIGHT_FIT_H_

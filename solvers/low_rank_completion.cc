@@ -17,6 +17,12 @@ namespace {
 
 // Relative residual below which the fit is taken as exact (round-off level).
 constexpr double kExactFitRelative = 1e-13;
+// Relative decrease of the residual RMS below which the ALS stops
+// (dimensionless).
+constexpr double kTolerance = 1e-12;
+// Tikhonov weight of every normal matrix N, relative to tr(N) / n
+// (dimensionless): only keeps a rank-deficient solve finite.
+constexpr double kDamping = 1e-12;
 
 // Solves (N + Λ) X = rhs for symmetric positive semi-definite N (n × n),
 // Λ = diag(damping · tr(N) / n + ridge on the first `penalised` unknowns,
@@ -133,9 +139,7 @@ double ResidualRms(const Eigen::MatrixXd& w, const VisibleIndex& index,
 Status LowRankCompletionOptions::Check() const {
   OptionChecker check("low-rank completion options");
   check.AtLeast("max_iterations", max_iterations, 1);
-  check.AtLeast("tolerance", tolerance, 0.0);
   check.FiniteAtLeast("ridge_floor", ridge_floor, 0.0);
-  check.FiniteAtLeast("damping", damping, 0.0);
   return check.status();
 }
 
@@ -202,7 +206,7 @@ Status CompleteLowRankAffine(const Measurements& measurements, int rank,
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(num_rows, r);
   Eigen::VectorXd t = Eigen::VectorXd::Zero(num_rows);
   NormalizeGauge(&a, &t, &b);  // a, t are set by the first row step
-  SolveRows(w, index, b, options.damping, 0.0, &a, &t);
+  SolveRows(w, index, b, kDamping, 0.0, &a, &t);
 
   // Ridge (see the header): σ̂² per coordinate from the current residual,
   // at least (ridge_floor · data RMS)²; B has orthonormal rows, so an entry
@@ -215,17 +219,17 @@ Status CompleteLowRankAffine(const Measurements& measurements, int rank,
     const double floor_rms = options.ridge_floor * data_rms;
     const double noise_variance =
         0.5 * std::max(residual * residual, floor_rms * floor_rms);
-    SolveColumns(w, index, a, t, options.damping, noise_variance * num_points,
+    SolveColumns(w, index, a, t, kDamping, noise_variance * num_points,
                  &b);
     NormalizeGauge(&a, &t, &b);
     const double a_mean_square = a.squaredNorm() / (num_rows * r);
-    SolveRows(w, index, b, options.damping,
+    SolveRows(w, index, b, kDamping,
               a_mean_square > 0.0 ? noise_variance / a_mean_square : 0.0, &a,
               &t);
     const double previous = residual;
     residual = ResidualRms(w, index, a, t, b);
     converged = residual <= kExactFitRelative * data_rms ||
-                previous - residual <= options.tolerance * previous;
+                previous - residual <= kTolerance * previous;
   }
   VLOG(1) << "low-rank completion: rank " << r << " + 1, " << iteration
           << " rounds, residual RMS " << residual

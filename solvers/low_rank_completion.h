@@ -35,13 +35,13 @@
 //   exactly determined completion by about ridge_floor² relative (measured
 //   in docs/factorization.md, section 1); ridge_floor = 0 gives an exact
 //   fit.
-//   Every normal matrix N also gets a Tikhonov term `damping · tr(N) / n`
-//   on its diagonal so that a rank-deficient row or column cannot produce
+//   Every normal matrix N also gets a Tikhonov term `1e-12 · tr(N) / n` on
+//   its diagonal so that a rank-deficient row or column cannot produce
 //   Inf/NaN.
 //   Steps 1-3 repeat until the RMS fit residual over the visible entries
-//   decreases by less than `tolerance` (relative; an increase also stops),
-//   or falls below 1e-13 of the
-//   RMS of the row-centred data, or `max_iterations` is reached.
+//   decreases by less than 1e-12 of itself (an increase also stops), or
+//   falls below 1e-13 of the RMS of the row-centred data, or
+//   `max_iterations` is reached.
 // On noise-free rank-r affine data whose visible pattern determines the
 // completion, the missing entries are recovered up to the ridge bias above
 // (ALS converges linearly; the rate depends on the fraction missing).
@@ -57,9 +57,7 @@ namespace nrsfm {
 
 struct LowRankCompletionOptions {
   int max_iterations = 500;     // ALS rounds (steps 1-3 above)
-  double tolerance = 1e-12;     // relative change of the residual RMS to stop
   double ridge_floor = 5e-4;    // floor of the ridge's noise RMS, relative to the data RMS, ≥ 0
-  double damping = 1e-12;       // Tikhonov weight relative to tr(N)/n, ≥ 0
 
   Status Check() const;
 };

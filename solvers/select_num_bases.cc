@@ -10,6 +10,13 @@
 namespace nrsfm {
 namespace {
 
+// The floor of e(K) in the rule of the header, times the RMS spread of W
+// (dimensionless): far above round-off, far below any real noise.
+constexpr double kRelativeNoiseFloor = 1e-6;
+// LM iterations of each K of the curve (at most the solver's own limit); the
+// chosen K is reconstructed again with the solver's limit.
+constexpr int kCurveMaxIterations = 100;
+
 // Free parameters of a model with K bases, less the gauge (see the header).
 double NumFreeParameters(const Measurements& m, int k) {
   const double f = m.num_frames, views = m.NumViews(), p = m.num_points;
@@ -23,8 +30,6 @@ Status SelectNumBasesOptions::Check() const {
   OptionChecker check("K selection");
   check.AtLeast("max_num_bases", max_num_bases, 2);
   check.FiniteAtLeast("threshold", threshold, 1.0);
-  check.FinitePositive("relative_noise_floor", relative_noise_floor);
-  check.AtLeast("curve_max_iterations", curve_max_iterations, 1);
   return check.status();
 }
 
@@ -67,7 +72,7 @@ Status SelectNumBases(const ReconstructOptions& options,
     // with more bases than the data carry converge slowly along their extra
     // freedom.
     k_options.solver.max_iterations =
-        std::min(options.solver.max_iterations, select_options.curve_max_iterations);
+        std::min(options.solver.max_iterations, kCurveMaxIterations);
     NumBasesCandidate candidate;
     candidate.num_bases = k;
     ReconstructResult reconstruction;
@@ -101,7 +106,7 @@ Status SelectNumBases(const ReconstructOptions& options,
   const double rss = n_obs * 0.5 * std::pow(out.curve[reference].reprojection_rms, 2);
   const double dof = n_obs - NumFreeParameters(measurements, reference + 1);
   out.noise_stddev = std::sqrt(rss / std::max(dof, 1.0));
-  const double floor = select_options.relative_noise_floor * measurements.ImageSpreadRms();
+  const double floor = kRelativeNoiseFloor * measurements.ImageSpreadRms();
 
   out.num_bases = reference + 1;
   for (auto& candidate : out.curve) {
@@ -122,7 +127,7 @@ Status SelectNumBases(const ReconstructOptions& options,
   const ReconstructResult& curve_result = reconstructions[out.num_bases - 1];
   if (options.priors == PriorMode::kAuto ||
       (curve_result.refine.usable && !curve_result.refine.converged &&
-       select_options.curve_max_iterations < options.solver.max_iterations)) {
+       kCurveMaxIterations < options.solver.max_iterations)) {
     ReconstructOptions chosen = options;
     chosen.start.num_bases = out.num_bases;
     NRSFM_RETURN_IF_ERROR(Reconstruct(chosen, measurements, &out.reconstruction)

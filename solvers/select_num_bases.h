@@ -15,17 +15,17 @@
 //   e(K) = σ̂ · sqrt(2 (N − n(K)) / N).
 // The rule keeps the smallest K with
 //   rms(K) ≤ threshold · max(e(K), noise_floor),
-// where noise_floor = relative_noise_floor × (RMS spread of W) stops
-// noise-free data from demanding a residual below round-off. If no K passes
-// (e.g. every K but the largest is in a poor local minimum), K_max is kept.
+// where noise_floor = 10⁻⁶ × (RMS spread of W) stops noise-free data from
+// demanding a residual below round-off. If no K passes (e.g. every K but the
+// largest is in a poor local minimum), K_max is kept.
 // The whole curve is returned so the caller can print it. With priors =
 // auto (solvers/reconstruct.h) the curve is of the data term alone and the
 // chosen K is reconstructed once more with the prior rule's terms; with
 // priors = manual every K uses the given terms. Each K of the curve runs at
-// most curve_max_iterations LM iterations (a model with more bases than the
-// data carry converges slowly along its extra freedom, and the curve needs
-// the fit, not the last digits); the chosen K, if its curve solve stopped
-// there, is reconstructed again with the solver's own limit.
+// most 100 LM iterations (a model with more bases than the data carry
+// converges slowly along its extra freedom, and the curve needs the fit, not
+// the last digits); the chosen K, if its curve solve stopped there, is
+// reconstructed again with the solver's own limit.
 #ifndef NRSFM_SOLVERS_SELECT_NUM_BASES_H_
 #define NRSFM_SOLVERS_SELECT_NUM_BASES_H_
 
@@ -40,10 +40,6 @@ namespace nrsfm {
 struct SelectNumBasesOptions {
   int max_num_bases = 8;               // largest K tried, ≥ 2
   double threshold = 1.1;              // factor over the expected noise RMS, ≥ 1
-  double relative_noise_floor = 1e-6;  // floor of e(K), times the RMS spread of W, > 0
-  // LM iterations of each K of the curve, ≥ 1 (at most the solver's own
-  // limit); the chosen K is reconstructed again with the solver's limit.
-  int curve_max_iterations = 100;
   Status Check() const;
 };
 

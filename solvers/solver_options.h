@@ -24,9 +24,7 @@ struct IterationReport {
 
 struct SolverOptions {
   // LM iterations, ≥ 0: a safety limit; a solve normally ends by a tolerance
-  // (docs/performance.md: 44–88 iterations on the real sequences;
-  // docs/robustness.md: 58–500 on re-projected, slowly turning or noisy ones,
-  // 2 of 18 stopped by it). Reconstruct() warns when it is reached.
+  // (measured in docs/performance.md). Reconstruct() warns when it is reached.
   int max_iterations = 500;
   double function_tolerance = 1e-10;   // stop when |Δcost| / cost < this, ≥ 0
   double gradient_tolerance = 1e-12;   // stop when max|projected gradient| < this, ≥ 0

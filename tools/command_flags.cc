@@ -34,7 +34,7 @@ void RegisterCommandFlags(CommandFlags* flags) {
   }();
   const std::vector<ExtraTerm>& terms = ExtraTerms();
   for (std::size_t i = 0; i < terms.size(); ++i) {
-    Register<double>(terms[i].flag, term_help[i].c_str(), &flags->term_weights[i],
+    Register<double>(terms[i].name, term_help[i].c_str(), &flags->term_weights[i],
                      &defaults.term_weights[i]);
   }
 }

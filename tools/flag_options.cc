@@ -163,7 +163,7 @@ Status BuildReconstructOptions(const CommandFlags& flags, ReconstructOptions* op
     const double weight = flags.term_weights[i];
     if (weight == 0.0) continue;
     NRSFM_RETURN_IF_ERROR(CheckFlag<ProblemOptions>(
-        terms[i].flag, [&](ProblemOptions* o) { o->term_weights[terms[i].name] = weight; }));
+        terms[i].name, [&](ProblemOptions* o) { o->term_weights[terms[i].name] = weight; }));
     options->problem.term_weights[terms[i].name] = weight;
   }
   if (flags.K == "auto") {
@@ -195,7 +195,7 @@ Status CheckTermCameras(const CommandFlags& flags, const std::string& input,
   for (std::size_t i = 0; i < terms.size(); ++i) {
     if (!(flags.term_weights[i] > 0.0)) continue;
     NRSFM_RETURN_IF_ERROR(terms[i].CheckCameras(num_cameras)
-                              .WithContext(input + ": --" + terms[i].flag));
+                              .WithContext(input + ": --" + terms[i].name));
   }
   return Status::OK();
 }
@@ -249,7 +249,7 @@ std::vector<std::pair<std::string, std::string>> OptionList(const CommandFlags& 
   NRSFM_COMMAND_FLAGS(NRSFM_ADD_OPTION)
 #undef NRSFM_ADD_OPTION
   for (std::size_t i = 0; i < ExtraTerms().size(); ++i) {
-    list.emplace_back(ExtraTerms()[i].flag, FormatDouble(flags.term_weights[i]));
+    list.emplace_back(ExtraTerms()[i].name, FormatDouble(flags.term_weights[i]));
   }
   return list;
 }
@@ -296,19 +296,6 @@ ReconstructionReport MakeReport(const CommandFlags& flags, const std::string& in
     report.e3d_frame = EvaluationFrameName(errors->e3d_frame);
   }
   return report;
-}
-
-std::vector<std::pair<std::string, double>> MetricList(const ShapeErrors& errors) {
-  std::vector<std::pair<std::string, double>> list = {
-      {"e3d", errors.e3d},
-      {"e3d_camera", errors.e3d_camera},
-      {"frob_zsign", errors.frob_zsign},
-      {"error3d_pct", errors.error3d_pct},
-      {"zerror_pct", errors.zerror_pct}};
-  if (!std::isnan(errors.rotation_error)) {
-    list.emplace_back("rotation_error", errors.rotation_error);
-  }
-  return list;
 }
 
 std::string EvaluationJson(const ShapeErrors& errors) {

@@ -102,10 +102,6 @@ std::vector<std::pair<std::string, std::string>> OptionList(const CommandFlags& 
 ReconstructionReport MakeReport(const CommandFlags& flags, const std::string& input,
                                 const ReconstructionRun& run, const ShapeErrors* errors);
 
-// The metrics of `errors` as result.json and `evaluate` name them
-// (rotation_error only when it was computed).
-std::vector<std::pair<std::string, double>> MetricList(const ShapeErrors& errors);
-
 // The one JSON line `nrsfm evaluate` prints: MetricList, e3d_frame, F, P
 // and, when not empty, unscored_frames / unscored_points.
 std::string EvaluationJson(const ShapeErrors& errors);

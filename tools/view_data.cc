@@ -219,30 +219,21 @@ Status AddTracks(const ViewDataOptions& options, const std::string& result_dir,
                          ", P = " + Str(data->num_points));
   }
   data->tracks = m.W;
-  data->frame_reprojection_rms = Eigen::VectorXd::Constant(data->num_frames, kNaN);
-  double total = 0.0;
-  long total_count = 0;
-  for (int t = 0; t < m.num_frames; ++t) {
-    double sum = 0.0;
-    long count = 0;
-    for (int c = 0; c < m.num_cameras; ++c) {
-      const int row = m.Row(t, c);
-      for (int p = 0; p < m.num_points; ++p) {
-        if (!m.visible(m.View(t, c), p)) {
-          data->tracks.block<2, 1>(row, p).setConstant(kNaN);
-          continue;
-        }
-        // A point or frame the reconstruction left out has no reprojection.
-        if (data->reprojection.block<2, 1>(row, p).array().isNaN().any()) continue;
-        sum += (m.W.block<2, 1>(row, p) - data->reprojection.block<2, 1>(row, p)).squaredNorm();
-        ++count;
+  // A point or frame the reconstruction left out has no reprojection: it is
+  // not scored.
+  Measurements scored = m;
+  for (int view = 0; view < m.NumViews(); ++view) {
+    for (int p = 0; p < m.num_points; ++p) {
+      if (!m.visible(view, p)) {
+        data->tracks.block<2, 1>(2 * view, p).setConstant(kNaN);
+      } else if (data->reprojection.block<2, 1>(2 * view, p).array().isNaN().any()) {
+        scored.visible(view, p) = false;
       }
     }
-    if (count > 0) data->frame_reprojection_rms(t) = std::sqrt(sum / count);
-    total += sum;
-    total_count += count;
   }
-  data->reprojection_rms = total_count > 0 ? std::sqrt(total / total_count) : kNaN;
+  const FrameReprojectionRms rms = ComputeFrameReprojectionRms(scored, data->reprojection);
+  data->frame_reprojection_rms = rms.frame_rms;
+  data->reprojection_rms = rms.rms;
   data->has_tracks = true;
   return Status::OK();
 }

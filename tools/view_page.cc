@@ -104,12 +104,10 @@ std::string DataJson(const ViewData& data, const ViewPageSources& sources) {
   meta["has_truth"] = data.has_truth;
   meta["has_tracks"] = data.has_tracks;
   if (data.has_truth) {
-    meta["metrics"] = {{"e3d", data.metrics.e3d},
-                       {"e3d_frame", EvaluationFrameName(data.metrics.e3d_frame)},
-                       {"e3d_camera", data.metrics.e3d_camera},
-                       {"frob_zsign", data.metrics.frob_zsign},
-                       {"error3d_pct", data.metrics.error3d_pct},
-                       {"zerror_pct", data.metrics.zerror_pct}};
+    nlohmann::ordered_json metrics;
+    for (const auto& [name, value] : MetricList(data.metrics)) metrics[name] = value;
+    metrics["e3d_frame"] = EvaluationFrameName(data.metrics.e3d_frame);
+    meta["metrics"] = metrics;
   }
   if (data.has_tracks) {
     if (std::isfinite(data.reprojection_rms)) {

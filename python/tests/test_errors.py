@@ -27,7 +27,7 @@ OPTION_ERRORS = [
     ({"linear_solver": "magic"}, ["--linear_solver", "magic"], None),
     ({"priors": "some"}, ["--priors", "some"], None),
     ({"temporal": -1.0}, ["--temporal", "-1"],
-     "--temporal: problem options: term weight temporal_weights must be finite and >= 0, got -1"),
+     "--temporal: problem options: term weight temporal must be finite and >= 0, got -1"),
     ({"smoothness": float("nan")}, ["--smoothness", "nan"], None),
     ({"max_iterations": -1}, ["--max_iterations", "-1"], None),
     ({"threads": 0}, ["--threads", "0"], None),

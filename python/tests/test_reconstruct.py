@@ -126,9 +126,9 @@ def test_two_cameras_and_options_by_keyword():
     assert summary["num_cameras"] == 2
     assert summary["options"]["rigidity"] == "100"
     assert summary["options"]["threads"] == "2"
-    # Keyed by the terms' names (--temporal weighs temporal_weights).
+    # Keyed by the terms' names, which are also their flags.
     assert summary["term_weights"] == {"smoothness": 0.01, "rigidity": 100.0,
-                                       "temporal_weights": 1.0}
+                                       "temporal": 1.0}
     errors = nrsfm.evaluate(s.truth, r)
     print("two-camera shoe with rigidity:", errors)
     assert errors["error3d_pct"] < 2.0

@@ -366,6 +366,25 @@ TEST(Metrics, ReprojectionRmsSkipsMissingEntries) {
   }
   ASSERT_TRUE(m.Validate().ok());
   EXPECT_NEAR(ReprojectionRms(m, model), std::sqrt(1.4), 1e-14);
+  EXPECT_NEAR(ReprojectionSquaredError(m, model), 14.0, 1e-13);
+
+  // The same from the reprojection matrix, per frame: frame 0 has 5 visible
+  // entries and the error 9, frame 1 has 5 and the error 5.
+  Eigen::MatrixXd reprojections(8, 3);
+  for (int t = 0; t < 2; ++t) {
+    for (int c = 0; c < 2; ++c)
+      reprojections.middleRows(m.Row(t, c), 2) = model.Project(t, c);
+  }
+  FrameReprojectionRms by_frame = ComputeFrameReprojectionRms(m, reprojections);
+  ASSERT_EQ(by_frame.frame_rms.size(), 2);
+  EXPECT_NEAR(by_frame.frame_rms(0), std::sqrt(9.0 / 5.0), 1e-14);
+  EXPECT_NEAR(by_frame.frame_rms(1), std::sqrt(5.0 / 5.0), 1e-14);
+  EXPECT_NEAR(by_frame.rms, std::sqrt(1.4), 1e-14);
+  // A frame with nothing visible has no RMS.
+  m.visible.middleRows(m.View(1, 0), 2).setConstant(false);
+  by_frame = ComputeFrameReprojectionRms(m, reprojections);
+  EXPECT_TRUE(std::isnan(by_frame.frame_rms(1)));
+  EXPECT_NEAR(by_frame.rms, std::sqrt(9.0 / 5.0), 1e-14);
 }
 
 TEST(Metrics, CameraFrameShapesAreShapeInCamera) {

@@ -39,11 +39,10 @@ double Cost(ProblemBuilder* builder) {
   return cost;
 }
 
-TEST(ExtraTerms, TableNamesAndFlagsAreUniqueAndDescribed) {
-  std::set<std::string> names, flags;
+TEST(ExtraTerms, TableNamesAreUniqueAndDescribed) {
+  std::set<std::string> names;
   for (const ExtraTerm& term : ExtraTerms()) {
     EXPECT_TRUE(names.insert(term.name).second) << term.name;
-    EXPECT_TRUE(flags.insert(term.flag).second) << term.flag;
     EXPECT_GT(std::string(term.units).size(), 0u) << term.name;
     EXPECT_GT(std::string(term.meaning).size(), 0u) << term.name;
     EXPECT_GE(term.min_cameras, 1) << term.name;
@@ -51,7 +50,8 @@ TEST(ExtraTerms, TableNamesAndFlagsAreUniqueAndDescribed) {
     EXPECT_EQ(FindExtraTerm(term.name), &term);
   }
   EXPECT_EQ(names.size(), 6u);
-  EXPECT_EQ(FindExtraTerm("temporal"), nullptr);  // a flag, not a name
+  EXPECT_EQ(FindExtraTerm(kTemporalTerm)->name, std::string("temporal"));
+  EXPECT_EQ(FindExtraTerm("--temporal"), nullptr);
 }
 
 // Residual blocks per term on F = 6 frames, P = 12 points, M = 2 cameras.
@@ -62,7 +62,7 @@ TEST(ExtraTerms, EachTermAddsItsCountOfResidualBlocks) {
   const int expected[] = {
       static_cast<int>(edges.size()),  // smoothness: one per neighbour edge
       kFrames * (kCameras - 1),        // rigidity: (t, c ≥ 1)
-      kFrames - 1,                     // temporal_weights: t ≥ 1
+      kFrames - 1,                     // temporal: t ≥ 1
       (kFrames - 1) * kCameras,        // temporal_rotations: (t ≥ 1, c)
       (kFrames - 1) * kPoints,         // temporal_shape: (t ≥ 1, p)
       (kFrames - 2) * kCameras,        // rotation_acceleration: (1 ≤ t ≤ F − 2, c)
@@ -149,12 +149,13 @@ TEST(ExtraTerms, ErrorsNameTheTerm) {
       << status.message();
 
   ProblemOptions unknown;
-  unknown.term_weights["temporal"] = 1.0;
+  unknown.term_weights["temporal_weights"] = 1.0;
   status = unknown.Check();
   ASSERT_FALSE(status.ok());
-  EXPECT_NE(status.message().find("no term \"temporal\""), std::string::npos)
+  EXPECT_NE(status.message().find("no term \"temporal_weights\""), std::string::npos)
       << status.message();
-  EXPECT_NE(status.message().find("temporal_weights"), std::string::npos);
+  EXPECT_NE(status.message().find("rigidity, temporal, temporal_rotations"), std::string::npos)
+      << status.message();
 }
 
 }  // namespace

@@ -216,7 +216,7 @@ TEST(ExtraTerms, TemporalPriorLowersTheErrorOnSmoothNoisyData) {
   // towards slower motion: its weight must stay far below the weights'
   // (docs/extra_terms.md).
   ProblemOptions with;
-  with.term_weights["temporal_weights"] = 100.0;
+  with.term_weights["temporal"] = 100.0;
   with.term_weights["temporal_rotations"] = 0.3;
   WithoutAndWith run;
   // The rigid start, the one of lower RMS here (0.026 vs 0.034).

@@ -125,6 +125,19 @@ TEST(PriorRule, DecisionsFollowTheThresholds) {
   EXPECT_GT(shaky.path_acceleration_deg, options.max_path_acceleration_deg);
   EXPECT_EQ(shaky.term_weights.count("rotation_acceleration"), 0u);
 
+  // The threshold decides: 0 never adds the term, not even for the constant
+  // path; one above the shaking path's acceleration adds it there too.
+  PriorRuleOptions never = options;
+  never.max_path_acceleration_deg = 0.0;
+  PriorDecision smooth_never = video;
+  DecidePathPrior(never, PathModel(constant), &smooth_never);
+  EXPECT_EQ(smooth_never.term_weights.count("rotation_acceleration"), 0u);
+  PriorRuleOptions lenient = options;
+  lenient.max_path_acceleration_deg = 2.0 * shaky.path_acceleration_deg;
+  PriorDecision shaky_lenient = video;
+  DecidePathPrior(lenient, PathModel(shaking), &shaky_lenient);
+  EXPECT_EQ(shaky_lenient.term_weights.count("rotation_acceleration"), 1u);
+
   // Frames in no order get no temporal term, and no path prior after.
   PriorDecision unordered;
   DecideVideoPriors(options, Translating(7, 0.05), 1, &unordered);  // too short to tell
@@ -156,6 +169,14 @@ TEST(PriorRule, NoTemporalTermWhenTheDataFixTheRotations) {
   // K = 7: 3K = 21 ≥ 20.
   DecideVideoPriors(options, m, 7, &decision);
   EXPECT_EQ(decision.term_weights.count("temporal_shape"), 1u);
+  // A lower min_basis_fraction moves the threshold: K = 6, 3K = 18 ≥ 0.4 · 40;
+  // the term gets temporal_shape_weight.
+  PriorRuleOptions lower = options;
+  lower.min_basis_fraction = 0.4;
+  lower.temporal_shape_weight = 2.5;
+  PriorDecision lowered;
+  DecideVideoPriors(lower, m, 6, &lowered);
+  EXPECT_EQ(lowered.term_weights.at("temporal_shape"), 2.5);
 }
 
 TEST(PriorRule, OptionsAreChecked) {
@@ -166,6 +187,17 @@ TEST(PriorRule, OptionsAreChecked) {
   options.rotation_acceleration_weight = NAN;
   EXPECT_NE(options.Check().message().find("rotation_acceleration_weight"),
             std::string::npos);
+  options = PriorRuleOptions();
+  options.min_basis_fraction = 0.0;
+  EXPECT_NE(options.Check().message().find("min_basis_fraction"), std::string::npos);
+  options = PriorRuleOptions();
+  options.temporal_shape_weight = -1.0;
+  EXPECT_NE(options.Check().message().find("temporal_shape_weight"), std::string::npos);
+  options = PriorRuleOptions();
+  options.max_path_acceleration_deg = -0.1;
+  EXPECT_NE(options.Check().message().find("max_path_acceleration_deg"),
+            std::string::npos);
+  EXPECT_TRUE(PriorRuleOptions().Check().ok());
 }
 
 TEST(PriorRule, WeightsGivenWithAutoPriorsAreAnError) {

@@ -44,7 +44,7 @@ ProblemOptions Terms() {
   ProblemOptions problem;
   problem.term_weights["temporal_shape"] = 0.5;
   problem.term_weights["rotation_acceleration"] = 10.0;
-  problem.term_weights["temporal_weights"] = 0.1;
+  problem.term_weights["temporal"] = 0.1;
   return problem;
 }
 

@@ -76,9 +76,9 @@ TEST_F(CliTest, HelpListsTheCommandsAndOnlyTheToolsFlags) {
   EXPECT_EQ(text.find("-logtostderr"), std::string::npos) << "glog flags leak into --help";
   // One flag per row of the extra-term table, described by the table.
   for (const ExtraTerm& term : ExtraTerms()) {
-    EXPECT_NE(text.find(std::string("-") + term.flag + " (reconstruct: weight of the"),
+    EXPECT_NE(text.find(std::string("-") + term.name + " (reconstruct: weight of the"),
               std::string::npos)
-        << term.flag;
+        << term.name;
   }
 }
 
@@ -247,7 +247,7 @@ TEST_F(CliTest, ExtraTermFlags) {
   const nlohmann::json result = nlohmann::json::parse(ReadFile(Path("s/result.json")));
   // Every term's weight is in result.json under its flag.
   for (const ExtraTerm& term : ExtraTerms()) {
-    EXPECT_TRUE(result["options"].contains(term.flag)) << term.flag;
+    EXPECT_TRUE(result["options"].contains(term.name)) << term.name;
   }
   EXPECT_EQ(result["options"]["rigidity"], "100");
   EXPECT_EQ(result["options"]["temporal"], "1");
@@ -300,7 +300,7 @@ TEST_F(CliTest, TermFlagMeansManualPriors) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json result = nlohmann::json::parse(ReadFile(Path("m/result.json")));
   EXPECT_EQ(result["term_weights"].size(), 1u);
-  EXPECT_EQ(result["term_weights"]["temporal_weights"].get<double>(), 0.5);
+  EXPECT_EQ(result["term_weights"]["temporal"].get<double>(), 0.5);
   ExpectFailure("reconstruct --input r.mat --K 1 --priors sometimes --output o",
                 "--priors", "o");
 }

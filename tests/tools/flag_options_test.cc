@@ -42,7 +42,7 @@ TEST(BuildReconstructOptions, NamesTheFlagAndTheValue) {
   flags.term_weights[0] = -1.0;
   // The rule is ProblemOptions::Check()'s; the message names the flag.
   EXPECT_EQ(BuildReconstructOptions(flags, &options).message(),
-            std::string("--") + ExtraTerms()[0].flag + ": problem options: term weight " +
+            std::string("--") + ExtraTerms()[0].name + ": problem options: term weight " +
                 ExtraTerms()[0].name + " must be finite and >= 0, got -1");
   flags = CommandFlags();
   flags.K = "auto";
@@ -73,7 +73,7 @@ TEST(OptionList, EveryReconstructFlagOnce) {
       << #name;
   NRSFM_COMMAND_FLAGS(NRSFM_CHECK_OPTION)
 #undef NRSFM_CHECK_OPTION
-  for (const ExtraTerm& term : ExtraTerms()) EXPECT_EQ(options[term.flag], "0") << term.flag;
+  for (const ExtraTerm& term : ExtraTerms()) EXPECT_EQ(options[term.name], "0") << term.name;
   EXPECT_EQ(options["K_threshold"], "1.1");
   EXPECT_EQ(options["seed"], "1");
 }
