@@ -34,8 +34,29 @@ namespace nrsfm {
 // dispatches 1…kMaxStaticBases with a switch).
 inline constexpr int kMaxStaticBases = 16;
 
+// The basis block's Jacobian of the reprojection error factors as
+//   ∂r/∂b_k = l_k · A,   A = sqrt(w_obs) · s · Π R(ω)   (2 × 3),
+// so a solver that multiplies by it many times (solvers/structured_solver.h:
+// every conjugate-gradient iteration) can keep A (6 numbers) instead of the
+// 2 × 3K block and form J_b δb = A Σ_k l_k δb_k and J_bᵀ y = [l_k Aᵀ y]_k
+// with the weights l it reads from the weights block.
+class BasisJacobianFactor {
+ public:
+  static constexpr int kWeightsSlot = 2;  // parameter block l (K)
+  static constexpr int kBasisSlot = 3;    // parameter block b_p (3K)
+
+  virtual ~BasisJacobianFactor() = default;
+  virtual int num_bases() const = 0;
+  // Evaluate() that also writes A (row-major 2 × 3) to `factor` when it is
+  // not null; jacobians[kBasisSlot] may be null then (not computed).
+  virtual bool EvaluateWithBasisFactor(double const* const* parameters,
+                                       double* residuals, double** jacobians,
+                                       double* factor) const = 0;
+};
+
 template <int kNumBases>
-class ReprojectionCostFunction final : public ceres::CostFunction {
+class ReprojectionCostFunction final : public ceres::CostFunction,
+                                       public BasisJacobianFactor {
  public:
   // `num_bases` must equal kNumBases unless kNumBases is Eigen::Dynamic.
   // `with_scale` adds the fifth block s (cameras c ≥ 1 of multi-camera data).
@@ -54,8 +75,15 @@ class ReprojectionCostFunction final : public ceres::CostFunction {
     if (with_scale) sizes->push_back(1);
   }
 
+  int num_bases() const override { return num_bases_; }
+
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
+    return EvaluateWithBasisFactor(parameters, residuals, jacobians, nullptr);
+  }
+
+  bool EvaluateWithBasisFactor(double const* const* parameters, double* residuals,
+                               double** jacobians, double* factor) const override {
     // Eigen forbids a row-major 2 × 1 type; for K = 1 both layouts agree.
     using RowMajor2xK =
         Eigen::Matrix<double, 2, kNumBases,
@@ -84,14 +112,18 @@ class ReprojectionCostFunction final : public ceres::CostFunction {
     Eigen::Map<Eigen::Vector2d> residual(residuals);
     residual = sqrt_weight_ * (scale * projected + translation - observation_);
 
+    const double scaled = sqrt_weight_ * scale;
+    if (factor != nullptr) {
+      Eigen::Map<Eigen::Matrix<double, 2, 3, Eigen::RowMajor>> a(factor);
+      a = scaled * projection;
+    }
     if (jacobians == nullptr) return true;
-    const double factor = sqrt_weight_ * scale;
     if (jacobians[0] != nullptr) {
       Eigen::Map<Eigen::Matrix<double, 2, 3, Eigen::RowMajor>> d_rotation(
           jacobians[0]);
       for (int i = 0; i < 3; ++i) {
         for (int row = 0; row < 2; ++row) {
-          d_rotation(row, i) = factor * (rotation_jet[row].v[i] * point[0] +
+          d_rotation(row, i) = scaled * (rotation_jet[row].v[i] * point[0] +
                                          rotation_jet[3 + row].v[i] * point[1] +
                                          rotation_jet[6 + row].v[i] * point[2]);
         }
@@ -104,14 +136,14 @@ class ReprojectionCostFunction final : public ceres::CostFunction {
     }
     if (jacobians[2] != nullptr) {
       Eigen::Map<RowMajor2xK> d_weights(jacobians[2], 2, num_bases_);
-      d_weights = factor * projection * basis;
+      d_weights = scaled * projection * basis;
     }
     if (jacobians[3] != nullptr) {
       for (int k = 0; k < num_bases_; ++k) {
         for (int row = 0; row < 2; ++row) {
           for (int col = 0; col < 3; ++col) {
             jacobians[3][row * 3 * num_bases_ + 3 * k + col] =
-                factor * weights[k] * projection(row, col);
+                scaled * weights[k] * projection(row, col);
           }
         }
       }

@@ -15,6 +15,7 @@
 
 #include "core/parallel_for.h"
 #include "problems/jacobian_product.h"
+#include "problems/reprojection_cost_function.h"
 
 namespace nrsfm {
 namespace {
@@ -109,6 +110,14 @@ struct Residual {
   // Products with its Jacobian from its parameters (problems/jacobian_product.h),
   // used in the conjugate gradients instead of the stored Jacobian.
   const JacobianProduct* product = nullptr;
+  // A reprojection residual without a robust loss whose eliminated block is
+  // its basis block: that block's Jacobian l_k · A is not stored, only A
+  // (2 × 3 at factors_[factor]), and l is read from the weights block
+  // (problems/reprojection_cost_function.h, BasisJacobianFactor).
+  const BasisJacobianFactor* basis_factor = nullptr;
+  std::size_t factor = 0;
+  const double* weights = nullptr;
+  int num_bases = 0;
 };
 
 // Slot pointers for a JacobianProduct call: one per parameter block of a
@@ -198,6 +207,7 @@ class Solver {
   std::vector<int> residuals_with_shared_;
   int max_rows_per_residual_ = 0;
   std::vector<double> jacobian_;
+  std::vector<double> factors_;  // A of the residuals with a basis_factor, 6 each
   Eigen::VectorXd r_, gradient_reduced_, gradient_eliminated_, d_reduced_, d_eliminated_;
   std::vector<Eigen::LLT<Eigen::MatrixXd>> eliminated_llt_;  // per eliminated block
   std::vector<Eigen::MatrixXd> eliminated_gram_;  // J_pᵀ J_p per eliminated block
@@ -245,11 +255,13 @@ bool Solver::Setup(const StructuredLayout& layout, std::string* error) {
   std::vector<ceres::ResidualBlockId> ids;
   problem_->GetResidualBlocks(&ids);
   residuals_.reserve(ids.size());
-  std::size_t jac = 0;
+  std::size_t jac = 0, factor = 0;
   for (ceres::ResidualBlockId id : ids) {
     Residual r;
     r.cost = problem_->GetCostFunctionForResidualBlock(id);
     r.loss = problem_->GetLossFunctionForResidualBlock(id);
+    const BasisJacobianFactor* basis_factor =
+        r.loss == nullptr ? dynamic_cast<const BasisJacobianFactor*>(r.cost) : nullptr;
     r.m = r.cost->num_residuals();
     r.row = num_rows_;
     num_rows_ += r.m;
@@ -275,6 +287,17 @@ bool Solver::Setup(const StructuredLayout& layout, std::string* error) {
         }
         r.eliminated = block;
         r.eliminated_jcol = r.width;
+        if (basis_factor != nullptr && b.manifold == nullptr &&
+            r.slot_block.size() == BasisJacobianFactor::kBasisSlot + 1) {
+          // The basis block's columns are formed from A and l, not stored.
+          r.basis_factor = basis_factor;
+          r.num_bases = basis_factor->num_bases();
+          r.weights = r.parameters[BasisJacobianFactor::kWeightsSlot];
+          r.factor = factor;
+          factor += 6;
+          r.slot_jcol.back() = -1;
+          continue;
+        }
       } else {
         // Merge with the previous segment when the columns continue it
         // within the same group.
@@ -306,6 +329,7 @@ bool Solver::Setup(const StructuredLayout& layout, std::string* error) {
     residuals_.push_back(std::move(r));
   }
   jacobian_.assign(jac, 0.0);
+  factors_.assign(factor, 0.0);
   r_.setZero(num_rows_);
 
   group_refs_.assign(num_groups, {});
@@ -350,19 +374,25 @@ bool Solver::Evaluate(bool with_jacobian, double* cost) {
       if (ambient.size() < r.parameters.size()) ambient.resize(r.parameters.size());
       if (with_jacobian) {
         for (std::size_t k = 0; k < r.parameters.size(); ++k) {
-          if (r.slot_block[k] < 0) continue;
+          if (r.slot_block[k] < 0 || r.slot_jcol[k] < 0) continue;
           ambient[k].resize(static_cast<std::size_t>(r.m) * blocks_[r.slot_block[k]].ambient);
           jacobians[k] = ambient[k].data();
         }
       }
-      if (!r.cost->Evaluate(r.parameters.data(), residual,
-                            with_jacobian ? jacobians.data() : nullptr)) {
+      const bool evaluated =
+          r.basis_factor != nullptr && with_jacobian
+              ? r.basis_factor->EvaluateWithBasisFactor(r.parameters.data(), residual,
+                                                        jacobians.data(),
+                                                        factors_.data() + r.factor)
+              : r.cost->Evaluate(r.parameters.data(), residual,
+                                 with_jacobian ? jacobians.data() : nullptr);
+      if (!evaluated) {
         ok[worker] = 0;
         return;
       }
       if (with_jacobian) {
         for (std::size_t k = 0; k < r.parameters.size(); ++k) {
-          if (r.slot_block[k] < 0) continue;
+          if (r.slot_block[k] < 0 || r.slot_jcol[k] < 0) continue;
           const Block& b = blocks_[r.slot_block[k]];
           RowMap out(J(r) + r.slot_jcol[k], r.m, b.size, Eigen::OuterStride<>(r.width));
           const Eigen::Map<const RowMatrix> in(ambient[k].data(), r.m, b.ambient);
@@ -435,6 +465,19 @@ void Solver::AddResidualJx(const Residual& r, const double* reduced, const doubl
   }
   if (eliminated != nullptr && r.eliminated >= 0) {
     const Block& b = blocks_[r.eliminated];
+    if (r.basis_factor != nullptr) {
+      // A Σ_k l_k δb_k.
+      const double* x = eliminated + b.offset;
+      double u[3] = {0.0, 0.0, 0.0};
+      for (int k = 0; k < r.num_bases; ++k) {
+        const double l = r.weights[k];
+        u[0] += l * x[3 * k];
+        u[1] += l * x[3 * k + 1];
+        u[2] += l * x[3 * k + 2];
+      }
+      AddAx(factors_.data() + r.factor, 2, 3, 3, u, y);
+      return;
+    }
     AddAx(J(r) + r.eliminated_jcol, r.m, b.size, r.width, eliminated + b.offset, y);
   }
 }
@@ -464,6 +507,19 @@ void Solver::AddResidualJty(const Residual& r, const double* y, double* reduced,
   }
   if (eliminated != nullptr && r.eliminated >= 0) {
     const Block& b = blocks_[r.eliminated];
+    if (r.basis_factor != nullptr) {
+      // [l_k Aᵀ y]_k.
+      double v[3] = {0.0, 0.0, 0.0};
+      AddAty(factors_.data() + r.factor, 2, 3, 3, y, v);
+      double* out = eliminated + b.offset;
+      for (int k = 0; k < r.num_bases; ++k) {
+        const double l = r.weights[k];
+        out[3 * k] += l * v[0];
+        out[3 * k + 1] += l * v[1];
+        out[3 * k + 2] += l * v[2];
+      }
+      return;
+    }
     AddAty(J(r) + r.eliminated_jcol, r.m, b.size, r.width, y, eliminated + b.offset);
   }
 }
@@ -520,20 +576,47 @@ void Solver::ComputeEliminatedGram() {
                 RowMatrix stacked;
                 for (int k = begin; k < end; ++k) {
                   const Block& b = blocks_[eliminated_blocks_[k]];
-                  // The block's Jacobian rows stacked, then one symmetric
-                  // rank update (the small products one by one cost more).
-                  int rows = 0;
-                  for (const Ref& ref : eliminated_refs_[k]) rows += residuals_[ref.residual].m;
-                  stacked.resize(rows, b.size);
-                  rows = 0;
-                  for (const Ref& ref : eliminated_refs_[k]) {
-                    const Residual& r = residuals_[ref.residual];
-                    stacked.middleRows(rows, r.m) = Cols(r, r.eliminated_jcol, b.size);
-                    rows += r.m;
-                  }
+                  // Residuals with a basis factor add (l lᵀ) ⊗ (Aᵀ A)
+                  // directly (lower triangle).
                   Eigen::MatrixXd& c = eliminated_gram_[k];
                   c.setZero(b.size, b.size);
-                  c.selfadjointView<Eigen::Lower>().rankUpdate(stacked.transpose());
+                  int rows = 0;
+                  for (const Ref& ref : eliminated_refs_[k]) {
+                    const Residual& r = residuals_[ref.residual];
+                    if (r.basis_factor == nullptr) {
+                      rows += r.m;
+                      continue;
+                    }
+                    const double* a = factors_.data() + r.factor;
+                    double ata[9];
+                    for (int i = 0; i < 3; ++i) {
+                      for (int j = 0; j < 3; ++j) ata[3 * i + j] = a[i] * a[j] + a[3 + i] * a[3 + j];
+                    }
+                    for (int kb = 0; kb < r.num_bases; ++kb) {
+                      for (int ka = kb; ka < r.num_bases; ++ka) {
+                        const double ll = r.weights[ka] * r.weights[kb];
+                        for (int j = 0; j < 3; ++j) {
+                          for (int i = (ka == kb ? j : 0); i < 3; ++i) {
+                            c(3 * ka + i, 3 * kb + j) += ll * ata[3 * i + j];
+                          }
+                        }
+                      }
+                    }
+                  }
+                  if (rows > 0) {
+                    // The block's stored Jacobian rows stacked, then one
+                    // symmetric rank update (the small products one by one
+                    // cost more).
+                    stacked.resize(rows, b.size);
+                    rows = 0;
+                    for (const Ref& ref : eliminated_refs_[k]) {
+                      const Residual& r = residuals_[ref.residual];
+                      if (r.basis_factor != nullptr) continue;
+                      stacked.middleRows(rows, r.m) = Cols(r, r.eliminated_jcol, b.size);
+                      rows += r.m;
+                    }
+                    c.selfadjointView<Eigen::Lower>().rankUpdate(stacked.transpose());
+                  }
                   c.triangularView<Eigen::StrictlyUpper>() = c.transpose();
                 }
               });
@@ -552,6 +635,17 @@ void Solver::ComputeGradientAndScaling() {
     }
     if (r.eliminated >= 0) {
       const Block& b = blocks_[r.eliminated];
+      if (r.basis_factor != nullptr) {
+        // Column (k, i) of l_k A: l_k² Σ_rows A(row, i)².
+        const double* a = factors_.data() + r.factor;
+        for (int k = 0; k < r.num_bases; ++k) {
+          const double l2 = r.weights[k] * r.weights[k];
+          for (int i = 0; i < 3; ++i) {
+            d_eliminated_[b.offset + 3 * k + i] += l2 * (a[i] * a[i] + a[3 + i] * a[3 + i]);
+          }
+        }
+        continue;
+      }
       d_eliminated_.segment(b.offset, b.size) +=
           Cols(r, r.eliminated_jcol, b.size).colwise().squaredNorm().transpose();
     }

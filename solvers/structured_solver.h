@@ -24,9 +24,12 @@
 //
 // Products with the Jacobian read the stored Jacobian in storage order, or,
 // for cost functions that provide them (problems/jacobian_product.h), are
-// formed from the parameters; each thread sums into its own vector and the
-// vectors are added in thread order, so results are bit-identical for a
-// given thread count.
+// formed from the parameters; the reprojection residuals (without a robust
+// loss) keep only the 2 × 3 factor A of their basis block's Jacobian l_k · A
+// (problems/reprojection_cost_function.h), not the 2 × 3K block, and form
+// its products, J_pᵀ J_p and diag from A and the weights. Each thread sums
+// into its own vector and the vectors are added in thread order, so results
+// are bit-identical for a given thread count.
 #ifndef NRSFM_SOLVERS_STRUCTURED_SOLVER_H_
 #define NRSFM_SOLVERS_STRUCTURED_SOLVER_H_
 

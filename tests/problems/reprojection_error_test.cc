@@ -207,6 +207,54 @@ TEST(ReprojectionError, HandWrittenJacobianEqualsAutodiff) {
   }
 }
 
+// The basis block's Jacobian is l_k · A with the factor A the cost function
+// reports (what the structured solver keeps instead of the 2 × 3K block),
+// and EvaluateWithBasisFactor gives Evaluate's residuals and other blocks.
+TEST(ReprojectionError, BasisJacobianIsWeightTimesTheReportedFactor) {
+  std::mt19937 rng(5);
+  for (const int k : {1, 3, 12, 17}) {
+    for (const bool with_scale : {false, true}) {
+      Blocks b = RandomBlocks(k, &rng);
+      std::unique_ptr<ceres::CostFunction> cost(CreateReprojectionCostFunction(
+          k, with_scale, false, Eigen::Vector2d(0.3, -0.2), 1.7));
+      const auto* factor_source = dynamic_cast<const BasisJacobianFactor*>(cost.get());
+      ASSERT_NE(factor_source, nullptr);
+      EXPECT_EQ(factor_source->num_bases(), k);
+      const std::vector<int>& sizes = cost->parameter_block_sizes();
+      std::vector<std::vector<double>> full(sizes.size()), partial(sizes.size());
+      std::vector<double*> full_ptr, partial_ptr;
+      for (size_t i = 0; i < sizes.size(); ++i) {
+        full[i].assign(2 * sizes[i], 0.0);
+        partial[i].assign(2 * sizes[i], -7.0);
+        full_ptr.push_back(full[i].data());
+        partial_ptr.push_back(i == BasisJacobianFactor::kBasisSlot ? nullptr
+                                                                    : partial[i].data());
+      }
+      double r_full[2], r_partial[2], a[6];
+      const std::vector<const double*> parameters = b.Pointers(with_scale);
+      ASSERT_TRUE(cost->Evaluate(parameters.data(), r_full, full_ptr.data()));
+      ASSERT_TRUE(factor_source->EvaluateWithBasisFactor(parameters.data(), r_partial,
+                                                          partial_ptr.data(), a));
+      EXPECT_EQ(r_full[0], r_partial[0]);
+      EXPECT_EQ(r_full[1], r_partial[1]);
+      for (size_t i = 0; i < sizes.size(); ++i) {
+        if (i == BasisJacobianFactor::kBasisSlot) continue;
+        EXPECT_EQ(full[i], partial[i]) << "block " << i;
+      }
+      const double* weights = parameters[BasisJacobianFactor::kWeightsSlot];
+      const std::vector<double>& jb = full[BasisJacobianFactor::kBasisSlot];
+      for (int row = 0; row < 2; ++row) {
+        for (int kk = 0; kk < k; ++kk) {
+          for (int col = 0; col < 3; ++col) {
+            EXPECT_NEAR(jb[row * 3 * k + 3 * kk + col], weights[kk] * a[3 * row + col], 1e-14)
+                << "K = " << k << ", row " << row << ", basis " << kk << ", col " << col;
+          }
+        }
+      }
+    }
+  }
+}
+
 TEST(ReprojectionError, FactoryDispatchesOnK) {
   for (const int k : {1, 16, 17, 40}) {
     std::unique_ptr<ceres::CostFunction> cost(
