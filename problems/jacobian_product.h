@@ -28,6 +28,19 @@ class JacobianProduct {
   virtual void AddJacobianTransposeProduct(double const* const* parameters,
                                            const double* y,
                                            double* const* x) const = 0;
+
+  // Optional: whether AddGram is provided. Then a solver needs no stored
+  // Jacobian for the block at all (its products, Gram blocks and diagonal
+  // come from these calls).
+  virtual bool ProvidesGram() const { return false; }
+  // out += J_aᵀ J_b for parameter blocks a and b (size_a × size_b,
+  // column-major with leading dimension ld). Only called when ProvidesGram().
+  virtual void AddGram(double const* const* /*parameters*/, int /*a*/, int /*b*/,
+                       double* /*out*/, int /*ld*/) const {}
+  // out (size_a) += diag(J_aᵀ J_a), the squared norms of block a's columns.
+  // Only called when ProvidesGram().
+  virtual void AddGramDiagonal(double const* const* /*parameters*/, int /*a*/,
+                               double* /*out*/) const {}
 };
 
 }  // namespace nrsfm

@@ -191,6 +191,73 @@ class ShapeTemporalError final : public ceres::CostFunction,
     for (int j = 0; j < 3; ++j) y[j] += s * sum[j];
   }
 
+  bool ProvidesGram() const override { return true; }
+
+  // With J_0 = s B, J_1 = −s B (3 × K) and J_2 = s (Δlᵀ ⊗ I₃) (3 × 3K),
+  // Δl = l_t − l_{t−1}: J_0ᵀJ_0 = J_1ᵀJ_1 = −J_0ᵀJ_1 = s² BᵀB,
+  // J_2ᵀJ_2 = s² (Δl Δlᵀ) ⊗ I₃, J_0ᵀJ_2 = −J_1ᵀJ_2 = s² [Δl_c B(j, i)].
+  void AddGram(double const* const* parameters, int a, int b, double* out,
+               int ld) const override {
+    const int k = num_bases_;
+    const double s2 = sqrt_weight_ * sqrt_weight_;
+    const double* basis = parameters[2];  // column c: basis[3c .. 3c + 2]
+    if (a < 2 && b < 2) {
+      const double sign = a == b ? s2 : -s2;
+      for (int j = 0; j < k; ++j) {
+        for (int i = 0; i < k; ++i) {
+          const double* bi = basis + 3 * i;
+          const double* bj = basis + 3 * j;
+          out[i + static_cast<std::ptrdiff_t>(j) * ld] +=
+              sign * (bi[0] * bj[0] + bi[1] * bj[1] + bi[2] * bj[2]);
+        }
+      }
+      return;
+    }
+    const auto change = [parameters](int c) { return parameters[0][c] - parameters[1][c]; };
+    if (a == 2 && b == 2) {
+      for (int cj = 0; cj < k; ++cj) {
+        for (int ci = 0; ci < k; ++ci) {
+          const double v = s2 * change(ci) * change(cj);
+          for (int d = 0; d < 3; ++d) {
+            out[3 * ci + d + static_cast<std::ptrdiff_t>(3 * cj + d) * ld] += v;
+          }
+        }
+      }
+      return;
+    }
+    // One of a, b is 2, the other 0 or 1: entry (i, 3c + d) of J_0ᵀJ_2 is
+    // s² B(d, i) Δl_c.
+    const int weights_block = a == 2 ? b : a;
+    const double sign = weights_block == 0 ? s2 : -s2;
+    for (int i = 0; i < k; ++i) {
+      for (int c = 0; c < k; ++c) {
+        for (int d = 0; d < 3; ++d) {
+          const double v = sign * basis[3 * i + d] * change(c);
+          if (a == 2) {
+            out[3 * c + d + static_cast<std::ptrdiff_t>(i) * ld] += v;
+          } else {
+            out[i + static_cast<std::ptrdiff_t>(3 * c + d) * ld] += v;
+          }
+        }
+      }
+    }
+  }
+
+  void AddGramDiagonal(double const* const* parameters, int a,
+                       double* out) const override {
+    const int k = num_bases_;
+    const double s2 = sqrt_weight_ * sqrt_weight_;
+    for (int c = 0; c < k; ++c) {
+      if (a < 2) {
+        const double* bc = parameters[2] + 3 * c;
+        out[c] += s2 * (bc[0] * bc[0] + bc[1] * bc[1] + bc[2] * bc[2]);
+      } else {
+        const double change = parameters[0][c] - parameters[1][c];
+        for (int d = 0; d < 3; ++d) out[3 * c + d] += s2 * change * change;
+      }
+    }
+  }
+
   void AddJacobianTransposeProduct(double const* const* parameters, const double* y,
                                    double* const* x) const override {
     const int k = num_bases_;

@@ -118,6 +118,9 @@ struct Residual {
   std::size_t factor = 0;
   const double* weights = nullptr;
   int num_bases = 0;
+  // The product also provides its Gram blocks (JacobianProduct::ProvidesGram):
+  // no Jacobian is stored for this residual at all.
+  bool gram = false;
 };
 
 // Slot pointers for a JacobianProduct call: one per parameter block of a
@@ -182,6 +185,16 @@ class Solver {
   void FactorEliminated(double mu);
   void SolveEliminated(const Eigen::VectorXd& in, Eigen::VectorXd* out) const;
   void BuildPreconditioner(double mu);
+  // The Gram blocks of a residual that provides them (Residual::gram) for its
+  // slots in segment `a` (of group g) against every reduced slot of a group
+  // ≤ g (the band's lower triangle) or shared (the border).
+  void AddGramToPreconditioner(const Residual& r, const Segment& a, int g);
+  int EliminatedSlot(const Residual& r) const {
+    for (std::size_t k = 0; k < r.slot_block.size(); ++k) {
+      if (r.slot_block[k] == r.eliminated) return static_cast<int>(k);
+    }
+    return -1;
+  }
   // Solves L Lᵀ x = x in place with the band factor (x: a vector or a
   // matrix of right-hand sides).
   template <typename Matrix>
@@ -326,6 +339,10 @@ bool Solver::Setup(const StructuredLayout& layout, std::string* error) {
         if (block >= 0 && blocks_[block].manifold != nullptr) r.product = nullptr;
       }
     }
+    if (r.product != nullptr && r.product->ProvidesGram()) {
+      r.gram = true;
+      jac -= static_cast<std::size_t>(r.m) * r.width;  // nothing stored
+    }
     residuals_.push_back(std::move(r));
   }
   jacobian_.assign(jac, 0.0);
@@ -372,7 +389,8 @@ bool Solver::Evaluate(bool with_jacobian, double* cost) {
       double* residual = r_.data() + r.row;
       jacobians.assign(r.parameters.size(), nullptr);
       if (ambient.size() < r.parameters.size()) ambient.resize(r.parameters.size());
-      if (with_jacobian) {
+      const bool store = with_jacobian && !r.gram;
+      if (store) {
         for (std::size_t k = 0; k < r.parameters.size(); ++k) {
           if (r.slot_block[k] < 0 || r.slot_jcol[k] < 0) continue;
           ambient[k].resize(static_cast<std::size_t>(r.m) * blocks_[r.slot_block[k]].ambient);
@@ -380,17 +398,17 @@ bool Solver::Evaluate(bool with_jacobian, double* cost) {
         }
       }
       const bool evaluated =
-          r.basis_factor != nullptr && with_jacobian
+          r.basis_factor != nullptr && store
               ? r.basis_factor->EvaluateWithBasisFactor(r.parameters.data(), residual,
                                                         jacobians.data(),
                                                         factors_.data() + r.factor)
               : r.cost->Evaluate(r.parameters.data(), residual,
-                                 with_jacobian ? jacobians.data() : nullptr);
+                                 store ? jacobians.data() : nullptr);
       if (!evaluated) {
         ok[worker] = 0;
         return;
       }
-      if (with_jacobian) {
+      if (store) {
         for (std::size_t k = 0; k < r.parameters.size(); ++k) {
           if (r.slot_block[k] < 0 || r.slot_jcol[k] < 0) continue;
           const Block& b = blocks_[r.slot_block[k]];
@@ -583,6 +601,12 @@ void Solver::ComputeEliminatedGram() {
                   int rows = 0;
                   for (const Ref& ref : eliminated_refs_[k]) {
                     const Residual& r = residuals_[ref.residual];
+                    if (r.gram) {
+                      const int slot = EliminatedSlot(r);
+                      r.product->AddGram(r.parameters.data(), slot, slot, c.data(),
+                                         static_cast<int>(c.rows()));
+                      continue;
+                    }
                     if (r.basis_factor == nullptr) {
                       rows += r.m;
                       continue;
@@ -611,7 +635,7 @@ void Solver::ComputeEliminatedGram() {
                     rows = 0;
                     for (const Ref& ref : eliminated_refs_[k]) {
                       const Residual& r = residuals_[ref.residual];
-                      if (r.basis_factor != nullptr) continue;
+                      if (r.basis_factor != nullptr || r.gram) continue;
                       stacked.middleRows(rows, r.m) = Cols(r, r.eliminated_jcol, b.size);
                       rows += r.m;
                     }
@@ -630,6 +654,15 @@ void Solver::ComputeGradientAndScaling() {
   d_reduced_.setZero(num_reduced_);
   d_eliminated_.setZero(num_eliminated_);
   for (const Residual& r : residuals_) {
+    if (r.gram) {
+      for (std::size_t k = 0; k < r.parameters.size(); ++k) {
+        if (r.slot_block[k] < 0) continue;
+        const Block& b = blocks_[r.slot_block[k]];
+        double* d = (b.eliminated ? d_eliminated_ : d_reduced_).data() + b.offset;
+        r.product->AddGramDiagonal(r.parameters.data(), static_cast<int>(k), d);
+      }
+      continue;
+    }
     for (const Segment& s : r.reduced) {
       d_reduced_.segment(s.col, s.width) += Cols(r, s.jcol, s.width).colwise().squaredNorm().transpose();
     }
@@ -689,6 +722,10 @@ void Solver::BuildPreconditioner(double mu) {
       for (const Ref& ref : group_refs_[g]) {
         const Residual& r = residuals_[ref.residual];
         const Segment& a = r.reduced[ref.segment];
+        if (r.gram) {
+          AddGramToPreconditioner(r, a, g);
+          continue;
+        }
         const int row_a = a.col - group_offset_[g];
         for (const Segment& b : r.reduced) {
           if (b.group < 0) {
@@ -709,6 +746,25 @@ void Solver::BuildPreconditioner(double mu) {
   Eigen::MatrixXd corner = Eigen::MatrixXd::Zero(num_shared, num_shared);
   for (int i : residuals_with_shared_) {
     const Residual& r = residuals_[i];
+    if (r.gram) {
+      for (std::size_t ka = 0; ka < r.parameters.size(); ++ka) {
+        if (r.slot_block[ka] < 0 || blocks_[r.slot_block[ka]].eliminated ||
+            blocks_[r.slot_block[ka]].group >= 0) {
+          continue;
+        }
+        for (std::size_t kb = 0; kb < r.parameters.size(); ++kb) {
+          if (r.slot_block[kb] < 0 || blocks_[r.slot_block[kb]].eliminated ||
+              blocks_[r.slot_block[kb]].group >= 0) {
+            continue;
+          }
+          r.product->AddGram(r.parameters.data(), static_cast<int>(ka), static_cast<int>(kb),
+                             &corner(blocks_[r.slot_block[ka]].offset - num_group_columns_,
+                                     blocks_[r.slot_block[kb]].offset - num_group_columns_),
+                             static_cast<int>(corner.rows()));
+        }
+      }
+      continue;
+    }
     for (const Segment& a : r.reduced) {
       if (a.group >= 0) continue;
       for (const Segment& b : r.reduced) {
@@ -744,6 +800,32 @@ void Solver::BuildPreconditioner(double mu) {
     corner_llt_.compute(corner - border_.transpose() * border_solved_);
   }
   preconditioner_seconds_ += SecondsSince(start);
+}
+
+void Solver::AddGramToPreconditioner(const Residual& r, const Segment& a, int g) {
+  for (std::size_t ka = 0; ka < r.parameters.size(); ++ka) {
+    if (r.slot_block[ka] < 0) continue;
+    const Block& ba = blocks_[r.slot_block[ka]];
+    if (ba.eliminated || ba.offset < a.col || ba.offset >= a.col + a.width) continue;
+    const int row_a = ba.offset - group_offset_[g];
+    for (std::size_t kb = 0; kb < r.parameters.size(); ++kb) {
+      if (r.slot_block[kb] < 0) continue;
+      const Block& bb = blocks_[r.slot_block[kb]];
+      if (bb.eliminated) continue;
+      if (bb.group < 0) {
+        r.product->AddGram(r.parameters.data(), static_cast<int>(ka), static_cast<int>(kb),
+                           &border_(ba.offset, bb.offset - num_group_columns_),
+                           static_cast<int>(border_.rows()));
+        continue;
+      }
+      const int d = g - bb.group;
+      if (d < 0) continue;  // the lower triangle of the band only
+      Eigen::MatrixXd& block = blocks_band_[g][d];
+      r.product->AddGram(r.parameters.data(), static_cast<int>(ka), static_cast<int>(kb),
+                         &block(row_a, bb.offset - group_offset_[bb.group]),
+                         static_cast<int>(block.rows()));
+    }
+  }
 }
 
 template <typename Matrix>

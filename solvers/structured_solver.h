@@ -27,7 +27,9 @@
 // formed from the parameters; the reprojection residuals (without a robust
 // loss) keep only the 2 × 3 factor A of their basis block's Jacobian l_k · A
 // (problems/reprojection_cost_function.h), not the 2 × 3K block, and form
-// its products, J_pᵀ J_p and diag from A and the weights. Each thread sums
+// its products, J_pᵀ J_p and diag from A and the weights; a cost function
+// that also provides its Gram blocks (JacobianProduct::ProvidesGram, the
+// temporal shape term) has no stored Jacobian at all. Each thread sums
 // into its own vector and the vectors are added in thread order, so results
 // are bit-identical for a given thread count.
 #ifndef NRSFM_SOLVERS_STRUCTURED_SOLVER_H_

@@ -207,5 +207,55 @@ TEST(ShapeTemporalError, JacobianProductsEqualTheEvaluatedJacobian) {
   }
 }
 
+TEST(ShapeTemporalError, GramBlocksEqualTheEvaluatedJacobian) {
+  // J_aᵀ J_b for every pair of blocks (problems/jacobian_product.h), added to
+  // what `out` holds, in a column-major buffer with a larger leading
+  // dimension, against the products of the evaluated Jacobian.
+  std::mt19937 rng(16);
+  for (int k : {1, 3, 12}) {
+    ShapeTemporalError cost(k, 1.3);
+    ASSERT_TRUE(cost.ProvidesGram());
+    const std::vector<double> v = Random(5 * k, &rng);
+    const double* parameters[3] = {v.data(), v.data() + k, v.data() + 2 * k};
+    const int sizes[3] = {k, k, 3 * k};
+    std::vector<std::vector<double>> jacobian(3);
+    double* jacobians[3];
+    for (int b = 0; b < 3; ++b) {
+      jacobian[b].resize(3 * sizes[b]);
+      jacobians[b] = jacobian[b].data();
+    }
+    double r[3];
+    ASSERT_TRUE(cost.Evaluate(parameters, r, jacobians));
+    for (int a = 0; a < 3; ++a) {
+      for (int b = 0; b < 3; ++b) {
+        const int ld = sizes[a] + 2;
+        std::vector<double> got(static_cast<std::size_t>(ld) * sizes[b], 0.25);
+        cost.AddGram(parameters, a, b, got.data(), ld);
+        for (int j = 0; j < sizes[b]; ++j) {
+          for (int i = 0; i < ld; ++i) {
+            double expected = 0.25;
+            if (i < sizes[a]) {
+              for (int row = 0; row < 3; ++row) {
+                expected += jacobian[a][row * sizes[a] + i] * jacobian[b][row * sizes[b] + j];
+              }
+            }
+            EXPECT_NEAR(got[i + static_cast<std::size_t>(j) * ld], expected, 1e-13)
+                << "K = " << k << ", blocks " << a << ", " << b << ", entry " << i << ", " << j;
+          }
+        }
+      }
+      std::vector<double> diagonal(sizes[a], -0.5);
+      cost.AddGramDiagonal(parameters, a, diagonal.data());
+      for (int i = 0; i < sizes[a]; ++i) {
+        double expected = -0.5;
+        for (int row = 0; row < 3; ++row) {
+          expected += jacobian[a][row * sizes[a] + i] * jacobian[a][row * sizes[a] + i];
+        }
+        EXPECT_NEAR(diagonal[i], expected, 1e-13) << "K = " << k << ", block " << a << ", " << i;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace nrsfm
