@@ -1,6 +1,11 @@
 #include "solvers/reconstruct.h"
 
+#include <atomic>
 #include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <thread>
 
 #include <glog/logging.h>
 
@@ -70,6 +75,75 @@ Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
                 &result->refine);
 }
 
+// The factorization and the rigid start, each refined (StartAndRefine). With
+// num_threads ≥ 2 and at most kMaxObservationsForTwoAtOnce observations the
+// two run at once, each on num_threads / 2 threads (another thread runs the
+// rigid one); otherwise one after the other on every thread. Either way the
+// progress reports reach the caller's thread in the order of the sequential
+// run (the factorization's iterations, then the rigid one's, queued while
+// the first runs), and a stop request ends both.
+void RefineBothStarts(const ReconstructOptions& options, const Measurements& measurements,
+                      const PriorDecision& video, ReconstructResult* factorization,
+                      Status* factorization_status, ReconstructResult* rigid,
+                      Status* rigid_status) {
+  const int threads = options.solver.num_threads;
+  if (threads < 2 || measurements.NumVisible() > kMaxObservationsForTwoAtOnce) {
+    *factorization_status =
+        StartAndRefine(options, StartMethod::kFactorization, measurements, video, factorization);
+    *rigid_status = StartAndRefine(options, StartMethod::kRigid, measurements, video, rigid);
+    return;
+  }
+  std::mutex mutex;
+  std::condition_variable reported;
+  std::deque<IterationReport> queue;
+  bool rigid_done = false;
+  std::atomic<bool> stop{false};
+
+  ReconstructOptions each = options;
+  each.solver.num_threads = threads / 2;
+  ReconstructOptions second = each;
+  second.solver.progress = [&](const IterationReport& report) {
+    std::lock_guard<std::mutex> lock(mutex);
+    queue.push_back(report);
+    reported.notify_one();
+  };
+  second.solver.stop_requested = [&stop] { return stop.load(); };
+  std::thread worker([&] {
+    *rigid_status = StartAndRefine(second, StartMethod::kRigid, measurements, video, rigid);
+    std::lock_guard<std::mutex> lock(mutex);
+    rigid_done = true;
+    reported.notify_one();
+  });
+
+  const auto asked_to_stop = [&options, &stop] {
+    const bool asked = options.solver.stop_requested && options.solver.stop_requested();
+    if (asked) stop = true;
+    return asked;
+  };
+  ReconstructOptions first = each;
+  first.solver.stop_requested = asked_to_stop;
+  *factorization_status =
+      StartAndRefine(first, StartMethod::kFactorization, measurements, video, factorization);
+
+  // The rigid refinement's reports, on this thread, until it has ended.
+  std::unique_lock<std::mutex> lock(mutex);
+  while (true) {
+    reported.wait(lock, [&] { return !queue.empty() || rigid_done; });
+    std::deque<IterationReport> batch;
+    batch.swap(queue);
+    const bool done = rigid_done;
+    lock.unlock();
+    for (const IterationReport& report : batch) {
+      if (options.solver.progress) options.solver.progress(report);
+      asked_to_stop();
+    }
+    lock.lock();
+    if (done && queue.empty()) break;
+  }
+  lock.unlock();
+  worker.join();
+}
+
 // Whether refined result `a` is better than `b`: a usable solution beats an
 // unusable one; then the lower final cost wins.
 bool IsBetter(const ReconstructResult& a, const ReconstructResult& b) {
@@ -118,10 +192,9 @@ Status Reconstruct(const ReconstructOptions& options,
     // start can fit the tracks better than the factorisation start and still
     // converge to a depth-degenerate solution).
     ReconstructResult factorization, rigid;
-    const Status factorization_status = StartAndRefine(
-        options, StartMethod::kFactorization, measurements, video, &factorization);
-    const Status rigid_status =
-        StartAndRefine(options, StartMethod::kRigid, measurements, video, &rigid);
+    Status factorization_status, rigid_status;
+    RefineBothStarts(options, measurements, video, &factorization, &factorization_status,
+                     &rigid, &rigid_status);
     if (!factorization_status.ok() && !rigid_status.ok()) {
       return Status::Error("both starts failed: factorization: " +
                            factorization_status.message() +

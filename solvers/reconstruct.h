@@ -67,6 +67,14 @@ struct ReconstructResult {
 // determined by the data (measured in docs/robustness.md).
 inline constexpr double kLittleRotationDeg = 60.0;
 
+// When two starts are refined (the rule below) and solver.num_threads ≥ 2,
+// they run at once, each on num_threads / 2 threads, when the measurements
+// have at most this many visible observations; a refinement takes about
+// 1 KB per observation (docs/performance.md), so two at once stay below
+// ~2 GB. Larger inputs refine one after the other on every thread. The
+// result is the same either way for a given thread count.
+inline constexpr int kMaxObservationsForTwoAtOnce = 1000000;
+
 // The start rule. With start.method = auto:
 // - a video whose basis can absorb rotation (priors = kAuto and the rule of
 //   solvers/prior_rule.h adds temporal_shape): the triple start alone. Its rotations come from an exact
@@ -79,7 +87,9 @@ inline constexpr double kLittleRotationDeg = 60.0;
 //   one). A start's own reprojection error does not tell which basin it is
 //   in: the start that fits the tracks better can refine to the worse
 //   result (measured in docs/factorization.md, section 7). Costs one extra
-//   refinement.
+//   refinement, which runs beside the first with num_threads ≥ 2
+//   (kMaxObservationsForTwoAtOnce); progress reports and stop requests
+//   reach the caller's thread as in the sequential run.
 // result->start.method says which start was kept.
 // Points and frames with too few observations for the start are first left
 // out (solvers/drop_unobserved.h): the rest is reconstructed as above and

@@ -3,6 +3,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <thread>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -230,6 +233,53 @@ TEST(Reconstruct, StopRequestEndsTheRefinementAndSkipsTheNextStart) {
   EXPECT_NE(status.message().find("stopped on request"), std::string::npos)
       << status.message();
   EXPECT_EQ(iterations, 2);
+}
+
+// With two threads the two starts of `auto` are refined at once, each on
+// one thread: the same model to the bit as one thread, which refines them
+// one after the other, and the same progress reports (iteration, cost) in
+// the same order, all on the caller's thread.
+TEST(Reconstruct, TwoStartsAtOnceGiveTheSequentialResultAndReports) {
+  const SyntheticSequence s = Sequence(0.01, 0.0);
+  struct Run {
+    ReconstructResult result;
+    std::vector<std::pair<int, double>> reports;
+    bool all_on_caller = true;
+  };
+  Run runs[2];
+  for (int threads : {1, 2}) {
+    Run& run = runs[threads - 1];
+    ReconstructOptions options = Options();
+    options.solver.num_threads = threads;
+    const std::thread::id caller = std::this_thread::get_id();
+    options.solver.progress = [&run, caller](const IterationReport& report) {
+      run.reports.emplace_back(report.iteration, report.cost);
+      run.all_on_caller &= std::this_thread::get_id() == caller;
+    };
+    ASSERT_TRUE(Reconstruct(options, s.measurements, &run.result).ok());
+  }
+  const Model& a = runs[0].result.model;
+  const Model& b = runs[1].result.model;
+  EXPECT_EQ(runs[0].result.start.method, runs[1].result.start.method);
+  EXPECT_TRUE(a.rotations == b.rotations && a.translations == b.translations &&
+              a.weights == b.weights && a.basis == b.basis);
+  EXPECT_EQ(runs[0].reports, runs[1].reports);
+  EXPECT_TRUE(runs[1].all_on_caller);
+  // Two refinements: the iteration count starts at 0 twice.
+  int starts = 0;
+  for (const auto& report : runs[1].reports) starts += report.first == 0;
+  EXPECT_EQ(starts, 2);
+
+  // A stop request during the first ends both.
+  ReconstructOptions options = Options();
+  options.solver.num_threads = 2;
+  int reports = 0;
+  options.solver.progress = [&reports](const IterationReport&) { ++reports; };
+  options.solver.stop_requested = [&reports] { return reports >= 2; };
+  ReconstructResult result;
+  ASSERT_TRUE(Reconstruct(options, s.measurements, &result).ok());
+  EXPECT_TRUE(result.refine.stopped);
+  EXPECT_LE(result.refine.iterations, 2);
 }
 
 TEST(Reconstruct, OptionsAreCheckedFirst) {
