@@ -1,11 +1,7 @@
 #include "solvers/reconstruct.h"
 
-#include <atomic>
+#include <algorithm>
 #include <chrono>
-#include <condition_variable>
-#include <deque>
-#include <mutex>
-#include <thread>
 
 #include <glog/logging.h>
 
@@ -17,6 +13,7 @@
 #include "core/option_checker.h"
 #include "problems/extra_terms.h"
 #include "solvers/drop_unobserved.h"
+#include "solvers/two_starts.h"
 
 namespace nrsfm {
 namespace {
@@ -75,73 +72,44 @@ Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
                 &result->refine);
 }
 
-// The factorization and the rigid start, each refined (StartAndRefine). With
-// num_threads ≥ 2 and at most kMaxObservationsForTwoAtOnce observations the
-// two run at once, each on num_threads / 2 threads (another thread runs the
-// rigid one); otherwise one after the other on every thread. Either way the
-// progress reports reach the caller's thread in the order of the sequential
-// run (the factorization's iterations, then the rigid one's, queued while
-// the first runs), and a stop request ends both.
+// The factorization and the rigid start, each refined (StartAndRefine),
+// side by side in lockstep with the rule of solvers/two_starts.h that
+// abandons one that falls behind: at once with num_threads ≥ 2 (each on
+// num_threads / 2 threads), in turns with one. Inputs of more than
+// kMaxObservationsForTwoAtOnce observations, whose two problems would not
+// both fit in memory, refine one start after the other on every thread.
 void RefineBothStarts(const ReconstructOptions& options, const Measurements& measurements,
                       const PriorDecision& video, ReconstructResult* factorization,
                       Status* factorization_status, ReconstructResult* rigid,
                       Status* rigid_status) {
-  const int threads = options.solver.num_threads;
-  if (threads < 2 || measurements.NumVisible() > kMaxObservationsForTwoAtOnce) {
+  if (measurements.NumVisible() > kMaxObservationsForTwoAtOnce) {
     *factorization_status =
         StartAndRefine(options, StartMethod::kFactorization, measurements, video, factorization);
     *rigid_status = StartAndRefine(options, StartMethod::kRigid, measurements, video, rigid);
     return;
   }
-  std::mutex mutex;
-  std::condition_variable reported;
-  std::deque<IterationReport> queue;
-  bool rigid_done = false;
-  std::atomic<bool> stop{false};
-
-  ReconstructOptions each = options;
-  each.solver.num_threads = threads / 2;
-  ReconstructOptions second = each;
-  second.solver.progress = [&](const IterationReport& report) {
-    std::lock_guard<std::mutex> lock(mutex);
-    queue.push_back(report);
-    reported.notify_one();
+  const auto lane = [&options, &measurements, &video](StartMethod method,
+                                                      ReconstructResult* result,
+                                                      Status* status) -> RaceRefinement {
+    return [&options, &measurements, &video, method, result,
+            status](const SolverOptions& solver) {
+      ReconstructOptions own = options;
+      own.solver = solver;
+      *status = StartAndRefine(own, method, measurements, video, result);
+      RaceOutcome outcome;
+      if (!status->ok()) return outcome;
+      outcome.converged = result->refine.converged;
+      outcome.usable = result->refine.usable;
+      outcome.final_cost = result->refine.final_cost;
+      outcome.iterations = result->refine.iterations;
+      return outcome;
+    };
   };
-  second.solver.stop_requested = [&stop] { return stop.load(); };
-  std::thread worker([&] {
-    *rigid_status = StartAndRefine(second, StartMethod::kRigid, measurements, video, rigid);
-    std::lock_guard<std::mutex> lock(mutex);
-    rigid_done = true;
-    reported.notify_one();
-  });
-
-  const auto asked_to_stop = [&options, &stop] {
-    const bool asked = options.solver.stop_requested && options.solver.stop_requested();
-    if (asked) stop = true;
-    return asked;
-  };
-  ReconstructOptions first = each;
-  first.solver.stop_requested = asked_to_stop;
-  *factorization_status =
-      StartAndRefine(first, StartMethod::kFactorization, measurements, video, factorization);
-
-  // The rigid refinement's reports, on this thread, until it has ended.
-  std::unique_lock<std::mutex> lock(mutex);
-  while (true) {
-    reported.wait(lock, [&] { return !queue.empty() || rigid_done; });
-    std::deque<IterationReport> batch;
-    batch.swap(queue);
-    const bool done = rigid_done;
-    lock.unlock();
-    for (const IterationReport& report : batch) {
-      if (options.solver.progress) options.solver.progress(report);
-      asked_to_stop();
-    }
-    lock.lock();
-    if (done && queue.empty()) break;
-  }
-  lock.unlock();
-  worker.join();
+  SolverOptions each = options.solver;
+  each.num_threads = std::max(1, options.solver.num_threads / 2);
+  RunTwoRefinements(each, /*concurrent=*/options.solver.num_threads >= 2,
+                    lane(StartMethod::kFactorization, factorization, factorization_status),
+                    lane(StartMethod::kRigid, rigid, rigid_status));
 }
 
 // Whether refined result `a` is better than `b`: a usable solution beats an

@@ -67,12 +67,11 @@ struct ReconstructResult {
 // determined by the data (measured in docs/robustness.md).
 inline constexpr double kLittleRotationDeg = 60.0;
 
-// When two starts are refined (the rule below) and solver.num_threads ≥ 2,
-// they run at once, each on num_threads / 2 threads, when the measurements
-// have at most this many visible observations; a refinement takes about
-// 1 KB per observation (docs/performance.md), so two at once stay below
-// ~2 GB. Larger inputs refine one after the other on every thread. The
-// result is the same either way for a given thread count.
+// When two starts are refined (the rule below), their refinements run side
+// by side in lockstep (solvers/two_starts.h) when the measurements have at
+// most this many visible observations: a refinement takes about 1 KB per
+// observation (docs/performance.md), so the two problems stay below ~2 GB
+// together. Larger inputs refine one after the other on every thread.
 inline constexpr int kMaxObservationsForTwoAtOnce = 1000000;
 
 // The start rule. With start.method = auto:
@@ -86,10 +85,14 @@ inline constexpr int kMaxObservationsForTwoAtOnce = 1000000;
 //   the lower refined cost is kept (a usable solution before an unusable
 //   one). A start's own reprojection error does not tell which basin it is
 //   in: the start that fits the tracks better can refine to the worse
-//   result (measured in docs/factorization.md, section 7). Costs one extra
-//   refinement, which runs beside the first with num_threads ≥ 2
-//   (kMaxObservationsForTwoAtOnce); progress reports and stop requests
-//   reach the caller's thread as in the sequential run.
+//   result (measured in docs/factorization.md, section 7). The two
+//   refinements run side by side in lockstep, at once with num_threads ≥ 2
+//   (each on num_threads / 2 threads) or in turns with one; once one has
+//   converged after n LM iterations, the other is abandoned when it has run
+//   2n + 10 iterations without reaching a lower cost (solvers/two_starts.h;
+//   inputs above kMaxObservationsForTwoAtOnce: one after the other, each to
+//   its end). Progress reports and stop requests reach the caller's thread,
+//   the factorization refinement's reports first.
 // result->start.method says which start was kept.
 // Points and frames with too few observations for the start are first left
 // out (solvers/drop_unobserved.h): the rest is reconstructed as above and
