@@ -155,23 +155,38 @@ TEST(ShapeTemporalError, InvariantToTheMixingGauge) {
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(r[i], r_mixed[i], 1e-12);
 }
 
-TEST(ShapeTemporalError, JacobianProductsEqualTheEvaluatedJacobian) {
-  // J x and Jᵀ y formed from the parameters (problems/jacobian_product.h)
-  // against the Jacobian Evaluate() returns, every block on and off.
-  std::mt19937 rng(15);
-  for (int k : {1, 2, 5}) {
-    ShapeTemporalError cost(k, 0.8);
-    const std::vector<double> v = Random(5 * k, &rng);
-    const double* parameters[3] = {v.data(), v.data() + k, v.data() + 2 * k};
-    const int sizes[3] = {k, k, 3 * k};
-    std::vector<std::vector<double>> jacobian(3);
+// A shape term evaluated with its Jacobian at random parameters (l_t, l_{t−1},
+// b_p): the blocks' sizes and their row-major 3 × size Jacobians.
+struct EvaluatedShapeTerm {
+  EvaluatedShapeTerm(const ShapeTemporalError& cost, int k, std::mt19937* rng)
+      : values(Random(5 * k, rng)),
+        parameters{values.data(), values.data() + k, values.data() + 2 * k},
+        sizes{k, k, 3 * k},
+        jacobian(3) {
     double* jacobians[3];
     for (int b = 0; b < 3; ++b) {
       jacobian[b].resize(3 * sizes[b]);
       jacobians[b] = jacobian[b].data();
     }
     double r[3];
-    ASSERT_TRUE(cost.Evaluate(parameters, r, jacobians));
+    EXPECT_TRUE(cost.Evaluate(parameters, r, jacobians));
+  }
+  std::vector<double> values;
+  const double* parameters[3];
+  int sizes[3];
+  std::vector<std::vector<double>> jacobian;
+};
+
+TEST(ShapeTemporalError, JacobianProductsEqualTheEvaluatedJacobian) {
+  // J x and Jᵀ y formed from the parameters (problems/jacobian_product.h)
+  // against the Jacobian Evaluate() returns, every block on and off.
+  std::mt19937 rng(15);
+  for (int k : {1, 2, 5}) {
+    ShapeTemporalError cost(k, 0.8);
+    const EvaluatedShapeTerm e(cost, k, &rng);
+    const double* const* parameters = e.parameters;
+    const int* sizes = e.sizes;
+    const std::vector<std::vector<double>>& jacobian = e.jacobian;
     const std::vector<double> x = Random(5 * k, &rng);
     const std::vector<double> y = Random(3, &rng);
     for (int mask = 0; mask < 8; ++mask) {
@@ -215,17 +230,10 @@ TEST(ShapeTemporalError, GramBlocksEqualTheEvaluatedJacobian) {
   for (int k : {1, 3, 12}) {
     ShapeTemporalError cost(k, 1.3);
     ASSERT_TRUE(cost.ProvidesGram());
-    const std::vector<double> v = Random(5 * k, &rng);
-    const double* parameters[3] = {v.data(), v.data() + k, v.data() + 2 * k};
-    const int sizes[3] = {k, k, 3 * k};
-    std::vector<std::vector<double>> jacobian(3);
-    double* jacobians[3];
-    for (int b = 0; b < 3; ++b) {
-      jacobian[b].resize(3 * sizes[b]);
-      jacobians[b] = jacobian[b].data();
-    }
-    double r[3];
-    ASSERT_TRUE(cost.Evaluate(parameters, r, jacobians));
+    const EvaluatedShapeTerm e(cost, k, &rng);
+    const double* const* parameters = e.parameters;
+    const int* sizes = e.sizes;
+    const std::vector<std::vector<double>>& jacobian = e.jacobian;
     for (int a = 0; a < 3; ++a) {
       for (int b = 0; b < 3; ++b) {
         const int ld = sizes[a] + 2;

@@ -190,6 +190,14 @@ TEST(FindUnobserved, ExpandModelPutsTheKeptValuesBackAndNaNElsewhere) {
   EXPECT_EQ(full.rig_rotations, s.truth.rig_rotations);
 }
 
+// Reconstruct() with default options and K bases; a usable refinement.
+void ReconstructWithK(const Measurements& m, int num_bases, ReconstructResult* result) {
+  ReconstructOptions options;
+  options.start.num_bases = num_bases;
+  ASSERT_TRUE(Reconstruct(options, m, result).ok());
+  ASSERT_TRUE(result->refine.usable) << result->refine.message;
+}
+
 // A point seen in a single frame and a frame that sees no point: the rest
 // is reconstructed as if they were not there (noise-free: exactly), and the
 // two are NaN in the model, listed and named in a warning.
@@ -198,11 +206,8 @@ TEST(Reconstruct, LeavesOutAPointSeenOnceAndAFrameThatSeesNothing) {
   Measurements& m = s.measurements;
   for (int t = 1; t < 60; ++t) Hide(&m, t, 6);  // point 6: frame 0 only
   for (int p = 0; p < 20; ++p) Hide(&m, 17, p);  // frame 17: nothing
-  ReconstructOptions options;
-  options.start.num_bases = 2;
   ReconstructResult result;
-  ASSERT_TRUE(Reconstruct(options, m, &result).ok());
-  ASSERT_TRUE(result.refine.usable) << result.refine.message;
+  ASSERT_NO_FATAL_FAILURE(ReconstructWithK(m, 2, &result));
   EXPECT_EQ(result.dropped_points, (std::vector<int>{6}));
   EXPECT_EQ(result.dropped_frames, (std::vector<int>{17}));
   ASSERT_FALSE(result.warnings.empty());
@@ -244,11 +249,8 @@ TEST(Reconstruct, APointSeenTooRarelyForKIsLeftOutAndTheStartKeepsK) {
     m.visible(t, 5) = true;
     m.W.block<2, 1>(2 * t, 5) = s.truth.Project(t, 0).col(5);
   }
-  ReconstructOptions options;
-  options.start.num_bases = 3;
   ReconstructResult result;
-  ASSERT_TRUE(Reconstruct(options, m, &result).ok());
-  ASSERT_TRUE(result.refine.usable) << result.refine.message;
+  ASSERT_NO_FATAL_FAILURE(ReconstructWithK(m, 3, &result));
   EXPECT_EQ(result.dropped_points, (std::vector<int>{5}));
   EXPECT_TRUE(result.dropped_frames.empty());
   for (const std::string& warning : result.start.warnings) {
