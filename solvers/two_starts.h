@@ -50,7 +50,9 @@ using RaceRefinement = std::function<RaceOutcome(const SolverOptions& solver)>;
 // first refinement's reports and then the second's, on the calling thread,
 // and `solver.stop_requested` is asked on the calling thread after each;
 // when it returns true both refinements stop after their current
-// iteration.
+// iteration. `solver.max_seconds` limits each refinement's wall time from
+// its own start; taking turns, that time includes the other's iterations,
+// so a limit is reached after about half the iterations it allows alone.
 void RunTwoRefinements(const SolverOptions& solver, bool concurrent,
                        const RaceRefinement& first, const RaceRefinement& second);
 
