@@ -69,7 +69,8 @@ RunOutcome ReconstructAndEvaluate(const ReconstructOptions& options,
   outcome.iterations = result.refine.iterations;
   outcome.seconds_per_iteration =
       result.refine.iterations > 0
-          ? result.refine.minimizer_seconds / result.refine.iterations
+          ? (result.refine.minimizer_seconds - result.refine.callback_seconds) /
+                result.refine.iterations
           : 0.0;
   outcome.reprojection_rms = result.refine.usable
                                  ? result.refine.reprojection_rms

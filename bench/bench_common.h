@@ -65,7 +65,9 @@ struct RunOutcome {
   double refine_seconds = 0;
   double total_seconds = 0;
   int iterations = 0;           // LM iterations
-  double seconds_per_iteration = 0;  // minimizer time / iterations
+  // The solver's own minimizer time / iterations: without the time in the
+  // callbacks, where auto's two starts wait for each other.
+  double seconds_per_iteration = 0;
   double reprojection_rms = 0;  // refined, input units
   std::string linear_solver;
   bool converged = false;       // the refinement ended by a tolerance

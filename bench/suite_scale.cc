@@ -2,7 +2,8 @@
 // 10 % of the entries missing at random; seed 1) of growing size, K = 5,
 // reconstructed with the default options (linear solver `auto`); each size
 // runs in a forked child (RunInChild) so its peak memory is its own. Reports
-// the time per LM iteration (minimizer time / iterations), the LM iterations
+// the time per LM iteration (the solver's own minimizer time / iterations:
+// without the waits of auto's two starts for each other), the LM iterations
 // and whether the solve ended by a tolerance, the start and total times, the
 // solver `auto` picked, the child's peak RSS and its increase over the
 // inherited RSS, and the exponent b of a least-squares fit

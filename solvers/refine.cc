@@ -156,12 +156,30 @@ Status Refine(const ProblemOptions& problem, const SolverOptions& solver,
   return Status::OK();
 }
 
-Status SolveProblem(const SolverOptions& options, ProblemBuilder* builder,
+Status SolveProblem(const SolverOptions& caller, ProblemBuilder* builder,
                     RefineSummary* summary) {
   CHECK(builder != nullptr);
   CHECK(summary != nullptr);
   const Clock::time_point start = Clock::now();
   *summary = RefineSummary();
+  // The caller's callbacks, timed (RefineSummary::callback_seconds).
+  double callback_seconds = 0.0;
+  SolverOptions options = caller;
+  if (caller.progress) {
+    options.progress = [&caller, &callback_seconds](const IterationReport& report) {
+      const Clock::time_point begin = Clock::now();
+      caller.progress(report);
+      callback_seconds += SecondsSince(begin);
+    };
+  }
+  if (caller.stop_requested) {
+    options.stop_requested = [&caller, &callback_seconds] {
+      const Clock::time_point begin = Clock::now();
+      const bool stop = caller.stop_requested();
+      callback_seconds += SecondsSince(begin);
+      return stop;
+    };
+  }
   NRSFM_RETURN_IF_ERROR(options.Check().WithContext("refine"));
   const Measurements& measurements = builder->measurements();
   Model* model = builder->model();
@@ -238,6 +256,7 @@ Status SolveProblem(const SolverOptions& options, ProblemBuilder* builder,
     summary->final_cost = summary->initial_cost;
   }
   summary->reprojection_rms = ReprojectionRms(measurements, *model);
+  summary->callback_seconds = callback_seconds;
   summary->seconds = SecondsSince(start);
   return Status::OK();
 }

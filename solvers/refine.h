@@ -46,6 +46,11 @@ struct RefineSummary {
   double jacobian_seconds = 0.0;
   double linear_solver_seconds = 0.0;
   double minimizer_seconds = 0.0;
+  // Of seconds and minimizer_seconds, the time spent in the caller's
+  // SolverOptions::progress and stop_requested (where Reconstruct()'s two
+  // starts wait for each other, solvers/two_starts.h): minimizer_seconds −
+  // callback_seconds is the solver's own time.
+  double callback_seconds = 0.0;
   std::string linear_solver;    // name of the solver used ("iterative_schur", "structured", …)
   std::string ceres_report;     // Ceres' FullReport(), or the structured solver's one-line report
 };

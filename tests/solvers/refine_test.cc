@@ -1,7 +1,9 @@
 #include "solvers/refine.h"
 
+#include <chrono>
 #include <cmath>
 #include <random>
+#include <thread>
 #include <vector>
 
 #include <ceres/normal_prior.h>
@@ -319,6 +321,41 @@ TEST(Refine, StopRequestedEndsTheSolveAfterThatIteration) {
   ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &model, &summary).ok());
   EXPECT_FALSE(summary.stopped);
   EXPECT_TRUE(summary.converged);
+}
+
+// The time spent in the caller's callbacks is measured apart
+// (RefineSummary::callback_seconds: where Reconstruct()'s two starts wait for
+// each other), with Ceres' solvers and with the structured one.
+TEST(Refine, TimeInTheCallbacksIsReportedApart) {
+  SyntheticSequence s = Sequence(30, 15, 3, 0.01);
+  for (const LinearSolverChoice choice :
+       {LinearSolverChoice::kIterativeSchur, LinearSolverChoice::kStructured}) {
+    Model model = Perturbed(s.truth, 0.02, 3);
+    int calls = 0;
+    const auto nap = [&calls] {
+      ++calls;
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    };
+    SolverOptions options;
+    options.linear_solver = choice;
+    options.progress = [&nap](const IterationReport&) { nap(); };
+    options.stop_requested = [&nap] {
+      nap();
+      return false;
+    };
+    RefineSummary summary;
+    ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &model, &summary).ok());
+    SCOPED_TRACE(summary.linear_solver);
+    EXPECT_GE(calls, 2 * summary.iterations);
+    EXPECT_GE(summary.callback_seconds, 0.002 * calls);
+    EXPECT_LE(summary.callback_seconds, summary.seconds);
+    // Without callbacks nothing is counted.
+    model = Perturbed(s.truth, 0.02, 3);
+    options.progress = nullptr;
+    options.stop_requested = nullptr;
+    ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &model, &summary).ok());
+    EXPECT_EQ(summary.callback_seconds, 0.0);
+  }
 }
 
 TEST(Refine, RobustLossResistsGrossOutliers) {
