@@ -5,8 +5,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <random>
 #include <sstream>
+#include <vector>
 
 namespace nrsfm {
 namespace testing_util {
@@ -20,6 +22,14 @@ std::string SharedDatasetsDir() {
   return "";
 }
 
+namespace {
+std::mutex temp_dirs_mutex;
+std::vector<std::string>& TempDirs() {
+  static std::vector<std::string>* dirs = new std::vector<std::string>();
+  return *dirs;
+}
+}  // namespace
+
 std::string MakeTempDir(const std::string& prefix) {
   std::random_device rd;
   const std::filesystem::path base = std::filesystem::temp_directory_path();
@@ -27,9 +37,22 @@ std::string MakeTempDir(const std::string& prefix) {
     const std::filesystem::path dir =
         base / (prefix + "_" + std::to_string(rd()));
     std::error_code ec;
-    if (std::filesystem::create_directory(dir, ec)) return dir.string();
+    if (std::filesystem::create_directory(dir, ec)) {
+      std::lock_guard<std::mutex> lock(temp_dirs_mutex);
+      TempDirs().push_back(dir.string());
+      return dir.string();
+    }
   }
   return "";
+}
+
+void RemoveTempDirs() {
+  std::lock_guard<std::mutex> lock(temp_dirs_mutex);
+  for (const std::string& dir : TempDirs()) {
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
+  }
+  TempDirs().clear();
 }
 
 std::string ReadFileToString(const std::string& path) {

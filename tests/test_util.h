@@ -20,8 +20,13 @@ inline constexpr bool kSanitizedBuild = false;
 // NRSFM_SHARED_DIR in the environment overrides the default location.
 std::string SharedDatasetsDir();
 
-// A fresh, empty directory under the test's temporary directory.
+// A fresh, empty directory under the test's temporary directory (TMPDIR;
+// ctest sets it to the build's tests/ folder).
 std::string MakeTempDir(const std::string& prefix);
+
+// Removes every directory MakeTempDir made in this process (the test main
+// does when all tests passed; a failed run keeps them to look at).
+void RemoveTempDirs();
 
 // The whole content of a file ("" when it cannot be read).
 std::string ReadFileToString(const std::string& path);
