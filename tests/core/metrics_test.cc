@@ -1,8 +1,10 @@
 #include "core/metrics.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <random>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -150,6 +152,48 @@ TEST(Metrics, PercentErrorsOnAHandExample) {
 TEST(Metrics, ShapeSizeIsTheMeanDiameter) {
   // Frame 1 = Cross(2, 0.5): the farthest pair is (−0.5, 2, 0), (−0.5, −2, 0).
   EXPECT_NEAR(ShapeSize(TwoCrosses()), (std::sqrt(7.25) + 4.0) / 2.0, 1e-15);
+}
+
+// The pruned search gives exactly the largest distance over every pair, on
+// clouds of several shapes (Gaussian, a sphere's surface where most pairs
+// come close to the diameter, a line, repeated points), with left-out (NaN)
+// points not counted, and 0 below two finite points.
+TEST(Metrics, ShapeSizeEqualsTheLargestDistanceOverEveryPair) {
+  const auto every_pair = [](const Eigen::Matrix3Xd& x) {
+    double max_squared = 0.0;
+    for (Eigen::Index i = 0; i < x.cols(); ++i) {
+      for (Eigen::Index j = i + 1; j < x.cols(); ++j) {
+        if (x.col(i).allFinite() && x.col(j).allFinite()) {
+          max_squared = std::max(max_squared, (x.col(i) - x.col(j)).squaredNorm());
+        }
+      }
+    }
+    return std::sqrt(max_squared);
+  };
+  std::mt19937 rng(3);
+  std::normal_distribution<double> normal;
+  for (int shape = 0; shape < 4; ++shape) {
+    for (const int points : {2, 3, 17, 400}) {
+      Eigen::Matrix3Xd x(3, points);
+      for (int p = 0; p < points; ++p) {
+        x.col(p) = Eigen::Vector3d(normal(rng), normal(rng), normal(rng));
+        if (shape == 1) x.col(p).normalize();
+        if (shape == 2) x.col(p) = Eigen::Vector3d(1.0, 2.0, -1.0) * normal(rng);
+        if (shape == 3) x.col(p) = Eigen::Vector3d(p % 3, 0.0, 1.0);
+      }
+      SCOPED_TRACE(std::to_string(shape) + ", " + std::to_string(points));
+      EXPECT_EQ(ShapeSize({x}), every_pair(x));
+      if (points > 3) {
+        x.col(1).setConstant(std::numeric_limits<double>::quiet_NaN());
+        x(2, points - 1) = std::numeric_limits<double>::infinity();
+        EXPECT_EQ(ShapeSize({x}), every_pair(x));
+      }
+    }
+  }
+  Eigen::Matrix3Xd one(3, 2);
+  one << 1, std::numeric_limits<double>::quiet_NaN(), 2, 0, 3, 0;
+  EXPECT_EQ(ShapeSize({one}), 0.0);
+  EXPECT_EQ(ShapeSize({Eigen::Matrix3Xd(3, 0)}), 0.0);
 }
 
 // Camera-frame-only shapes for EvaluateShapes.
