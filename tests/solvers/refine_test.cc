@@ -294,7 +294,7 @@ TEST(Refine, SummaryAndProgressCallback) {
 TEST(Refine, StopRequestedEndsTheSolveAfterThatIteration) {
   SyntheticSequence s = Sequence(30, 15, 3, 0.01);
   for (const LinearSolverChoice choice :
-       {LinearSolverChoice::kAuto, LinearSolverChoice::kStructured}) {
+       {LinearSolverChoice::kIterativeSchur, LinearSolverChoice::kStructured}) {
     Model model = Perturbed(s.truth, 0.02, 3);
     int reports = 0;
     SolverOptions options;
