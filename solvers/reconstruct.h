@@ -94,8 +94,8 @@ inline constexpr int kMaxObservationsForTwoAtOnce = 1000000;
 //   its end). Progress reports and stop requests reach the caller's thread,
 //   the factorization refinement's reports first.
 // result->start.method says which start was kept.
-// Points and frames with too few observations for the start are first left
-// out (solvers/drop_unobserved.h): the rest is reconstructed as above and
+// Points and frames with too few observations for the model with K bases
+// are first left out (solvers/drop_unobserved.h): the rest is reconstructed as above and
 // the left-out ones are NaN in result->model, listed in
 // result->dropped_points / dropped_frames and named in a warning.
 // Errors on invalid options or measurements and when the start fails (see

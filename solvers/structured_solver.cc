@@ -747,20 +747,20 @@ void Solver::BuildPreconditioner(double mu) {
   for (int i : residuals_with_shared_) {
     const Residual& r = residuals_[i];
     if (r.gram) {
+      // The corner's column of slot k's block, or -1 when it is not shared.
+      const auto corner_column = [&](std::size_t k) {
+        const int block = r.slot_block[k];
+        if (block < 0 || blocks_[block].eliminated || blocks_[block].group >= 0) return -1;
+        return blocks_[block].offset - num_group_columns_;
+      };
       for (std::size_t ka = 0; ka < r.parameters.size(); ++ka) {
-        if (r.slot_block[ka] < 0 || blocks_[r.slot_block[ka]].eliminated ||
-            blocks_[r.slot_block[ka]].group >= 0) {
-          continue;
-        }
+        const int ia = corner_column(ka);
+        if (ia < 0) continue;
         for (std::size_t kb = 0; kb < r.parameters.size(); ++kb) {
-          if (r.slot_block[kb] < 0 || blocks_[r.slot_block[kb]].eliminated ||
-              blocks_[r.slot_block[kb]].group >= 0) {
-            continue;
-          }
+          const int ib = corner_column(kb);
+          if (ib < 0) continue;
           r.product->AddGram(r.parameters.data(), static_cast<int>(ka), static_cast<int>(kb),
-                             &corner(blocks_[r.slot_block[ka]].offset - num_group_columns_,
-                                     blocks_[r.slot_block[kb]].offset - num_group_columns_),
-                             static_cast<int>(corner.rows()));
+                             &corner(ia, ib), static_cast<int>(corner.rows()));
         }
       }
       continue;

@@ -237,7 +237,7 @@ TEST(Reconstruct, StopRequestEndsTheRefinementAndSkipsTheNextStart) {
 
 // With two threads the two starts of `auto` are refined at once, each on
 // one thread: the same model to the bit as one thread, which refines them
-// one after the other, and the same progress reports (iteration, cost) in
+// in turns, and the same progress reports (iteration, cost) in
 // the same order, all on the caller's thread.
 TEST(Reconstruct, TwoStartsAtOnceGiveTheSequentialResultAndReports) {
   const SyntheticSequence s = Sequence(0.01, 0.0);

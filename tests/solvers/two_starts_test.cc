@@ -73,9 +73,9 @@ TEST(TwoStarts, TheOneFallingBehindIsAbandonedAtTheSameIterationInEitherMode) {
 TEST(TwoStarts, OneThatGetsBelowTheConvergedCostGoesOn) {
   for (const bool concurrent : {false, true}) {
     int ran_first = -1, ran_second = -1;
-    // The second passes below cost 1 at iteration 30 (after 2 · 5 + 10 = 20
-    // it is still above it: abandoned), a third one at iteration 15 goes on
-    // to its own convergence at 40.
+    // The second passes below cost 1 at iteration 30: at 2 · 5 + 10 = 20 it
+    // is still above it and is abandoned. Passing below it at iteration 15
+    // instead, it goes on to its own convergence at 40.
     RunTwoRefinements(SolverOptions(), concurrent,
                       Scripted([](int) { return 1.0; }, 5, &ran_first),
                       Scripted([](int i) { return i < 30 ? 5.0 : 0.5; }, 40, &ran_second));
