@@ -1,11 +1,16 @@
 #include "core/model.h"
 
+#include <cmath>
+#include <limits>
+#include <vector>
+
 #include <sstream>
 
 #include <Eigen/Geometry>
 #include <glog/logging.h>
 
 #include "core/rotation.h"
+#include "core/svd.h"
 
 namespace nrsfm {
 
@@ -62,6 +67,44 @@ Eigen::Matrix2Xd Model::Project(int frame, int camera) const {
   return projected;
 }
 
+bool Model::MakeFirstBasisTheMean() {
+  const int k = num_bases;
+  Eigen::VectorXd mean = Eigen::VectorXd::Zero(k);
+  int count = 0;
+  for (int t = 0; t < num_frames; ++t) {
+    if (!weights.col(t).allFinite()) continue;
+    mean += weights.col(t);
+    ++count;
+  }
+  if (count == 0) return false;
+  mean /= count;
+  const double norm = mean.norm();
+  if (!(norm > 0.0) || !std::isfinite(norm)) return false;
+  // Q orthonormal with first column u = mean / |mean| (a Householder
+  // reflection), A⁻¹ = Q diag(|mean|, 1, …, 1): A⁻¹ e_1 = mean, so A mean = e_1.
+  Eigen::VectorXd v = mean / norm;
+  v(0) -= 1.0;
+  Eigen::MatrixXd q = Eigen::MatrixXd::Identity(k, k);
+  if (v.squaredNorm() > 1e-30) q -= 2.0 * v * v.transpose() / v.squaredNorm();
+  Eigen::MatrixXd inverse = q;  // A⁻¹ = Q D
+  inverse.col(0) *= norm;
+  Eigen::MatrixXd a = q.transpose();  // A = D⁻¹ Qᵀ
+  a.row(0) /= norm;
+  for (int t = 0; t < num_frames; ++t) {
+    if (weights.col(t).allFinite()) weights.col(t) = a * weights.col(t);
+  }
+  // New shape j = Σ_k (A⁻¹)_kj S_k.
+  Eigen::MatrixXd old_basis = basis;
+  for (int p = 0; p < num_points; ++p) {
+    for (int j = 0; j < k; ++j) {
+      Eigen::Vector3d shape = Eigen::Vector3d::Zero();
+      for (int i = 0; i < k; ++i) shape += inverse(i, j) * old_basis.block<3, 1>(3 * i, p);
+      basis.block<3, 1>(3 * j, p) = shape;
+    }
+  }
+  return true;
+}
+
 Status Model::Validate(bool allow_nan) const {
   std::ostringstream msg;
   if (num_frames < 1 || num_cameras < 1 || num_points < 1 || num_bases < 1) {
@@ -93,6 +136,41 @@ Status Model::Validate(bool allow_nan) const {
       check("rig_rotations", rig_rotations, 3, num_cameras - 1));
   NRSFM_RETURN_IF_ERROR(check("rig_scales", rig_scales, 1, num_cameras - 1));
   return Status::OK();
+}
+
+Model ReduceNumBases(const Model& model, int num_bases) {
+  CHECK(num_bases >= 1 && num_bases <= model.num_bases)
+      << "num_bases " << num_bases << " of " << model.num_bases;
+  std::vector<int> frames;
+  for (int t = 0; t < model.num_frames; ++t) {
+    if (model.weights.col(t).allFinite()) frames.push_back(t);
+  }
+  const int p3 = 3 * model.num_points;
+  Eigen::MatrixXd shapes(frames.size(), p3);
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const Eigen::Matrix3Xd shape = model.ShapeInObject(frames[i]);
+    shapes.row(i) = Eigen::Map<const Eigen::RowVectorXd>(shape.data(), p3);
+  }
+  Model reduced = model;
+  reduced.num_bases = num_bases;
+  reduced.weights = Eigen::MatrixXd::Constant(
+      num_bases, model.num_frames, std::numeric_limits<double>::quiet_NaN());
+  reduced.basis = Eigen::MatrixXd::Zero(3 * num_bases, model.num_points);
+  if (frames.empty()) return reduced;
+  const ThinSvd svd = ComputeThinSvd(shapes, SingularVectors::kBoth);
+  const int rank = std::min<int>(num_bases, svd.singular_values.size());
+  for (int k = 0; k < rank; ++k) {
+    const Eigen::VectorXd column = svd.v.col(k);
+    reduced.SetBasisShape(k, Eigen::Map<const Eigen::Matrix3Xd>(column.data(), 3,
+                                                                model.num_points));
+  }
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    reduced.weights.col(frames[i]).setZero();
+    for (int k = 0; k < rank; ++k) {
+      reduced.weights(k, frames[i]) = svd.u(i, k) * svd.singular_values(k);
+    }
+  }
+  return reduced;
 }
 
 }  // namespace nrsfm

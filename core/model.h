@@ -63,11 +63,27 @@ struct Model {
   // Π X_tc + T_tc, 2 × P.
   Eigen::Matrix2Xd Project(int frame, int camera) const;
 
+  // Re-expresses weights and basis in the gauge where the mean of the
+  // weights over the frames is e_1 (l_t -> A l_t, basis -> A^-T basis), so
+  // basis shape 1 is the mean shape (1/F) Σ_t S_t; every S_t is unchanged.
+  // Frames whose weights are NaN (left out) are not counted. Returns false
+  // (and changes nothing) when the mean weights are zero or not finite.
+  bool MakeFirstBasisTheMean();
+
   // Checks that every block has the size Resize() gives and finite values.
   // With allow_nan, NaN is accepted (never ±Inf): the mark of a point or
   // frame left out of a reconstruction (solvers/drop_unobserved.h).
   Status Validate(bool allow_nan = false) const;
 };
+
+// The model with `num_bases` (1 ≤ K' ≤ K) basis shapes whose shape sequence
+// is the best rank-K' approximation of `model`'s in the object frame: the
+// truncated SVD of the F × 3P matrix with row t = S_t (column-major), its
+// first K' right singular vectors as the basis shapes, U Σ as the weights.
+// Rotations, translations, scales and the rig are kept. Frames whose weights
+// are not finite (left out) are left out of the SVD and keep NaN weights.
+// The camera-frame shapes change only by what the truncation drops.
+Model ReduceNumBases(const Model& model, int num_bases);
 
 }  // namespace nrsfm
 

@@ -5,6 +5,7 @@
 
 #include <glog/logging.h>
 
+#include "problems/deformation_error.h"
 #include "problems/delaunay_edges.h"
 #include "problems/rigidity_error.h"
 #include "problems/smoothness_error.h"
@@ -96,6 +97,26 @@ Status AddTemporalShape(double weight, const ProblemOptions&,
   return Status::OK();
 }
 
+Status AddDeformation(double weight, const ProblemOptions&,
+                      ProblemBuilder* builder, int* num_blocks) {
+  Model& model = *builder->model();
+  // The residual leaves basis shape 1 free; starting with basis shape 1 the
+  // mean shape puts the start's rigid part there (the shapes are unchanged).
+  model.MakeFirstBasisTheMean();
+  const double sqrt_weight = std::sqrt(weight);
+  for (int t = 0; t < model.num_frames; ++t) {
+    if (!builder->problem()->HasParameterBlock(builder->WeightsBlock(t))) continue;
+    for (int p = 0; p < model.num_points; ++p) {
+      if (!builder->problem()->HasParameterBlock(builder->BasisBlock(p))) continue;
+      builder->problem()->AddResidualBlock(
+          new DeformationError(model.num_bases, sqrt_weight), nullptr,
+          builder->WeightsBlock(t), builder->BasisBlock(p));
+      ++*num_blocks;
+    }
+  }
+  return Status::OK();
+}
+
 Status AddRotationAcceleration(double weight, const ProblemOptions&,
                                ProblemBuilder* builder, int* num_blocks) {
   const Model& model = *builder->model();
@@ -144,6 +165,11 @@ const std::vector<ExtraTerm>& ExtraTerms() {
        "constant angular velocity, log(R_(t+1) R_t^T) - log(R_t R_(t-1)^T), "
        "scaled by the data's spread (problems/temporal_error.h)",
        1, AddRotationAcceleration},
+      {kDeformationTerm, "dimensionless",
+       "deformation, sum_(k>=2) l_tk S_k per point: the shape away from "
+       "basis shape 1 up to the frame's scale, object frame: any input "
+       "(problems/deformation_error.h)",
+       1, AddDeformation},
   };
   return terms;
 }

@@ -28,6 +28,7 @@ inline constexpr char kTemporalTerm[] = "temporal";
 inline constexpr char kTemporalRotationsTerm[] = "temporal_rotations";
 inline constexpr char kTemporalShapeTerm[] = "temporal_shape";
 inline constexpr char kRotationAccelerationTerm[] = "rotation_acceleration";
+inline constexpr char kDeformationTerm[] = "deformation";
 
 struct ExtraTerm {
   // Adds the residual blocks of the term with weight `weight` > 0 to the

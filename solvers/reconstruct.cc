@@ -48,9 +48,9 @@ Status ReconstructOptions::Check() const {
 namespace {
 
 // One start followed by its refinement. With priors = auto the start's
-// camera path decides the path prior (`video` holds the video decision).
+// camera path decides the path prior (`decision` holds the rule's other facts).
 Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
-                      const Measurements& measurements, const PriorDecision& video,
+                      const Measurements& measurements, const PriorDecision& decision,
                       ReconstructResult* result) {
   if (options.solver.stop_requested && options.solver.stop_requested()) {
     return Status::Error("stopped on request");
@@ -61,7 +61,7 @@ Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
       Initialize(start, measurements, &result->model, &result->start,
                  options.solver.num_threads));
   ProblemOptions problem = options.problem;
-  result->priors = video;
+  result->priors = decision;
   if (options.priors == PriorMode::kAuto) {
     DecidePathPrior(options.prior_rule, result->model, &result->priors);
     problem.term_weights = result->priors.term_weights;
@@ -79,23 +79,23 @@ Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
 // kMaxObservationsForTwoAtOnce observations, whose two problems would not
 // both fit in memory, refine one start after the other on every thread.
 void RefineBothStarts(const ReconstructOptions& options, const Measurements& measurements,
-                      const PriorDecision& video, ReconstructResult* factorization,
+                      const PriorDecision& decision, ReconstructResult* factorization,
                       Status* factorization_status, ReconstructResult* rigid,
                       Status* rigid_status) {
   if (measurements.NumVisible() > kMaxObservationsForTwoAtOnce) {
     *factorization_status =
-        StartAndRefine(options, StartMethod::kFactorization, measurements, video, factorization);
-    *rigid_status = StartAndRefine(options, StartMethod::kRigid, measurements, video, rigid);
+        StartAndRefine(options, StartMethod::kFactorization, measurements, decision, factorization);
+    *rigid_status = StartAndRefine(options, StartMethod::kRigid, measurements, decision, rigid);
     return;
   }
-  const auto lane = [&options, &measurements, &video](StartMethod method,
+  const auto lane = [&options, &measurements, &decision](StartMethod method,
                                                       ReconstructResult* result,
                                                       Status* status) -> RaceRefinement {
-    return [&options, &measurements, &video, method, result,
+    return [&options, &measurements, &decision, method, result,
             status](const SolverOptions& solver) {
       ReconstructOptions own = options;
       own.solver = solver;
-      *status = StartAndRefine(own, method, measurements, video, result);
+      *status = StartAndRefine(own, method, measurements, decision, result);
       RaceOutcome outcome;
       if (!status->ok()) return outcome;
       outcome.converged = result->refine.converged;
@@ -117,6 +117,33 @@ void RefineBothStarts(const ReconstructOptions& options, const Measurements& mea
 bool IsBetter(const ReconstructResult& a, const ReconstructResult& b) {
   if (a.refine.usable != b.refine.usable) return a.refine.usable;
   return a.refine.final_cost < b.refine.final_cost;
+}
+
+// The shape stage after a camera stage with more bases than K: the
+// camera stage's model reduced to K bases, refined with its rotations held
+// and the same shape prior (the path prior has nothing left to act on).
+// result->camera_refine keeps the camera stage's summary; result->refine
+// becomes the shape stage's, result->model its model (the reduced model when
+// that refinement is not usable).
+Status RefineWithCameraHeld(const ReconstructOptions& options,
+                            const Measurements& measurements, ReconstructResult* result) {
+  result->camera_refine = result->refine;
+  if (!result->camera_refine.usable) {
+    return Status::Error("the camera stage (" +
+                         std::to_string(result->model.num_bases) +
+                         " bases) did not give a usable solution: " +
+                         result->camera_refine.message);
+  }
+  if (options.solver.stop_requested && options.solver.stop_requested()) {
+    return Status::Error("stopped on request");
+  }
+  result->model = ReduceNumBases(result->model, options.start.num_bases);
+  ProblemOptions problem = options.problem;
+  problem.term_weights = result->priors.term_weights;
+  problem.term_weights.erase(kRotationAccelerationTerm);
+  problem.constant_rotations = true;
+  result->refine = RefineSummary();
+  return Refine(problem, options.solver, measurements, &result->model, &result->refine);
 }
 
 }  // namespace
@@ -143,17 +170,26 @@ Status Reconstruct(const ReconstructOptions& options,
         std::chrono::steady_clock::now() - start).count();
     return Status::OK();
   }
-  PriorDecision video;
+  PriorDecision decision;
+  const int num_bases = options.start.num_bases;
   if (options.priors == PriorMode::kAuto) {
-    DecideVideoPriors(options.prior_rule, measurements, options.start.num_bases,
-                      &video);
+    NRSFM_RETURN_IF_ERROR(
+        DecidePriors(options.prior_rule, measurements, num_bases, &decision));
+  }
+  // The camera stage: the start and its refinement with K_cam ≥ K bases
+  // (K_cam = K with priors = manual).
+  ReconstructOptions camera = options;
+  if (decision.camera_num_bases > num_bases) {
+    camera.start.num_bases = decision.camera_num_bases;
+    camera.solver.function_tolerance = std::max(
+        options.solver.function_tolerance, options.prior_rule.camera_function_tolerance);
   }
   if (options.start.method != StartMethod::kAuto) {
-    NRSFM_RETURN_IF_ERROR(StartAndRefine(options, options.start.method,
-                                         measurements, video, result));
-  } else if (video.term_weights.count(kTemporalShapeTerm) > 0) {
+    NRSFM_RETURN_IF_ERROR(StartAndRefine(camera, options.start.method,
+                                         measurements, decision, result));
+  } else if (decision.term_weights.count(kTemporalShapeTerm) > 0) {
     NRSFM_RETURN_IF_ERROR(
-        StartAndRefine(options, StartMethod::kTriple, measurements, video, result));
+        StartAndRefine(camera, StartMethod::kTriple, measurements, decision, result));
   } else {
     // Both starts are refined and the lower refined cost is kept: a start's
     // own reprojection error does not tell which basin it is in (the rigid
@@ -161,7 +197,7 @@ Status Reconstruct(const ReconstructOptions& options,
     // converge to a depth-degenerate solution).
     ReconstructResult factorization, rigid;
     Status factorization_status, rigid_status;
-    RefineBothStarts(options, measurements, video, &factorization, &factorization_status,
+    RefineBothStarts(camera, measurements, decision, &factorization, &factorization_status,
                      &rigid, &rigid_status);
     if (!factorization_status.ok() && !rigid_status.ok()) {
       return Status::Error("both starts failed: factorization: " +
@@ -179,8 +215,18 @@ Status Reconstruct(const ReconstructOptions& options,
           " start failed: " + other.message());
     }
   }
-  if (result->refine.usable && !result->refine.converged && !result->refine.stopped &&
-      result->refine.iterations >= options.solver.max_iterations) {
+  // The shape stage: the camera stage's shapes reduced to K bases
+  // (ReduceNumBases), refined with its rotations held.
+  if (camera.start.num_bases > num_bases) {
+    NRSFM_RETURN_IF_ERROR(RefineWithCameraHeld(options, measurements, result));
+  }
+  const bool at_limit =
+      (result->refine.usable && !result->refine.converged && !result->refine.stopped &&
+       result->refine.iterations >= options.solver.max_iterations) ||
+      (result->camera_refine.usable && !result->camera_refine.converged &&
+       !result->camera_refine.stopped &&
+       result->camera_refine.iterations >= options.solver.max_iterations);
+  if (at_limit) {
     result->warnings.push_back(
         "the refinement stopped at its iteration limit (" +
         std::to_string(options.solver.max_iterations) +

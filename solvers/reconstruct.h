@@ -46,7 +46,10 @@ struct ReconstructOptions {
 struct ReconstructResult {
   Model model;               // the refined model (the start if refine.usable is false)
   StartSummary start;        // the start kept: method, its RMS, its time
-  RefineSummary refine;      // the refinement: costs, RMS, iterations, times
+  RefineSummary refine;      // the (last) refinement: costs, RMS, iterations, times
+  // The camera stage's refinement when the rule ran one with more bases
+  // than K (priors.camera_num_bases > K); default (0 iterations) otherwise.
+  RefineSummary camera_refine;
   // What the prior rule measured and the term weights the refinement used
   // (with priors = kManual: only term_weights, the caller's).
   PriorDecision priors;
@@ -74,25 +77,39 @@ inline constexpr double kLittleRotationDeg = 60.0;
 // together. Larger inputs refine one after the other on every thread.
 inline constexpr int kMaxObservationsForTwoAtOnce = 1000000;
 
-// The start rule. With start.method = auto:
-// - a video whose basis can absorb rotation (priors = kAuto and the rule of
-//   solvers/prior_rule.h adds temporal_shape): the triple start alone. Its rotations come from an exact
-//   corrective triple of the rank-3K factorisation, the ones the temporal
-//   terms then hold in place; the factorisation and rigid starts' rotations
-//   are several degrees (rigid) to tens of degrees (factorisation) off on
-//   motion capture, and the refinement does not leave their basin.
-// - otherwise both the factorization and the rigid starts are refined and
-//   the lower refined cost is kept (a usable solution before an unusable
-//   one). A start's own reprojection error does not tell which basin it is
-//   in: the start that fits the tracks better can refine to the worse
-//   result (measured in docs/factorization.md, section 7). The two
-//   refinements run side by side in lockstep, at once with num_threads ≥ 2
-//   (each on num_threads / 2 threads) or in turns with one; once one has
-//   converged after n LM iterations, the other is abandoned when it has run
-//   2n + 10 iterations without reaching a lower cost (solvers/two_starts.h;
-//   inputs above kMaxObservationsForTwoAtOnce: one after the other, each to
-//   its end). Progress reports and stop requests reach the caller's thread,
-//   the factorization refinement's reports first.
+// The pipeline. With priors = auto the rule of solvers/prior_rule.h decides
+// the shape prior (temporal_shape for a video, deformation otherwise; none
+// when the K-basis model explains the tracks and its basis cannot absorb
+// rotation) and K_cam ≥ K, the bases the camera is estimated with.
+// 1. Camera stage: the start with K_cam bases and its refinement. With
+//    start.method = auto:
+//    - a video with the temporal_shape prior: the triple start alone. Its
+//      rotations come from an exact corrective triple of the rank-3K
+//      factorisation, the ones the temporal terms then hold in place; the
+//      factorisation and rigid starts' rotations are several degrees
+//      (rigid) to tens of degrees (factorisation) off on motion capture,
+//      and the refinement does not leave their basin.
+//    - otherwise both the factorization and the rigid starts are refined and
+//      the lower refined cost is kept (a usable solution before an unusable
+//      one). A start's own reprojection error does not tell which basin it
+//      is in: the start that fits the tracks better can refine to the worse
+//      result (measured in docs/factorization.md, section 7). The two
+//      refinements run side by side in lockstep, at once with num_threads ≥
+//      2 (each on num_threads / 2 threads) or in turns with one; once one has
+//      converged after n LM iterations, the other is abandoned when it has
+//      run 2n + 10 iterations without reaching a lower cost
+//      (solvers/two_starts.h; inputs above kMaxObservationsForTwoAtOnce: one
+//      after the other, each to its end). Progress reports and stop requests
+//      reach the caller's thread, the factorization refinement's reports
+//      first.
+//    With K_cam > K the camera stage stops at prior_rule.camera_function_tolerance
+//    (its rotations settle first; result->camera_refine is its summary).
+// 2. Shape stage, when K_cam > K: the camera stage's shapes reduced to K
+//    bases (ReduceNumBases in core/model.h), refined with the camera stage's
+//    rotations held and the same shape prior (result->refine). The
+//    rotations of the result are the camera stage's.
+// With priors = manual: the given start (auto: both starts, as above) with
+// K bases refined with exactly the given terms, one stage.
 // result->start.method says which start was kept.
 // Points and frames with too few observations for the model with K bases
 // are first left out (solvers/drop_unobserved.h): the rest is reconstructed as above and

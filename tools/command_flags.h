@@ -56,10 +56,9 @@
     "reconstruct: replace an earlier result directory; view: replace the page.") \
   X(bool, ply, false, "reconstruct: also write one PLY file per frame.")         \
   X(std::string, init, ::nrsfm::StartMethodName(::nrsfm::StartOptions().method), \
-    "reconstruct: start auto|factorization|rigid|triple (auto: with --priors "   \
-    "auto, the triple start for a video with 3K >= P/2; otherwise the "          \
-    "factorization and rigid starts both refined, the lower cost kept; "         \
-    "docs/priors.md).")                                                          \
+    "reconstruct: start auto|factorization|rigid|triple (auto: the triple "     \
+    "start for a video given the temporal prior; otherwise the factorization "  \
+    "and rigid starts both refined, the lower cost kept; docs/priors.md).")     \
   X(std::string, priors,                                                         \
     ::nrsfm::PriorModeName(::nrsfm::ReconstructOptions().priors),                \
     "reconstruct: auto|manual. auto chooses the temporal terms from the data "   \
@@ -70,6 +69,10 @@
     "reconstruct: robust loss none|huber|cauchy on the reprojection terms.")     \
   X(double, robust_scale, ::nrsfm::ProblemOptions().robust_scale,                \
     "reconstruct: robust loss scale, in input units.")                           \
+  X(std::string, hold, "",                                                       \
+    "reconstruct: blocks held at their start values during the refinement, a "  \
+    "comma list of rotations,translations,weights,basis,scales,rig (e.g. "      \
+    "your own cameras with --init and refine, or refine in Python).")           \
   X(int, max_iterations, ::nrsfm::SolverOptions().max_iterations,                \
     "reconstruct: Levenberg-Marquardt iterations.")                              \
   X(int, threads, ::nrsfm::SolverOptions().num_threads,                          \

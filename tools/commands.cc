@@ -134,8 +134,17 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
       out << ", start's path acceleration " << result.priors.path_acceleration_deg
           << " deg/frame^2";
     }
+    if (result.priors.camera_num_bases > num_bases) {
+      out << ", camera from K = " << result.priors.camera_num_bases;
+    }
   }
   out << ")\n";
+  if (result.priors.camera_num_bases > num_bases) {
+    out << std::setprecision(6) << "refine camera (K = " << result.priors.camera_num_bases
+        << "): cost " << result.camera_refine.initial_cost << " -> "
+        << result.camera_refine.final_cost << " in " << result.camera_refine.iterations
+        << " iterations\n";
+  }
   out << std::setprecision(6) << "refine: cost " << result.refine.initial_cost << " -> "
       << result.refine.final_cost << " in " << result.refine.iterations
       << " iterations (" << result.refine.linear_solver << "), "

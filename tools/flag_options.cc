@@ -145,6 +145,36 @@ Status ParseNumBasesFlag(const std::string& value, bool* auto_k, int* num_bases)
   return Status::OK();
 }
 
+Status ParseHeldBlocks(const std::string& list, ProblemOptions* options) {
+  const std::pair<const char*, bool ProblemOptions::*> kinds[] = {
+      {"rotations", &ProblemOptions::constant_rotations},
+      {"translations", &ProblemOptions::constant_translations},
+      {"weights", &ProblemOptions::constant_weights},
+      {"basis", &ProblemOptions::constant_basis},
+      {"scales", &ProblemOptions::constant_scales},
+      {"rig", &ProblemOptions::constant_rig}};
+  std::size_t begin = 0;
+  while (begin < list.size()) {
+    std::size_t end = list.find(',', begin);
+    if (end == std::string::npos) end = list.size();
+    const std::string name = list.substr(begin, end - begin);
+    bool found = false;
+    for (const auto& kind : kinds) {
+      if (name == kind.first) {
+        options->*kind.second = true;
+        found = true;
+      }
+    }
+    if (!found) {
+      return Status::Error("'" + name +
+                           "' is not a kind of block (rotations, translations, "
+                           "weights, basis, scales, rig)");
+    }
+    begin = end + 1;
+  }
+  return Status::OK();
+}
+
 Status BuildReconstructOptions(const CommandFlags& flags, ReconstructOptions* options) {
   NRSFM_RETURN_IF_ERROR(ParseStartMethod(flags.init, &options->start.method)
                             .WithContext("--init"));
@@ -174,6 +204,7 @@ Status BuildReconstructOptions(const CommandFlags& flags, ReconstructOptions* op
   }
   // A weight given on the command line is a manual choice of the terms.
   if (!options->problem.term_weights.empty()) options->priors = PriorMode::kManual;
+  NRSFM_RETURN_IF_ERROR(ParseHeldBlocks(flags.hold, &options->problem).WithContext("--hold"));
   options->start.seed = flags.seed;
   options->problem.robust_scale = flags.robust_scale;
   options->solver.max_iterations = flags.max_iterations;
@@ -263,6 +294,11 @@ ReconstructionReport MakeReport(const CommandFlags& flags, const std::string& in
   report.start_used = StartMethodName(result.start.method);
   report.start_reprojection_rms = result.start.reprojection_rms;
   report.stages.push_back({"initialize", 0.0, 0.0, 0, result.start.seconds});
+  if (result.priors.camera_num_bases > run.num_bases) {
+    report.stages.push_back({"refine_camera", result.camera_refine.initial_cost,
+                             result.camera_refine.final_cost,
+                             result.camera_refine.iterations, result.camera_refine.seconds});
+  }
   report.stages.push_back({"refine", result.refine.initial_cost,
                            result.refine.final_cost, result.refine.iterations,
                            result.refine.seconds});
@@ -280,8 +316,14 @@ ReconstructionReport MakeReport(const CommandFlags& flags, const std::string& in
   report.diagnostics = {{"track_step", result.priors.track_step},
                         {"track_order", result.priors.track_order},
                         {"path_acceleration_deg", result.priors.path_acceleration_deg},
+                        {"camera_num_bases", static_cast<double>(result.priors.camera_num_bases)},
+                        {"noise_rms", result.priors.noise_rms},
                         {"largest_view_angle_deg", result.largest_view_angle_deg},
                         {"refine_converged", result.refine.converged ? 1.0 : 0.0},
+                        {"camera_refine_converged",
+                         result.priors.camera_num_bases > run.num_bases
+                             ? (result.camera_refine.converged ? 1.0 : 0.0)
+                             : -1.0},
                         {"start_completion_rms", result.start.completion_rms},
                         {"start_subblock_rank1_defect", result.start.subblock_rank1_defect},
                         {"start_rigid_rms", result.start.rigid_rms},

@@ -45,6 +45,11 @@ std::string TermFlagHelp(const ExtraTerm& term);
 // Parses --K of reconstruct: an integer >= 1 or "auto".
 Status ParseNumBasesFlag(const std::string& value, bool* auto_k, int* num_bases);
 
+// Sets ProblemOptions::constant_* from --hold's comma list of block kinds
+// (rotations, translations, weights, basis, scales, rig); an unknown name is
+// an error naming it.
+Status ParseHeldBlocks(const std::string& list, ProblemOptions* options);
+
 // Every reconstruct flag that sets a library option (--init, --priors,
 // --robust, --robust_scale, --linear_solver, --max_iterations, --threads,
 // --seed and the extra terms' weights; with --K auto it checks --K_max and

@@ -1,6 +1,9 @@
 #include "core/model.h"
 
+#include <cmath>
+
 #include <Eigen/Geometry>
+#include <Eigen/SVD>
 #include <gtest/gtest.h>
 
 #include "core/measurements.h"
@@ -32,6 +35,84 @@ TEST(Model, ShapeAndProjectionFollowTheModelEquation) {
   EXPECT_TRUE(model.Validate().ok());
   model.weights(0, 0) = std::nan("");
   EXPECT_FALSE(model.Validate().ok());
+}
+
+// A model of F = 6 frames, P = 5 points whose shapes have rank 2, written
+// with K = 4 bases (the last two mix the first two): every shape is
+// S_t = a_t A + b_t B.
+Model RankTwoModelWithFourBases() {
+  Model model;
+  model.Resize(/*frames=*/6, /*cameras=*/1, /*points=*/5, /*bases=*/4);
+  Eigen::Matrix3Xd a(3, 5), b(3, 5);
+  a << 1, 0, 0, 2, -1, 0, 1, 0, 1, 3, 0, 0, 1, -2, 1;
+  b << 0, 2, 1, 0, 1, 1, 0, -1, 2, 0, 3, 1, 0, 0, -1;
+  model.SetBasisShape(0, a);
+  model.SetBasisShape(1, b);
+  model.SetBasisShape(2, a + b);
+  model.SetBasisShape(3, 2.0 * a - b);
+  for (int t = 0; t < 6; ++t) {
+    model.weights.col(t) << 1.0 + 0.1 * t, std::sin(t), 0.2 * t, -0.1 * t * t;
+    model.SetRotation(t, 0, Eigen::AngleAxisd(0.3 * t, Eigen::Vector3d::UnitY())
+                                .toRotationMatrix());
+    model.translations.col(t) << t, -t;
+  }
+  return model;
+}
+
+TEST(Model, ReduceNumBasesKeepsARankKSequenceExactly) {
+  const Model model = RankTwoModelWithFourBases();
+  const Model reduced = ReduceNumBases(model, 2);
+  EXPECT_EQ(reduced.num_bases, 2);
+  EXPECT_EQ(reduced.weights.rows(), 2);
+  EXPECT_EQ(reduced.basis.rows(), 6);
+  for (int t = 0; t < model.num_frames; ++t) {
+    EXPECT_LT((reduced.ShapeInObject(t) - model.ShapeInObject(t)).norm(), 1e-12) << t;
+  }
+  EXPECT_EQ(reduced.rotations, model.rotations);
+  EXPECT_EQ(reduced.translations, model.translations);
+  EXPECT_TRUE(reduced.Validate().ok());
+  // One basis keeps the best rank-1 approximation: its residual is the
+  // second singular value of the F × 3P shape matrix, by hand below.
+  Eigen::MatrixXd shapes(6, 15);
+  for (int t = 0; t < 6; ++t) {
+    const Eigen::Matrix3Xd s = model.ShapeInObject(t);
+    shapes.row(t) = Eigen::Map<const Eigen::RowVectorXd>(s.data(), 15);
+  }
+  const Eigen::VectorXd sigma = Eigen::JacobiSVD<Eigen::MatrixXd>(shapes).singularValues();
+  const Model one = ReduceNumBases(model, 1);
+  double residual = 0.0;
+  for (int t = 0; t < 6; ++t) {
+    residual += (one.ShapeInObject(t) - model.ShapeInObject(t)).squaredNorm();
+  }
+  EXPECT_NEAR(std::sqrt(residual), sigma(1), 1e-10);
+}
+
+TEST(Model, ReduceNumBasesLeavesOutFramesWithNaNWeights) {
+  Model model = RankTwoModelWithFourBases();
+  model.weights.col(3).setConstant(std::nan(""));
+  const Model reduced = ReduceNumBases(model, 2);
+  EXPECT_TRUE(reduced.weights.col(3).array().isNaN().all());
+  for (int t : {0, 1, 2, 4, 5}) {
+    EXPECT_LT((reduced.ShapeInObject(t) - model.ShapeInObject(t)).norm(), 1e-12) << t;
+  }
+}
+
+TEST(Model, MakeFirstBasisTheMeanKeepsTheShapes) {
+  Model model = RankTwoModelWithFourBases();
+  const Model before = model;
+  ASSERT_TRUE(model.MakeFirstBasisTheMean());
+  EXPECT_LT((model.weights.rowwise().mean() - Eigen::VectorXd::Unit(4, 0)).norm(), 1e-12);
+  Eigen::Matrix3Xd mean = Eigen::Matrix3Xd::Zero(3, 5);
+  for (int t = 0; t < 6; ++t) {
+    EXPECT_LT((model.ShapeInObject(t) - before.ShapeInObject(t)).norm(), 1e-12) << t;
+    mean += before.ShapeInObject(t) / 6.0;
+  }
+  EXPECT_LT((model.BasisShape(0) - mean).norm(), 1e-12);
+  // Zero mean weights: nothing to do, nothing changed.
+  model.weights.setZero();
+  const Model zero = model;
+  EXPECT_FALSE(model.MakeFirstBasisTheMean());
+  EXPECT_EQ(model.basis, zero.basis);
 }
 
 TEST(Rotation, AngleAxisRoundTripAndNearestRotation) {

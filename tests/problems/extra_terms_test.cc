@@ -49,7 +49,7 @@ TEST(ExtraTerms, TableNamesAreUniqueAndDescribed) {
     EXPECT_NE(term.add, nullptr) << term.name;
     EXPECT_EQ(FindExtraTerm(term.name), &term);
   }
-  EXPECT_EQ(names.size(), 6u);
+  EXPECT_EQ(names.size(), 7u);
   EXPECT_EQ(FindExtraTerm(kTemporalTerm)->name, std::string("temporal"));
   EXPECT_EQ(FindExtraTerm("--temporal"), nullptr);
 }
@@ -66,6 +66,7 @@ TEST(ExtraTerms, EachTermAddsItsCountOfResidualBlocks) {
       (kFrames - 1) * kCameras,        // temporal_rotations: (t ≥ 1, c)
       (kFrames - 1) * kPoints,         // temporal_shape: (t ≥ 1, p)
       (kFrames - 2) * kCameras,        // rotation_acceleration: (1 ≤ t ≤ F − 2, c)
+      kFrames * kPoints,               // deformation: (t, p)
   };
   ASSERT_EQ(ExtraTerms().size(), std::size(expected));
   ProblemOptions options;
@@ -130,7 +131,7 @@ TEST(ExtraTerms, ZeroWeightAddsNothingAndConstantRigHoldsTheRig) {
   ASSERT_TRUE(builder.AddReprojectionTerms(options).ok());
   std::vector<int> counts;
   ASSERT_TRUE(AddExtraTerms(options, &builder, &counts).ok());
-  EXPECT_EQ(counts, (std::vector<int>{0, kFrames, 0, 0, 0, 0}));
+  EXPECT_EQ(counts, (std::vector<int>{0, kFrames, 0, 0, 0, 0, 0}));
   EXPECT_TRUE(builder.problem()->IsParameterBlockConstant(builder.RigRotationBlock(1)));
   EXPECT_TRUE(builder.problem()->IsParameterBlockConstant(builder.RigScaleBlock(1)));
 }

@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include "core/rotation.h"
+#include "core/synthetic.h"
 #include "solvers/reconstruct.h"
 
 namespace nrsfm {
@@ -106,7 +107,7 @@ TEST(PriorRule, DecisionsFollowTheThresholds) {
   const PriorRuleOptions options;
   PriorDecision video;
   // P = 2 points, K = 1: 3K ≥ P / 2.
-  DecideVideoPriors(options, Translating(12, 0.05), 1, &video);
+  ASSERT_TRUE(DecidePriors(options, Translating(12, 0.05), 1, &video).ok());
   EXPECT_TRUE(video.video);
   EXPECT_EQ(video.term_weights.at("temporal_shape"), options.temporal_shape_weight);
 
@@ -138,18 +139,21 @@ TEST(PriorRule, DecisionsFollowTheThresholds) {
   DecidePathPrior(lenient, PathModel(shaking), &shaky_lenient);
   EXPECT_EQ(shaky_lenient.term_weights.count("rotation_acceleration"), 1u);
 
-  // Frames in no order get no temporal term, and no path prior after.
+  // Frames in no order get the deformation prior instead of a temporal
+  // term, and no path prior after.
   PriorDecision unordered;
-  DecideVideoPriors(options, Translating(7, 0.05), 1, &unordered);  // too short to tell
+  ASSERT_TRUE(DecidePriors(options, Translating(7, 0.05), 1, &unordered).ok());  // too short to tell
   EXPECT_FALSE(unordered.video);
   DecidePathPrior(options, PathModel(constant), &unordered);
-  EXPECT_TRUE(unordered.term_weights.empty());
+  ASSERT_EQ(unordered.term_weights.size(), 1u);
+  EXPECT_EQ(unordered.term_weights.at("deformation"), options.deformation_weight);
   EXPECT_EQ(unordered.path_acceleration_deg, -1.0);
 }
 
-TEST(PriorRule, NoTemporalTermWhenTheDataFixTheRotations) {
+TEST(PriorRule, NoTermWhenTheModelExplainsTheTracksAndFixesTheRotations) {
   // 40 points, K = 6: 3K = 18 < 0.5 · 40, the rotations are fixed by the
-  // data; a video all the same, but no term and no path prior.
+  // data, and the tracks (rank 2 after centring) are explained exactly; a
+  // video all the same, but no term and no path prior.
   Eigen::MatrixXd w(2 * 12, 40);
   for (int t = 0; t < 12; ++t) {
     for (int p = 0; p < 40; ++p) {
@@ -161,13 +165,15 @@ TEST(PriorRule, NoTemporalTermWhenTheDataFixTheRotations) {
   ASSERT_TRUE(Measurements::FromMatrixWithNaN(w, 1, "test", &m).ok());
   const PriorRuleOptions options;
   PriorDecision decision;
-  DecideVideoPriors(options, m, 6, &decision);
+  ASSERT_TRUE(DecidePriors(options, m, 6, &decision).ok());
   EXPECT_TRUE(decision.video);
+  EXPECT_TRUE(decision.model_explains_tracks);
+  EXPECT_EQ(decision.camera_num_bases, 6);
   EXPECT_TRUE(decision.term_weights.empty());
   DecidePathPrior(options, PathModel({0, 5, 10, 15, 20, 25}), &decision);
   EXPECT_TRUE(decision.term_weights.empty());
   // K = 7: 3K = 21 ≥ 20.
-  DecideVideoPriors(options, m, 7, &decision);
+  ASSERT_TRUE(DecidePriors(options, m, 7, &decision).ok());
   EXPECT_EQ(decision.term_weights.count("temporal_shape"), 1u);
   // A lower min_basis_fraction moves the threshold: K = 6, 3K = 18 ≥ 0.4 · 40;
   // the term gets temporal_shape_weight.
@@ -175,8 +181,104 @@ TEST(PriorRule, NoTemporalTermWhenTheDataFixTheRotations) {
   lower.min_basis_fraction = 0.4;
   lower.temporal_shape_weight = 2.5;
   PriorDecision lowered;
-  DecideVideoPriors(lower, m, 6, &lowered);
+  ASSERT_TRUE(DecidePriors(lower, m, 6, &lowered).ok());
   EXPECT_EQ(lowered.term_weights.at("temporal_shape"), 2.5);
+}
+
+// Tracks x = a + b t + c t² per coordinate have third differences 0; white
+// noise of σ adds 20 σ² to their variance, which the estimate reads back.
+TEST(PriorRule, TemporalNoiseRmsReadsTheNoiseOfSmoothTracks) {
+  constexpr int kFrames = 200, kPoints = 20;
+  std::mt19937 rng(3);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::MatrixXd smooth(2 * kFrames, kPoints), noise(2 * kFrames, kPoints);
+  for (int t = 0; t < kFrames; ++t) {
+    for (int p = 0; p < kPoints; ++p) {
+      for (int row = 0; row < 2; ++row) {
+        const double u = 0.01 * t;
+        smooth(2 * t + row, p) = p + row + (0.3 + 0.01 * p) * u - 0.2 * u * u;
+        noise(2 * t + row, p) = normal(rng);
+      }
+    }
+  }
+  Measurements exact, noisy;
+  ASSERT_TRUE(Measurements::FromMatrixWithNaN(smooth, 1, "smooth", &exact).ok());
+  ASSERT_TRUE(Measurements::FromMatrixWithNaN(smooth + 0.01 * noise, 1, "noisy", &noisy).ok());
+  EXPECT_LT(TemporalNoiseRms(exact), 1e-12);
+  // 7 880 differences: the median's standard error is ~1.5 %.
+  EXPECT_NEAR(TemporalNoiseRms(noisy), 0.01, 0.0006);
+  // Fewer than four frames: nothing to measure.
+  ASSERT_TRUE(Measurements::FromMatrixWithNaN(smooth.topRows(6), 1, "short", &exact).ok());
+  EXPECT_EQ(TemporalNoiseRms(exact), -1.0);
+}
+
+// Tracks of exactly K0 = 3 random basis shapes (new weights every frame, a
+// smoothly turning camera): rank 3K0 explains them, so K = 3 needs no camera
+// stage. With the spectrum's noise estimate (frames in no order) K = 2 does
+// not, and its camera is estimated with the 3 bases that do; with 1 % noise
+// the same, and the estimate reads the noise. Read as a video, the third
+// differences count a deformation that jumps from frame to frame as noise,
+// so K = 2 explains what is left as well (no camera stage: nothing in these
+// tracks is smooth enough for a temporal prior to use).
+TEST(PriorRule, TrackRankFindsTheBasesThatExplainTheTracks) {
+  for (const double noise : {0.0, 0.01}) {
+    RandomBasisOptions data;
+    data.num_frames = 120;
+    data.num_points = 40;
+    data.num_bases = 3;
+    data.noise_stddev = noise;
+    SyntheticSequence s;
+    ASSERT_TRUE(GenerateRandomBasis(data, &s).ok());
+    for (const bool video : {false, true}) {
+      SCOPED_TRACE(::testing::Message() << "noise " << noise << ", video " << video);
+      PriorDecision three;
+      ASSERT_TRUE(AnalyseTrackRank(PriorRuleOptions(), s.measurements, 3, video, &three).ok());
+      EXPECT_TRUE(three.model_explains_tracks);
+      EXPECT_EQ(three.camera_num_bases, 3);
+      PriorDecision two;
+      ASSERT_TRUE(AnalyseTrackRank(PriorRuleOptions(), s.measurements, 2, video, &two).ok());
+      EXPECT_EQ(two.model_explains_tracks, video);
+      EXPECT_EQ(two.camera_num_bases, video ? 2 : 3);
+      if (noise > 0.0 && !video) EXPECT_NEAR(two.noise_rms, noise, 0.2 * noise);
+    }
+  }
+}
+
+// Smooth tracks of full rank (400 frames of slow sinusoids with slowly
+// decaying amplitudes over 24 points): their third differences read almost
+// no noise, no small basis explains them, and the camera stage takes the
+// cap, 3K' ≤ camera_rank_fraction · min(P, 2F). (With the spectrum's noise
+// estimate instead, the rank it is read at, 3 · min(P, 2F) / 6, explains the
+// tracks by construction, so the cap binds only for videos.)
+TEST(PriorRule, CameraBasesStopAtTheCap) {
+  constexpr int kFrames = 400, kPoints = 24;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> phase(0.0, 2.0 * M_PI);
+  Eigen::MatrixXd w = Eigen::MatrixXd::Zero(2 * kFrames, kPoints);
+  for (int i = 0; i < 30; ++i) {
+    const double amplitude = std::pow(0.9, i), frequency = 0.01 + 0.004 * i;
+    for (int p = 0; p < kPoints; ++p) {
+      for (int row = 0; row < 2; ++row) {
+        const double offset = phase(rng);
+        for (int t = 0; t < kFrames; ++t) {
+          w(2 * t + row, p) += amplitude * std::cos(frequency * t + offset);
+        }
+      }
+    }
+  }
+  Measurements m;
+  ASSERT_TRUE(Measurements::FromMatrixWithNaN(w, 1, "smooth", &m).ok());
+  PriorRuleOptions options;
+  PriorDecision decision;
+  ASSERT_TRUE(AnalyseTrackRank(options, m, 1, /*video=*/true, &decision).ok());
+  EXPECT_FALSE(decision.model_explains_tracks);
+  EXPECT_EQ(decision.camera_num_bases, 6);  // 0.75 · 24 / 3
+  options.camera_rank_fraction = 0.5;
+  ASSERT_TRUE(AnalyseTrackRank(options, m, 1, /*video=*/true, &decision).ok());
+  EXPECT_EQ(decision.camera_num_bases, 4);
+  // K at the cap: no larger camera model.
+  ASSERT_TRUE(AnalyseTrackRank(options, m, 4, /*video=*/true, &decision).ok());
+  EXPECT_EQ(decision.camera_num_bases, 4);
 }
 
 TEST(PriorRule, OptionsAreChecked) {
@@ -190,6 +292,18 @@ TEST(PriorRule, OptionsAreChecked) {
   options = PriorRuleOptions();
   options.min_basis_fraction = 0.0;
   EXPECT_NE(options.Check().message().find("min_basis_fraction"), std::string::npos);
+  options = PriorRuleOptions();
+  options.deformation_weight = 0.0;
+  EXPECT_NE(options.Check().message().find("deformation_weight"), std::string::npos);
+  options = PriorRuleOptions();
+  options.camera_rank_fraction = 1.0;
+  EXPECT_NE(options.Check().message().find("camera_rank_fraction"), std::string::npos);
+  options = PriorRuleOptions();
+  options.camera_fit_threshold = 0.9;
+  EXPECT_NE(options.Check().message().find("camera_fit_threshold"), std::string::npos);
+  options = PriorRuleOptions();
+  options.camera_function_tolerance = 0.0;
+  EXPECT_NE(options.Check().message().find("camera_function_tolerance"), std::string::npos);
   options = PriorRuleOptions();
   options.temporal_shape_weight = -1.0;
   EXPECT_NE(options.Check().message().find("temporal_shape_weight"), std::string::npos);
