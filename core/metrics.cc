@@ -1,5 +1,7 @@
 #include "core/metrics.h"
 
+#include "core/svd.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -102,6 +104,30 @@ double ComputeE3D(const std::vector<Eigen::Matrix3Xd>& truth,
                   const std::vector<Eigen::Matrix3Xd>& estimate) {
   return MeanPointDistance(AlignedResiduals(truth, estimate)) /
          E3DScale(Centred(truth));
+}
+
+double ComputeRankFloorE3D(const std::vector<Eigen::Matrix3Xd>& truth, int num_bases) {
+  CHECK(!truth.empty());
+  CHECK_GE(num_bases, 1);
+  const std::vector<Eigen::Matrix3Xd> centred = Centred(truth);
+  const int frames = static_cast<int>(centred.size());
+  const int p3 = 3 * static_cast<int>(centred[0].cols());
+  Eigen::MatrixXd shapes(frames, p3);
+  for (int t = 0; t < frames; ++t) {
+    CHECK_EQ(centred[t].cols() * 3, p3);
+    shapes.row(t) = Eigen::Map<const Eigen::RowVectorXd>(centred[t].data(), p3);
+  }
+  const ThinSvd svd = ComputeThinSvd(shapes, SingularVectors::kBoth);
+  const int rank = std::min<int>(num_bases, svd.singular_values.size());
+  const Eigen::MatrixXd approximation = svd.u.leftCols(rank) *
+                                        svd.singular_values.head(rank).asDiagonal() *
+                                        svd.v.leftCols(rank).transpose();
+  std::vector<Eigen::Matrix3Xd> estimate(frames);
+  for (int t = 0; t < frames; ++t) {
+    const Eigen::RowVectorXd row = approximation.row(t);
+    estimate[t] = Eigen::Map<const Eigen::Matrix3Xd>(row.data(), 3, p3 / 3);
+  }
+  return ComputeE3D(truth, estimate);
 }
 
 E3DDetail ComputeE3DDetail(const std::vector<Eigen::Matrix3Xd>& truth,

@@ -59,6 +59,14 @@ struct E3DDetail {
 E3DDetail ComputeE3DDetail(const std::vector<Eigen::Matrix3Xd>& truth,
                            const std::vector<Eigen::Matrix3Xd>& estimate);
 
+// The rank-K floor of e3D: ComputeE3D(truth, X̂) of the best rank-K
+// approximation X̂ of the centred truth itself (the truncated SVD of the
+// F × 3P matrix with row t = X_t, column-major), which no sequence of
+// S_t = Σ_k l_tk S_k with K bases can score below in the frame of `truth`
+// (use it with object-frame truth: the world-frame S of the Akhter et al.
+// files). CHECKs F ≥ 1 and equal P; K ≥ 1 (K ≥ min(F, 3P) gives 0).
+double ComputeRankFloorE3D(const std::vector<Eigen::Matrix3Xd>& truth, int num_bases);
+
 // Relative Frobenius error with a per-frame depth sign (Lee et al., the metric
 // used for the face sequence):
 //   e = (1 / F) Σ_t min(||X_t − X̂_t||_F, ||X_t − Z X̂_t||_F) / ||X_t||_F,

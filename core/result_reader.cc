@@ -4,10 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <vector>
 
 #include <Eigen/LU>
 #include <glog/logging.h>
+#include <nlohmann/json.hpp>
 
 #include "core/text_io.h"
 
@@ -193,6 +195,21 @@ Status ReadResultShapes(const std::string& dir, int camera, GroundTruth* shapes)
                                          &result.rotations));
   result.source = "result";
   *shapes = std::move(result);
+  return Status::OK();
+}
+
+Status ReadResultNumBases(const std::string& dir, int* num_bases) {
+  const std::string path = (std::filesystem::path(dir) / "result.json").string();
+  std::ifstream in(path);
+  if (!in) return Status::Error(path + ": cannot open");
+  const nlohmann::json json = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (json.is_discarded() || !json.is_object()) return Status::Error(path + ": not a JSON object");
+  const auto it = json.find("num_bases");
+  if (it == json.end() || !it->is_number_integer() || it->get<long long>() < 1 ||
+      it->get<long long>() > 1000000) {
+    return Status::Error(path + ": no integer num_bases >= 1");
+  }
+  *num_bases = static_cast<int>(it->get<long long>());
   return Status::OK();
 }
 

@@ -31,6 +31,11 @@ Status ReadPointsCameraCsv(const std::string& path, int camera,
 // to "result". Fails, naming the file and row, like ReadPointsCameraCsv.
 Status ReadResultShapes(const std::string& dir, int camera, GroundTruth* shapes);
 
+// The number of basis shapes K of a result directory: result.json's
+// "num_bases". Fails, naming the file, when it is missing, not JSON, or has
+// no integer num_bases ≥ 1.
+Status ReadResultNumBases(const std::string& dir, int* num_bases);
+
 }  // namespace nrsfm
 
 #endif  // NRSFM_CORE_RESULT_READER_H_

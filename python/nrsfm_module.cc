@@ -1024,7 +1024,17 @@ py::dict Evaluate(py::handle truth_object, py::handle result_object, const py::k
   const GroundTruth estimate = ShapesForEvaluation(result_object, false, "");
   ShapeErrors errors;
   Check(EvaluateShapes(truth, estimate, &errors));
-  return JsonToDict(tools::EvaluationJson(errors));
+  // The rank-K floor beside an object-frame e3D, K from a result's weights.
+  int num_bases = 0;
+  double floor = -1.0;
+  if (errors.e3d_frame == EvaluationFrame::kObject && py::hasattr(result_object, "weights")) {
+    const py::array weights = py::array::ensure(result_object.attr("weights"));
+    if (weights && weights.ndim() == 2 && weights.shape(1) >= 1) {
+      num_bases = static_cast<int>(weights.shape(1));
+      floor = ComputeRankFloorE3D(truth.points_in_object, num_bases);
+    }
+  }
+  return JsonToDict(tools::EvaluationJson(errors, num_bases, floor));
 }
 
 // ---------------------------------------------------------------------------

@@ -100,7 +100,7 @@ struct PriorRuleOptions {
   // The camera stage's function tolerance (relative cost decrease of an
   // accepted step), in (0, 1): it needs the rotations, which settle first;
   // the slow decrease after them is the extra bases absorbing rotation.
-  double camera_function_tolerance = 1e-3;
+  double camera_function_tolerance = 1e-4;
 
   Status Check() const;
 };

@@ -119,14 +119,15 @@ bool IsBetter(const ReconstructResult& a, const ReconstructResult& b) {
   return a.refine.final_cost < b.refine.final_cost;
 }
 
-// The shape stage after a camera stage with more bases than K: the
-// camera stage's model reduced to K bases, refined with its rotations held
+// The shape stage after the camera stage: the camera stage's model (reduced
+// to K bases when it has more), refined with its rotations held
 // and the same shape prior (the path prior has nothing left to act on).
 // result->camera_refine keeps the camera stage's summary; result->refine
 // becomes the shape stage's, result->model its model (the reduced model when
 // that refinement is not usable).
 Status RefineWithCameraHeld(const ReconstructOptions& options,
                             const Measurements& measurements, ReconstructResult* result) {
+  result->camera_stage = true;
   result->camera_refine = result->refine;
   if (!result->camera_refine.usable) {
     return Status::Error("the camera stage (" +
@@ -137,7 +138,9 @@ Status RefineWithCameraHeld(const ReconstructOptions& options,
   if (options.solver.stop_requested && options.solver.stop_requested()) {
     return Status::Error("stopped on request");
   }
-  result->model = ReduceNumBases(result->model, options.start.num_bases);
+  if (result->model.num_bases > options.start.num_bases) {
+    result->model = ReduceNumBases(result->model, options.start.num_bases);
+  }
   ProblemOptions problem = options.problem;
   problem.term_weights = result->priors.term_weights;
   problem.term_weights.erase(kRotationAccelerationTerm);
@@ -179,8 +182,9 @@ Status Reconstruct(const ReconstructOptions& options,
   // The camera stage: the start and its refinement with K_cam ≥ K bases
   // (K_cam = K with priors = manual).
   ReconstructOptions camera = options;
-  if (decision.camera_num_bases > num_bases) {
-    camera.start.num_bases = decision.camera_num_bases;
+  const bool two_stages = !decision.term_weights.empty();
+  if (two_stages) {
+    camera.start.num_bases = std::max(num_bases, decision.camera_num_bases);
     camera.solver.function_tolerance = std::max(
         options.solver.function_tolerance, options.prior_rule.camera_function_tolerance);
   }
@@ -217,7 +221,7 @@ Status Reconstruct(const ReconstructOptions& options,
   }
   // The shape stage: the camera stage's shapes reduced to K bases
   // (ReduceNumBases), refined with its rotations held.
-  if (camera.start.num_bases > num_bases) {
+  if (two_stages) {
     NRSFM_RETURN_IF_ERROR(RefineWithCameraHeld(options, measurements, result));
   }
   const bool at_limit =

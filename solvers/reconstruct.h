@@ -47,8 +47,10 @@ struct ReconstructResult {
   Model model;               // the refined model (the start if refine.usable is false)
   StartSummary start;        // the start kept: method, its RMS, its time
   RefineSummary refine;      // the (last) refinement: costs, RMS, iterations, times
-  // The camera stage's refinement when the rule ran one with more bases
-  // than K (priors.camera_num_bases > K); default (0 iterations) otherwise.
+  // Whether the refinement ran in two stages (priors = auto with a shape
+  // prior: the camera stage, then the shape stage with its rotations held),
+  // and the camera stage's refinement (with priors.camera_num_bases bases).
+  bool camera_stage = false;
   RefineSummary camera_refine;
   // What the prior rule measured and the term weights the refinement used
   // (with priors = kManual: only term_weights, the caller's).
@@ -102,12 +104,16 @@ inline constexpr int kMaxObservationsForTwoAtOnce = 1000000;
 //      after the other, each to its end). Progress reports and stop requests
 //      reach the caller's thread, the factorization refinement's reports
 //      first.
-//    With K_cam > K the camera stage stops at prior_rule.camera_function_tolerance
-//    (its rotations settle first; result->camera_refine is its summary).
-// 2. Shape stage, when K_cam > K: the camera stage's shapes reduced to K
-//    bases (ReduceNumBases in core/model.h), refined with the camera stage's
-//    rotations held and the same shape prior (result->refine). The
-//    rotations of the result are the camera stage's.
+//    With a shape prior the camera stage stops at
+//    prior_rule.camera_function_tolerance: its rotations settle first, and
+//    the slow decrease after them (hundreds of steps on drink at K = 10) is
+//    the basis absorbing rotation, which moves the camera away from the
+//    truth (docs/priors.md); result->camera_refine is its summary.
+// 2. Shape stage, with a shape prior: the camera stage's shapes (reduced to
+//    K bases by ReduceNumBases in core/model.h when K_cam > K), refined with
+//    the camera stage's rotations held and the same shape prior
+//    (result->refine), to the solver's own tolerance. The rotations of the
+//    result are the camera stage's.
 // With priors = manual: the given start (auto: both starts, as above) with
 // K bases refined with exactly the given terms, one stage.
 // result->start.method says which start was kept.

@@ -42,8 +42,10 @@
     "observation list's camera indices), else 1; a count that disagrees with "  \
     "the file is an error. synth: cameras of the shoe (1 or 2; 0 = 1).")         \
   X(std::string, K, "",                                                          \
-    "reconstruct: number of basis shapes, an integer >= 1 or 'auto'; synth: "    \
-    "basis shapes of the random generator (default: the generator's).")         \
+    "reconstruct: number of basis shapes, an integer >= 1 or 'auto'; evaluate: " \
+    "the result's K, for the rank-K floor printed beside an object-frame e3D "  \
+    "(default: the result directory's result.json); synth: basis shapes of the " \
+    "random generator (default: the generator's).")                             \
   X(int, K_max, ::nrsfm::SelectNumBasesOptions().max_num_bases,                  \
     "reconstruct --K auto: largest K tried.")                                    \
   X(double, K_threshold, ::nrsfm::SelectNumBasesOptions().threshold,             \

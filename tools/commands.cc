@@ -134,12 +134,12 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
       out << ", start's path acceleration " << result.priors.path_acceleration_deg
           << " deg/frame^2";
     }
-    if (result.priors.camera_num_bases > num_bases) {
+    if (result.camera_stage) {
       out << ", camera from K = " << result.priors.camera_num_bases;
     }
   }
   out << ")\n";
-  if (result.priors.camera_num_bases > num_bases) {
+  if (result.camera_stage) {
     out << std::setprecision(6) << "refine camera (K = " << result.priors.camera_num_bases
         << "): cost " << result.camera_refine.initial_cost << " -> "
         << result.camera_refine.final_cost << " in " << result.camera_refine.iterations
@@ -187,7 +187,21 @@ Status RunEvaluate(const CommandFlags& flags, std::ostream& out) {
   NRSFM_RETURN_IF_ERROR(
       EvaluateShapes(truth, estimate, &errors)
           .WithContext("evaluate " + flags.result + " against " + flags.truth));
-  out << EvaluationJson(errors) << "\n";
+  // The rank-K floor beside an object-frame e3D: K from --K, else from the
+  // result directory's result.json.
+  int num_bases = 0;
+  if (!flags.K.empty()) {
+    bool auto_k = false;
+    NRSFM_RETURN_IF_ERROR(ParseNumBasesFlag(flags.K, &auto_k, &num_bases).WithContext("--K"));
+    if (auto_k) return Status::Error("--K: evaluate needs the result's K, not 'auto'");
+  } else if (std::filesystem::is_directory(flags.result, ec)) {
+    NRSFM_RETURN_IF_ERROR(ReadResultNumBases(flags.result, &num_bases));
+  }
+  double floor = -1.0;
+  if (num_bases > 0 && errors.e3d_frame == EvaluationFrame::kObject) {
+    floor = ComputeRankFloorE3D(truth.points_in_object, num_bases);
+  }
+  out << EvaluationJson(errors, num_bases, floor) << "\n";
   return Status::OK();
 }
 

@@ -294,7 +294,7 @@ ReconstructionReport MakeReport(const CommandFlags& flags, const std::string& in
   report.start_used = StartMethodName(result.start.method);
   report.start_reprojection_rms = result.start.reprojection_rms;
   report.stages.push_back({"initialize", 0.0, 0.0, 0, result.start.seconds});
-  if (result.priors.camera_num_bases > run.num_bases) {
+  if (result.camera_stage) {
     report.stages.push_back({"refine_camera", result.camera_refine.initial_cost,
                              result.camera_refine.final_cost,
                              result.camera_refine.iterations, result.camera_refine.seconds});
@@ -321,7 +321,7 @@ ReconstructionReport MakeReport(const CommandFlags& flags, const std::string& in
                         {"largest_view_angle_deg", result.largest_view_angle_deg},
                         {"refine_converged", result.refine.converged ? 1.0 : 0.0},
                         {"camera_refine_converged",
-                         result.priors.camera_num_bases > run.num_bases
+                         result.camera_stage
                              ? (result.camera_refine.converged ? 1.0 : 0.0)
                              : -1.0},
                         {"start_completion_rms", result.start.completion_rms},
@@ -340,10 +340,14 @@ ReconstructionReport MakeReport(const CommandFlags& flags, const std::string& in
   return report;
 }
 
-std::string EvaluationJson(const ShapeErrors& errors) {
+std::string EvaluationJson(const ShapeErrors& errors, int num_bases, double rank_floor) {
   nlohmann::ordered_json line;
   for (const auto& [name, value] : MetricList(errors)) line[name] = value;
   line["e3d_frame"] = EvaluationFrameName(errors.e3d_frame);
+  if (num_bases > 0 && rank_floor >= 0.0) {
+    line["K"] = num_bases;
+    line["rank_floor"] = rank_floor;
+  }
   line["F"] = errors.num_frames;
   line["P"] = errors.num_points;
   if (!errors.unscored_frames.empty()) line["unscored_frames"] = errors.unscored_frames;

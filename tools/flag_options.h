@@ -109,7 +109,10 @@ ReconstructionReport MakeReport(const CommandFlags& flags, const std::string& in
 
 // The one JSON line `nrsfm evaluate` prints: MetricList, e3d_frame, F, P
 // and, when not empty, unscored_frames / unscored_points.
-std::string EvaluationJson(const ShapeErrors& errors);
+// With num_bases > 0 and rank_floor ≥ 0 also "K" and "rank_floor"
+// (ComputeRankFloorE3D of the object-frame truth).
+std::string EvaluationJson(const ShapeErrors& errors, int num_bases = 0,
+                           double rank_floor = -1.0);
 
 // --output of synth: a path ending in .mat.
 Status CheckSynthOutput(const std::string& output);

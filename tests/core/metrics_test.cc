@@ -9,6 +9,7 @@
 #include <tuple>
 #include <vector>
 
+#include <Eigen/SVD>
 #include <gtest/gtest.h>
 
 #include "core/rotation.h"
@@ -60,6 +61,40 @@ Frames Transformed(const Frames& shapes, const Eigen::Matrix3d& m) {
 }
 
 const Eigen::Matrix3d kFlipZ = Eigen::Vector3d(1, 1, -1).asDiagonal();
+
+// Shapes S_t = A + a_t B + b_t C (rank 3 in the F × 3P matrix, rank 2 after
+// centring over frames is not asked: the SVD is of the shapes themselves).
+// Rank 3 reproduces them (floor 0); rank 1 keeps the best rank-1 part,
+// whose e3D is computed here by hand from the same SVD.
+TEST(Metrics, RankFloorIsTheE3DOfTheTruncatedTruth) {
+  std::mt19937 rng(8);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::Matrix3Xd a(3, 7), b(3, 7), c(3, 7);
+  for (Eigen::Matrix3Xd* m : {&a, &b, &c}) {
+    for (int i = 0; i < m->size(); ++i) m->data()[i] = normal(rng);
+  }
+  std::vector<Eigen::Matrix3Xd> truth;
+  for (int t = 0; t < 20; ++t) {
+    Eigen::Matrix3Xd shape = a + std::sin(0.3 * t) * b + 0.5 * std::cos(0.2 * t) * c;
+    truth.push_back(shape.colwise() - shape.rowwise().mean());
+  }
+  EXPECT_LT(ComputeRankFloorE3D(truth, 3), 1e-12);
+  EXPECT_LT(ComputeRankFloorE3D(truth, 5), 1e-12);
+  Eigen::MatrixXd rows(20, 21);
+  for (int t = 0; t < 20; ++t) rows.row(t) = Eigen::Map<const Eigen::RowVectorXd>(truth[t].data(), 21);
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(rows, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::MatrixXd one = svd.matrixU().col(0) * svd.singularValues()(0) *
+                              svd.matrixV().col(0).transpose();
+  std::vector<Eigen::Matrix3Xd> estimate;
+  for (int t = 0; t < 20; ++t) {
+    const Eigen::RowVectorXd row = one.row(t);
+    estimate.push_back(Eigen::Map<const Eigen::Matrix3Xd>(row.data(), 3, 7));
+  }
+  const double floor1 = ComputeRankFloorE3D(truth, 1);
+  EXPECT_GT(floor1, 0.01);
+  EXPECT_NEAR(floor1, ComputeE3D(truth, estimate), 1e-12);
+  EXPECT_GE(floor1, ComputeRankFloorE3D(truth, 2));
+}
 
 TEST(Metrics, RotatedCopyScoresZero) {
   const Frames truth = RandomSequence(6, 9, 7);

@@ -154,9 +154,11 @@ TEST(Reconstruct, AutoKeepsTheLowerRefinedCostOfTwoStarts) {
   EXPECT_LT(E3D(s.truth, automatic.model), 1e-6);
 }
 
-// The other branch of the rule: a video whose basis can absorb rotation
-// (3K ≥ P/2) gets the triple start alone, the temporal shape term and, for a
-// camera at constant angular velocity, the angular-acceleration term. The
+// A video whose basis can absorb rotation (3K ≥ P/2), though the K-basis
+// model explains its tracks exactly, gets the triple start alone, the
+// temporal shape term and, for a camera at constant angular velocity, the
+// angular-acceleration term, in two stages (camera, then shape with the
+// rotations held) with K_cam = K. The
 // data: a smoothly deforming object (P = 16, K = 3, a rigid shape plus two
 // modes with slow sinusoidal weights) seen under a 150° orbit at constant
 // speed, scored in its object frame as the field scores the Akhter et al.
@@ -201,15 +203,20 @@ TEST(Reconstruct, VideoWithLargeBasisTakesTheTripleStartAndTemporalTerms) {
 
   ShapeErrors errors;
   ASSERT_TRUE(EvaluateShapes(video.truth, ShapesOfModel(result.model), &errors).ok());
-  std::printf("triple branch: %d LM iterations, e3D %.4f (%s), camera %.4f, rotation %.4f\n",
-              result.refine.iterations, errors.e3d, EvaluationFrameName(errors.e3d_frame),
+  std::printf("triple branch: %d + %d LM iterations, e3D %.4f (%s), camera %.4f, rotation %.2e\n",
+              result.camera_refine.iterations, result.refine.iterations, errors.e3d, EvaluationFrameName(errors.e3d_frame),
               errors.e3d_camera, errors.rotation_error);
-  // Measured 0.075 in both frames and 0.0145 (rotation error); the bounds
-  // are twice that. The temporal shape term biases the noise-free answer.
+  // Measured: e3D 0.0679 (object frame), 0.0670 (camera frame); the
+  // temporal shape term biases the noise-free answer. Rotation error 8.5e-6:
+  // the corrective triple's rotations are exact on exact tracks and the
+  // camera stage keeps them. e3D bounds 10 % above; the rotation bound
+  // allows the round-off of another compiler or BLAS.
   EXPECT_EQ(errors.e3d_frame, EvaluationFrame::kObject);
-  EXPECT_LT(errors.e3d, 0.15);
-  EXPECT_LT(errors.e3d_camera, 0.15);
-  EXPECT_LT(errors.rotation_error, 0.03);
+  EXPECT_LT(errors.e3d, 0.075);
+  EXPECT_LT(errors.e3d_camera, 0.074);
+  EXPECT_LT(errors.rotation_error, 1e-4);
+  EXPECT_TRUE(result.camera_stage);
+  EXPECT_EQ(result.priors.camera_num_bases, 3);
 }
 
 // Too few bases for the tracks (fact 4 of solvers/prior_rule.h): a smooth
@@ -269,11 +276,11 @@ TEST(Reconstruct, TooFewBasesEstimateTheCameraWithMore) {
               "alone e3D %.4f, rotation %.4f\n",
               result.priors.camera_num_bases, errors.e3d, errors.rotation_error,
               errors_alone.e3d, errors_alone.rotation_error);
-  // Measured: e3D 0.227 and rotation error 0.0322 (two bases of six modes
+  // Measured: e3D 0.229 and rotation error 0.0370 (two bases of six modes
   // cannot do much better: the rank-2 PCA of the truth is far from it), the
   // data term alone 39.5 and 0.399; bounds 10 % above.
   EXPECT_LT(errors.e3d, 0.25);
-  EXPECT_LT(errors.rotation_error, 0.036);
+  EXPECT_LT(errors.rotation_error, 0.041);
   EXPECT_GT(errors_alone.e3d, 10.0 * errors.e3d);
 }
 
