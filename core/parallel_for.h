@@ -43,6 +43,23 @@ void ParallelForWorker(int n, int threads, int grain, const Body& body) {
   });
 }
 
+// Runs body(begin, end, piece) over [0, n) cut into P = min(pieces,
+// max(1, n / grain)) contiguous ranges, range p = [n·p/P, n·(p+1)/P), on at
+// most `threads` threads, and returns P. The split does not depend on the
+// thread count: a reduction that keeps one partial result per piece and
+// adds them in piece order gives the same bits with any number of threads.
+template <typename Body>
+int ParallelForPieces(int n, int pieces, int threads, int grain, const Body& body) {
+  const int count = std::max(1, std::min(pieces, n / std::max(1, grain)));
+  ParallelForWorker(count, threads, /*grain=*/1, [&](int first, int last, int) {
+    for (int p = first; p < last; ++p) {
+      body(static_cast<int>(static_cast<long long>(n) * p / count),
+           static_cast<int>(static_cast<long long>(n) * (p + 1) / count), p);
+    }
+  });
+  return count;
+}
+
 // The same without the worker index: body(begin, end).
 template <typename Body>
 void ParallelFor(int n, int threads, int grain, const Body& body) {

@@ -137,35 +137,35 @@ Status AddRotationAcceleration(double weight, const ProblemOptions&,
 }  // namespace
 
 const std::vector<ExtraTerm>& ExtraTerms() {
-  // name, units of λ, meaning, min_cameras, add.
+  // name, units of λ, λ in (input units)², meaning, min_cameras, add.
   static const std::vector<ExtraTerm> terms = {
-      {kSmoothnessTerm, "dimensionless",
+      {kSmoothnessTerm, "dimensionless", false,
        "Delaunay-neighbour smoothness of the basis, alpha_ij (b_i - b_j) per "
        "edge: points seen in few frames (problems/smoothness_error.h)",
        1, AddSmoothness},
-      {kRigidityTerm, "(input units / rad)^2",
+      {kRigidityTerm, "(input units / rad)^2", true,
        "multi-camera rigidity, log(R_tc R_t0^T R_rig,c^T) and s_tc - s_rig,c: "
        "synchronised cameras on a rigid rig (problems/rigidity_error.h)",
        2, AddRigidity},
-      {kTemporalTerm, "(input units)^2",
+      {kTemporalTerm, "(input units)^2", true,
        "temporal smoothness of the weights, l_t - l_(t-1): video-like input "
        "(problems/temporal_error.h)",
        1, AddTemporalWeights},
-      {kTemporalRotationsTerm, "(input units / rad)^2",
+      {kTemporalRotationsTerm, "(input units / rad)^2", true,
        "temporal smoothness of the rotations, log(R_t R_(t-1)^T); keep it far "
        "below --temporal, it trades real rotation for deformation "
        "(problems/temporal_error.h)",
        1, AddTemporalRotations},
-      {kTemporalShapeTerm, "dimensionless",
+      {kTemporalShapeTerm, "dimensionless", false,
        "temporal smoothness of the 3D shape in the object frame, S_t - S_(t-1) "
        "per point: video / motion capture with K near P/3 "
        "(problems/temporal_error.h)",
        1, AddTemporalShape},
-      {kRotationAccelerationTerm, "dimensionless",
+      {kRotationAccelerationTerm, "dimensionless", false,
        "constant angular velocity, log(R_(t+1) R_t^T) - log(R_t R_(t-1)^T), "
        "scaled by the data's spread (problems/temporal_error.h)",
        1, AddRotationAcceleration},
-      {kDeformationTerm, "dimensionless",
+      {kDeformationTerm, "dimensionless", false,
        "deformation, sum_(k>=2) l_tk S_k per point: the shape away from "
        "basis shape 1 up to the frame's scale, object frame: any input "
        "(problems/deformation_error.h)",

@@ -41,6 +41,10 @@ struct ExtraTerm {
   // and the key in result.json's options and term_weights.
   const char* name;
   const char* units;    // of λ
+  // Whether λ is in (input units)² (per rad² or per weight²): the term's
+  // residual has no input units while the data term's does, so measuring
+  // the input in other units changes the λ that means the same balance.
+  bool weight_in_squared_input_units;
   const char* meaning;  // one line: the residual and when to use the term
   int min_cameras;      // the term needs M ≥ min_cameras
   AddFunction add;

@@ -126,6 +126,28 @@ double TemporalNoiseRms(const Measurements& measurements) {
   return 1.4826 * Median(std::move(differences)) / std::sqrt(20.0);
 }
 
+int LargestSupportedBases(const Measurements& measurements) {
+  // A rank-3K' fit needs 3K' + 1 ≤ min(P, 2FM), and with missing entries
+  // every view with 3K' + 1 points and every point in ⌈3K' / 2⌉ views
+  // (solvers/low_rank_completion.h).
+  int largest =
+      (std::min(measurements.num_points, 2 * measurements.NumViews()) - 1) / 3;
+  if (!measurements.IsComplete()) {
+    const int fewest_points = measurements.VisiblePerView().minCoeff();
+    const int fewest_views = measurements.VisiblePerPoint().minCoeff();
+    while (largest > 0 && (fewest_points < 3 * largest + 1 || 2 * fewest_views < 3 * largest)) {
+      --largest;
+    }
+  }
+  return std::max(0, largest);
+}
+
+int CameraBasesCap(const PriorRuleOptions& options, const Measurements& measurements) {
+  const int smaller = std::min(measurements.num_points, 2 * measurements.NumViews());
+  return std::max(1, std::min({LargestSupportedBases(measurements), kMaxCameraBases,
+                               static_cast<int>(options.camera_rank_fraction * smaller / 3.0)}));
+}
+
 Status AnalyseTrackRank(const PriorRuleOptions& options, const Measurements& measurements,
                         int num_bases, bool video, PriorDecision* decision) {
   decision->model_explains_tracks = true;
@@ -134,17 +156,7 @@ Status AnalyseTrackRank(const PriorRuleOptions& options, const Measurements& mea
   const int rows = 2 * measurements.NumViews();
   const int points = measurements.num_points;
   const bool complete = measurements.IsComplete();
-  // The largest K' the tracks support: a rank-3K' fit needs 3K' + 1 ≤ min(P,
-  // 2FM), and with missing entries every view with 3K' + 1 points and every
-  // point in ⌈3K' / 2⌉ views (solvers/low_rank_completion.h).
-  int largest = (std::min(points, rows) - 1) / 3;
-  if (!complete) {
-    const int fewest_points = measurements.VisiblePerView().minCoeff();
-    const int fewest_views = measurements.VisiblePerPoint().minCoeff();
-    while (largest > 0 && (fewest_points < 3 * largest + 1 || 2 * fewest_views < 3 * largest)) {
-      --largest;
-    }
-  }
+  int largest = LargestSupportedBases(measurements);
   largest = std::min(largest, kMaxCameraBases + 1);
   if (largest <= num_bases) return Status::OK();
 
@@ -212,9 +224,7 @@ Status AnalyseTrackRank(const PriorRuleOptions& options, const Measurements& mea
   };
   decision->model_explains_tracks = explains(num_bases);
   if (decision->model_explains_tracks) return failed.WithContext("rank of the tracks");
-  const int cap = std::min(
-      {largest, kMaxCameraBases,
-       static_cast<int>(options.camera_rank_fraction * std::min(points, rows) / 3.0)});
+  const int cap = CameraBasesCap(options, measurements);
   for (int k = num_bases + 1; k <= cap; ++k) {
     decision->camera_num_bases = k;
     if (explains(k)) break;

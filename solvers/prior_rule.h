@@ -146,6 +146,17 @@ inline constexpr int kMaxCameraBases = 16;
 Status DecidePriors(const PriorRuleOptions& options, const Measurements& measurements,
                     int num_bases, PriorDecision* decision);
 
+// The largest K' whose rank-3K' fit the tracks support (3K' + 1 ≤ min(P,
+// 2FM); with missing entries a view with 3K' + 1 points and a point in
+// ⌈3K'/2⌉ views), ≥ 0.
+int LargestSupportedBases(const Measurements& measurements);
+// The most bases the camera is estimated with (fact 4): the largest K' with
+// 3K' ≤ camera_rank_fraction · min(P, 2FM), K' ≤ kMaxCameraBases and
+// K' ≤ LargestSupportedBases, ≥ 1. Fact 3 is measured on a start with at
+// most this many bases (with more the start's path is not reliable: yoga's
+// triple start at K = 11 reads 0.138 °/frame², at K = 10 0.009).
+int CameraBasesCap(const PriorRuleOptions& options, const Measurements& measurements);
+
 // Fact 4 alone (fills the three fact-4 fields of `decision`); `video` (fact
 // 1) chooses the noise estimate.
 Status AnalyseTrackRank(const PriorRuleOptions& options, const Measurements& measurements,

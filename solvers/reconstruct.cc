@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 #include <glog/logging.h>
 
@@ -63,7 +64,21 @@ Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
   ProblemOptions problem = options.problem;
   result->priors = decision;
   if (options.priors == PriorMode::kAuto) {
-    DecidePathPrior(options.prior_rule, result->model, &result->priors);
+    // The path is measured on a start with at most CameraBasesCap bases:
+    // with more, the start's rotations are not reliable enough to tell.
+    Model reference;
+    const Model* path = &result->model;
+    const int cap = CameraBasesCap(options.prior_rule, measurements);
+    if (result->priors.term_weights.count(kTemporalShapeTerm) > 0 && start.num_bases > cap) {
+      StartOptions fewer = start;
+      fewer.num_bases = cap;
+      StartSummary unused;
+      if (Initialize(fewer, measurements, &reference, &unused, options.solver.num_threads)
+              .ok()) {
+        path = &reference;
+      }
+    }
+    DecidePathPrior(options.prior_rule, *path, &result->priors);
     problem.term_weights = result->priors.term_weights;
   } else {
     result->priors.term_weights = problem.term_weights;
@@ -151,8 +166,37 @@ Status RefineWithCameraHeld(const ReconstructOptions& options,
 
 }  // namespace
 
-Status Reconstruct(const ReconstructOptions& options,
-                   const Measurements& measurements, ReconstructResult* result) {
+double DepthRatio(const Model& model) {
+  double depth = 0.0, plane = 0.0;
+  for (int t = 0; t < model.num_frames; ++t) {
+    const Eigen::Matrix3Xd x = model.ShapeInCamera(t, 0);
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    int n = 0;
+    for (int p = 0; p < model.num_points; ++p) {
+      if (!x.col(p).allFinite()) continue;
+      centroid += x.col(p);
+      ++n;
+    }
+    if (n == 0) continue;
+    centroid /= n;
+    for (int p = 0; p < model.num_points; ++p) {
+      if (!x.col(p).allFinite()) continue;
+      const Eigen::Vector3d d = x.col(p) - centroid;
+      depth += d.z() * d.z();
+      plane += 0.5 * (d.x() * d.x() + d.y() * d.y());
+    }
+  }
+  return plane > 0.0 ? std::sqrt(depth / plane) : 0.0;
+}
+
+namespace {
+
+// Reconstruct() on measurements in any units: every step below is invariant
+// to them but Levenberg-Marquardt's damping floor and gradient tolerance,
+// which are absolute; Reconstruct() therefore calls it on tracks of unit
+// spread.
+Status ReconstructInUnits(const ReconstructOptions& options,
+                          const Measurements& measurements, ReconstructResult* result) {
   CHECK(result != nullptr);
   const auto start = std::chrono::steady_clock::now();
   *result = ReconstructResult();
@@ -163,7 +207,7 @@ Status Reconstruct(const ReconstructOptions& options,
       FindUnobserved(measurements, options.start.num_bases, &unobserved));
   if (!unobserved.empty()) {
     NRSFM_RETURN_IF_ERROR(
-        Reconstruct(options, WithoutUnobserved(measurements, unobserved), result));
+        ReconstructInUnits(options, WithoutUnobserved(measurements, unobserved), result));
     result->model = ExpandModel(result->model, measurements, unobserved);
     result->dropped_points = unobserved.points;
     result->dropped_frames = unobserved.frames;
@@ -237,6 +281,17 @@ Status Reconstruct(const ReconstructOptions& options,
         ") before its tolerances were met; more iterations (max_iterations) may "
         "still change the result");
   }
+  result->depth_ratio = DepthRatio(result->model);
+  if (result->depth_ratio > kLargeDepthRatio) {
+    std::ostringstream warning;
+    warning << std::fixed << std::setprecision(1)
+            << "deep shapes: the depth of the result is " << result->depth_ratio
+            << " times its extent in the image (above " << kLargeDepthRatio
+            << "), as when the shapes were stretched along the view direction; "
+               "the data may not determine the depth (with priors = manual, try "
+               "priors = auto)";
+    result->warnings.push_back(warning.str());
+  }
   result->largest_view_angle_deg = LargestViewAngleDeg(result->model);
   if (result->largest_view_angle_deg < kLittleRotationDeg) {
     std::ostringstream warning;
@@ -253,6 +308,67 @@ Status Reconstruct(const ReconstructOptions& options,
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
           .count();
   return Status::OK();
+}
+
+// Multiplies everything in input units of `result` (reconstructed from
+// tracks divided by `spread`) by the spread: the shapes and translations,
+// the RMS values and costs, the noise estimate, and the weights in
+// (input units)² of the terms (a weight given in `options` as it was given).
+void ToInputUnits(const ReconstructOptions& options, double spread, ReconstructResult* result) {
+  result->model.translations *= spread;
+  result->model.basis *= spread;
+  result->start.reprojection_rms *= spread;
+  if (result->start.completion_rms > 0) result->start.completion_rms *= spread;
+  if (result->start.rigid_rms > 0) result->start.rigid_rms *= spread;
+  for (RefineSummary* summary : {&result->refine, &result->camera_refine}) {
+    summary->initial_cost *= spread * spread;
+    summary->final_cost *= spread * spread;
+    summary->initial_reprojection_rms *= spread;
+    summary->reprojection_rms *= spread;
+  }
+  if (result->priors.noise_rms > 0) result->priors.noise_rms *= spread;
+  for (const ExtraTerm& term : ExtraTerms()) {
+    const auto it = result->priors.term_weights.find(term.name);
+    if (!term.weight_in_squared_input_units || it == result->priors.term_weights.end()) continue;
+    const auto given = options.problem.term_weights.find(term.name);
+    it->second = given != options.problem.term_weights.end() ? given->second
+                                                             : it->second * spread * spread;
+  }
+}
+
+}  // namespace
+
+Status Reconstruct(const ReconstructOptions& options,
+                   const Measurements& measurements, ReconstructResult* result) {
+  CHECK(result != nullptr);
+  *result = ReconstructResult();
+  NRSFM_RETURN_IF_ERROR(options.Check());
+  NRSFM_RETURN_IF_ERROR(measurements.Validate());
+  const double spread = measurements.ImageSpreadRms();
+  if (!(spread > 0.0) || !std::isfinite(spread)) {
+    return ReconstructInUnits(options, measurements, result);
+  }
+  // Tracks of unit spread; what is in input units in the options follows.
+  Measurements normalized = measurements;
+  normalized.W /= spread;
+  ReconstructOptions scaled = options;
+  scaled.problem.robust_scale /= spread;
+  for (const ExtraTerm& term : ExtraTerms()) {
+    const auto it = scaled.problem.term_weights.find(term.name);
+    if (term.weight_in_squared_input_units && it != scaled.problem.term_weights.end()) {
+      it->second /= spread * spread;
+    }
+  }
+  if (options.solver.progress) {
+    scaled.solver.progress = [&options, spread](const IterationReport& report) {
+      IterationReport in_units = report;
+      in_units.cost *= spread * spread;
+      options.solver.progress(in_units);
+    };
+  }
+  const Status status = ReconstructInUnits(scaled, normalized, result);
+  ToInputUnits(options, spread, result);
+  return status;
 }
 
 }  // namespace nrsfm

@@ -1,5 +1,8 @@
 #include "solvers/solver_options.h"
 
+#include <algorithm>
+#include <thread>
+
 #include <string>
 
 #include <glog/logging.h>
@@ -7,6 +10,10 @@
 #include "core/option_checker.h"
 
 namespace nrsfm {
+
+int DefaultNumThreads() {
+  return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+}
 
 Status SolverOptions::Check() const {
   OptionChecker check("solver options");

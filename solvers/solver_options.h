@@ -22,6 +22,9 @@ struct IterationReport {
   double seconds = 0.0;  // wall time since the solve started
 };
 
+// std::thread::hardware_concurrency(), or 1 when it is unknown.
+int DefaultNumThreads();
+
 struct SolverOptions {
   // LM iterations, ≥ 0: a safety limit; a solve normally ends by a tolerance
   // (measured in docs/performance.md). Reconstruct() warns when it is reached.
@@ -34,10 +37,13 @@ struct SolverOptions {
   double gradient_tolerance = 1e-12;   // stop when max|projected gradient| < this, ≥ 0
   double parameter_tolerance = 1e-10;  // stop when |Δx| < this · (|x| + this), ≥ 0
   double max_seconds = 0.0;            // wall-time limit of the solve, 0 = none, ≥ 0
-  // Ceres threads, ≥ 1. 1 is bitwise deterministic; with more, Ceres 2.1 sums
-  // per-thread partial costs in scheduling order and runs agree only to
-  // ~1e-13 (tests/solvers/refine_test.cc).
-  int num_threads = 1;
+  // Threads, ≥ 1; by default every core (DefaultNumThreads()). The
+  // structured solver (the default) gives the same bits for any count (its
+  // sums are added in pieces fixed by the problem); Ceres 2.1's own solvers sum per-thread partial costs in
+  // scheduling order, so with more than one thread their runs agree only to
+  // ~1e-13 (tests/solvers/refine_test.cc). 1 is bitwise deterministic
+  // everywhere.
+  int num_threads = DefaultNumThreads();
   LinearSolverChoice linear_solver = LinearSolverChoice::kAuto;
   // LM's first trust-region radius, > 0. Ceres' default is 1e4; the gauge
   // freedoms make its first, nearly undamped steps huge and rejected, so

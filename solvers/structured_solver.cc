@@ -33,6 +33,10 @@ double SecondsSince(Clock::time_point start) {
 // (core/parallel_for.h): residual blocks are cheap, a frame group holds a
 // view's residuals, an eliminated block (a point) those of every frame.
 constexpr int kGrain = 64;
+// Sums over residuals (the cost, Jᵀr and Jᵀ products) are added in this many
+// fixed pieces, whatever the thread count, so that the result does not
+// depend on it (core/parallel_for.h); at most this many threads share them.
+constexpr int kReductionPieces = 16;
 constexpr int kGroupGrain = 8;
 constexpr int kEliminatedGrain = 1;
 
@@ -377,10 +381,10 @@ bool Solver::Setup(const StructuredLayout& layout, std::string* error) {
 bool Solver::Evaluate(bool with_jacobian, double* cost) {
   const Clock::time_point start = Clock::now();
   const int n = static_cast<int>(residuals_.size());
-  const int threads = std::max(1, options_.solver.num_threads);
-  std::vector<double> partial(threads, 0.0);
-  std::vector<char> ok(threads, 1);
-  ParallelForWorker(n, threads, kGrain, [&](int begin, int end, int worker) {
+  std::vector<double> partial(kReductionPieces, 0.0);
+  std::vector<char> ok(kReductionPieces, 1);
+  ParallelForPieces(n, kReductionPieces, options_.solver.num_threads, kGrain,
+                    [&](int begin, int end, int worker) {
     std::vector<std::vector<double>> ambient;
     std::vector<double*> jacobians;
     double sum = 0.0;
@@ -544,16 +548,16 @@ void Solver::AddResidualJty(const Residual& r, const double* y, double* reduced,
 
 template <typename Body>
 void Solver::SumOverResiduals(int size, const Body& body, Eigen::VectorXd* out) const {
-  const int threads = std::max(1, options_.solver.num_threads);
-  std::vector<Eigen::VectorXd> sums(threads);
-  ParallelForWorker(static_cast<int>(residuals_.size()), threads, kGrain,
-                    [&](int begin, int end, int worker) {
-                      Eigen::VectorXd& sum = sums[worker];
-                      sum.setZero(size);
-                      for (int i = begin; i < end; ++i) body(i, sum.data());
-                    });
+  std::vector<Eigen::VectorXd> sums(kReductionPieces);
+  const int pieces = ParallelForPieces(
+      static_cast<int>(residuals_.size()), kReductionPieces, options_.solver.num_threads, kGrain,
+      [&](int begin, int end, int piece) {
+        Eigen::VectorXd& sum = sums[piece];
+        sum.setZero(size);
+        for (int i = begin; i < end; ++i) body(i, sum.data());
+      });
   *out = std::move(sums[0]);
-  for (int w = 1; w < threads; ++w) {
+  for (int w = 1; w < pieces; ++w) {
     if (sums[w].size() == size) *out += sums[w];
   }
 }

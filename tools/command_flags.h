@@ -78,7 +78,8 @@
   X(int, max_iterations, ::nrsfm::SolverOptions().max_iterations,                \
     "reconstruct: Levenberg-Marquardt iterations.")                              \
   X(int, threads, ::nrsfm::SolverOptions().num_threads,                          \
-    "reconstruct: solver threads.")                                              \
+    "reconstruct: solver threads (default: every core; the default solver "    \
+    "gives the same bits for any count).")                                     \
   X(std::string, linear_solver,                                                  \
     ::nrsfm::LinearSolverName(::nrsfm::SolverOptions().linear_solver),           \
     "reconstruct: auto|structured|dense_schur|sparse_schur|iterative_schur|"     \

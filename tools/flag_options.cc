@@ -319,6 +319,7 @@ ReconstructionReport MakeReport(const CommandFlags& flags, const std::string& in
                         {"camera_num_bases", static_cast<double>(result.priors.camera_num_bases)},
                         {"noise_rms", result.priors.noise_rms},
                         {"largest_view_angle_deg", result.largest_view_angle_deg},
+                        {"depth_ratio", result.depth_ratio},
                         {"refine_converged", result.refine.converged ? 1.0 : 0.0},
                         {"camera_refine_converged",
                          result.camera_stage
