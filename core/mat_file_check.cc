@@ -100,10 +100,11 @@ class InflateSource : public ByteSource {
     stream_.opaque = Z_NULL;
     stream_.next_in = Z_NULL;
     stream_.avail_in = 0;
-    ok_ = inflateInit(&stream_) == Z_OK;
+    initialized_ = inflateInit(&stream_) == Z_OK;
+    ok_ = initialized_;
   }
   ~InflateSource() override {
-    if (ok_) inflateEnd(&stream_);
+    if (initialized_) inflateEnd(&stream_);
   }
   InflateSource(const InflateSource&) = delete;
   InflateSource& operator=(const InflateSource&) = delete;
@@ -151,7 +152,8 @@ class InflateSource : public ByteSource {
   std::uint64_t position_;
   std::uint64_t compressed_left_;
   z_stream stream_;
-  bool ok_ = false;
+  bool initialized_ = false;
+  bool ok_ = false;  // no inflate error yet
   unsigned char input_[16384];
 };
 

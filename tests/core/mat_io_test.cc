@@ -536,6 +536,23 @@ TEST(MatIo, ClaimsBeyondTheBytesThatHoldThemAreRejectedBeforeMatioSeesThem) {
   EXPECT_TRUE(Contains(ListMatVariables(deep, &names).message(), ": arrays nested more than 64 deep)"));
 }
 
+// An opaque object (how MATLAB stores a string, a table, …) has no
+// dimensions element: the check passes over it, and the variables after it
+// read.
+TEST(MatIo, OpaqueObjectsDoNotStopTheCheck) {
+  const std::string path = MakeTempDir("mat_io_opaque") + "/opaque.mat";
+  const std::string opaque = Element(
+      kMiMatrix, Element(kMiUint32, Raw(std::vector<std::uint32_t>{17, 0})) +
+                     Element(kMiInt8, "s") + Element(kMiInt8, "MCOS") + Element(kMiInt8, "string") +
+                     Double("", {1, 1}, {0.0}));
+  WriteBytes(path, Header() + opaque + Double("ok", {1, 1}, {4.0}));
+  std::vector<std::string> names;
+  ASSERT_TRUE(ListMatVariables(path, &names).ok());
+  Eigen::MatrixXd m;
+  ASSERT_TRUE(ReadMatVariable(path, "ok", &m).ok());
+  EXPECT_EQ(m(0, 0), 4.0);
+}
+
 // A numeric variable whose data hold fewer elements than its dimensions
 // claim is refused when it is read, naming it; the file's other variables
 // still read (compressed and not).
