@@ -15,8 +15,6 @@ enum : std::uint32_t { kMiInt8 = 1, kMiInt32 = 5, kMiUint32 = 6, kMiMatrix = 14,
 enum : std::uint32_t {
   kMxCell = 1,
   kMxStruct = 2,
-  kMxObject = 3,
-  kMxChar = 4,
   kMxDouble = 6,
   kMxUint64 = 15,
   kMxFunction = 16,
@@ -171,6 +169,10 @@ class V5Walker {
  public:
   V5Walker(const std::string& path, bool big_endian) : path_(path), big_endian_(big_endian) {}
 
+  // Whether the variable walked next is a compressed one (matio reads a
+  // few things differently there).
+  void SetCompressed(bool compressed) { compressed_ = compressed; }
+
   Status Corrupt(const std::string& what, const std::string& detail) const {
     return Status::Error(path_ + ": the .mat file is truncated or corrupt (" + what + ": " +
                          detail + ")");
@@ -216,9 +218,14 @@ class V5Walker {
     return Status::OK();
   }
 
-  // Walks one array (a miMATRIX element of `size` bytes). At the top level
-  // (`name` and `max_elements` given) it stops after the data tag of a
-  // numeric array; nested, it reads the whole element.
+  // Walks one array (a miMATRIX element of `size` bytes) as matio reads it:
+  // the array flags (16 bytes, whatever their tag says), the dimensions
+  // when their tag says miINT32, the name when its tag says miINT8 (or a
+  // small miINT8 element of 1 to 4 bytes), then a cell's cells, a struct's
+  // fields and, uncompressed, a function handle's arrays; a compressed
+  // opaque object is not read into. At the top level (`name` and
+  // `max_elements` given) it stops after the data tag of a numeric array;
+  // nested, it reads the whole element.
   Status Array(ByteSource* source, const std::string& what, std::uint64_t size, int depth,
                std::string* name, std::uint64_t* max_elements, bool* numeric) {
     const bool top = name != nullptr;
@@ -228,62 +235,68 @@ class V5Walker {
                                " deep");
     }
     std::uint64_t left = size;
-    Tag tag;
-    NRSFM_RETURN_IF_ERROR(ReadTag(source, what, &left, &tag));
-    unsigned char flags[8];
-    if (tag.small || tag.type != kMiUint32 || tag.size != 8 || !source->Read(flags, 8)) {
-      return Corrupt(what, "invalid array flags");
+    unsigned char head[16];
+    if (left < 16 || !source->Read(head, 16)) {
+      return Corrupt(what, "its array flags run past the end of its element");
+    }
+    left -= 16;
+    std::uint32_t array_class = 0;  // matio: empty when the flags' tag is not an integer
+    const std::uint32_t flags_type = U32At(head, big_endian_);
+    if (flags_type == kMiUint32 || flags_type == kMiInt32) {
+      array_class = U32At(head + 8, big_endian_) & 0xff;
+      if (array_class > kMxOpaque) array_class = 0;
+    }
+    if (array_class == kMxOpaque && compressed_) return SkipRest(source, what, top, left);
+
+    unsigned char tag[8];
+    if (left < 8 || !source->Read(tag, 8)) {
+      return Corrupt(what, "a tag runs past the end of its element");
     }
     left -= 8;
-    const std::uint32_t array_class = U32At(flags, big_endian_) & 0xff;
-    // An opaque object (MATLAB's string, table, …) has no dimensions; matio
-    // does not read into it.
-    if (array_class == kMxOpaque) {
-      if (!top && !source->Skip(left)) return Corrupt(what, "its data cannot be read");
-      return Status::OK();
-    }
-
-    NRSFM_RETURN_IF_ERROR(ReadTag(source, what, &left, &tag));
-    if (tag.type != kMiInt32 || tag.size % 4 != 0) {
-      return Corrupt(what, "invalid dimensions");
-    }
-    std::uint64_t count = 1;
-    std::string dims;
-    if (tag.small) {
-      count = U32At(tag.payload, big_endian_);
-      dims = std::to_string(count);
-    } else {
-      for (std::uint64_t i = 0; i < tag.size / 4; ++i) {
+    std::uint64_t count = 0;  // elements; matio: no dimensions unless miINT32
+    if (U32At(tag, big_endian_) == kMiInt32) {
+      const std::uint64_t rank = U32At(tag + 4, big_endian_) / 4;
+      const std::uint64_t bytes = 4 * rank + 4 * (rank % 2);  // padded to 8
+      if (bytes > left) {
+        return Corrupt(what, "a data element claims " + std::to_string(4 * rank) +
+                                 " bytes, more than the " + std::to_string(left) +
+                                 " left in its array");
+      }
+      count = 1;
+      for (std::uint64_t i = 0; i < rank; ++i) {
         unsigned char dim[4];
         if (!source->Read(dim, 4)) return Corrupt(what, "its dimensions cannot be read");
-        const std::uint64_t d = U32At(dim, big_endian_);
-        count = SaturatingProduct(count, d);
-        if (i < 4) dims += (i ? " x " : "") + std::to_string(d);
+        count = SaturatingProduct(count, U32At(dim, big_endian_));
       }
-      if (tag.size / 4 > 4) dims += " x …";
-      left -= tag.size;
-      const std::uint64_t padding = std::min(RoundUp8(tag.size) - tag.size, left);
-      if (!source->Skip(padding)) return Corrupt(what, "its dimensions cannot be read");
-      left -= padding;
+      if (!source->Skip(4 * (rank % 2))) return Corrupt(what, "its dimensions cannot be read");
+      left -= bytes;
     }
 
-    NRSFM_RETURN_IF_ERROR(ReadTag(source, what, &left, &tag));
+    if (left < 8 || !source->Read(tag, 8)) {
+      return Corrupt(what, "a tag runs past the end of its element");
+    }
+    left -= 8;
     std::string array_name;
-    if (tag.small) {
-      array_name.assign(reinterpret_cast<const char*>(tag.payload), tag.size);
-    } else {
+    const std::uint32_t name_type = U32At(tag, big_endian_);
+    if (name_type == kMiInt8) {
+      const std::uint64_t length = U32At(tag + 4, big_endian_);
+      if (RoundUp8(length) > left) {
+        return Corrupt(what, "a data element claims " + std::to_string(length) +
+                                 " bytes, more than the " + std::to_string(left) +
+                                 " left in its array");
+      }
       // The name as matio returns it (up to the first NUL); only its first
-      // 256 bytes are kept for messages.
-      const std::size_t kept = static_cast<std::size_t>(std::min<std::uint64_t>(tag.size, 256));
-      std::string bytes(kept, '\0');
-      if (!source->Read(reinterpret_cast<unsigned char*>(bytes.data()), kept)) {
+      // 256 bytes are kept.
+      const std::size_t kept = static_cast<std::size_t>(std::min<std::uint64_t>(length, 256));
+      array_name.assign(kept, '\0');
+      if (!source->Read(reinterpret_cast<unsigned char*>(array_name.data()), kept) ||
+          !source->Skip(RoundUp8(length) - kept)) {
         return Corrupt(what, "its name cannot be read");
       }
-      array_name = bytes;
-      left -= kept;
-      const std::uint64_t n = std::min(RoundUp8(tag.size) - kept, left);
-      if (!source->Skip(n)) return Corrupt(what, "its name cannot be read");
-      left -= n;
+      left -= RoundUp8(length);
+    } else if ((name_type & 0xffff) == kMiInt8 && (name_type >> 16) >= 1 &&
+               (name_type >> 16) <= 4) {
+      array_name.assign(reinterpret_cast<const char*>(tag + 4), name_type >> 16);
     }
     array_name = array_name.substr(0, array_name.find('\0'));
     const std::string here = top ? "variable '" + array_name + "'" : what;
@@ -291,28 +304,38 @@ class V5Walker {
 
     switch (array_class) {
       case kMxCell:
-      case kMxFunction:
         return Children(source, here, count, "cells", left, depth);
       case kMxStruct:
-      case kMxObject:
-        return Fields(source, here, count, array_class == kMxObject, left, depth);
+        return Fields(source, here, count, left, depth);
+      case kMxFunction:
+        if (!compressed_) return Children(source, here, count, "arrays", left, depth);
+        break;
       default:
         break;
     }
-    if (array_class == kMxChar || (array_class >= kMxDouble && array_class <= kMxUint64)) {
-      if (top) {
-        *numeric = array_class != kMxChar;
-        *max_elements = 0;
-        if (left == 0) return Status::OK();
-        NRSFM_RETURN_IF_ERROR(ReadTag(source, here, &left, &tag));
-        const std::uint64_t element = SizeOfType(tag.type);
-        *max_elements = element == 0 ? 0 : tag.size / element;
-        return Status::OK();
-      }
+    if (top && array_class >= kMxDouble && array_class <= kMxUint64) {
+      // What the data element holds (at most what is left of the array).
+      *numeric = true;
+      *max_elements = 0;
+      if (left < 8 || !source->Read(tag, 8)) return Status::OK();
+      const std::uint32_t first = U32At(tag, big_endian_);
+      const bool small = (first >> 16) != 0;
+      const std::uint64_t element = SizeOfType(small ? first & 0xffff : first);
+      const std::uint64_t bytes =
+          small ? std::min<std::uint64_t>(first >> 16, 4)
+                : std::min<std::uint64_t>(U32At(tag + 4, big_endian_), left - 8);
+      *max_elements = element == 0 ? 0 : bytes / element;
+      return Status::OK();
     }
-    // Sparse, opaque and the data of nested arrays: matio reads them only
-    // when the array itself is read (never, for nested ones, here).
-    if (!top && !source->Skip(left)) return Corrupt(here, "its data cannot be read");
+    // Sparse matrices, objects and the data of nested arrays: matio reads
+    // them only when the array itself is read (never, nested, here).
+    return SkipRest(source, here, top, left);
+  }
+
+  // The rest of an array: skipped when nested (the next one follows it); at
+  // the top level the next variable's position comes from its tag.
+  Status SkipRest(ByteSource* source, const std::string& what, bool top, std::uint64_t left) {
+    if (!top && !source->Skip(left)) return Corrupt(what, "its data cannot be read");
     return Status::OK();
   }
 
@@ -339,15 +362,11 @@ class V5Walker {
     return Status::OK();
   }
 
-  // A struct's (or an object's, after its class name) field name length,
-  // field names and `count` × fields arrays.
-  Status Fields(ByteSource* source, const std::string& what, std::uint64_t count, bool object,
+  // A struct's field name length, field names and `count` × fields
+  // arrays.
+  Status Fields(ByteSource* source, const std::string& what, std::uint64_t count,
                 std::uint64_t left, int depth) {
     Tag tag;
-    if (object) {
-      NRSFM_RETURN_IF_ERROR(ReadTag(source, what, &left, &tag));
-      NRSFM_RETURN_IF_ERROR(SkipPayload(source, what, tag, &left));
-    }
     NRSFM_RETURN_IF_ERROR(ReadTag(source, what, &left, &tag));
     std::uint32_t name_length = 0;
     if (tag.small && tag.size == 4) {
@@ -373,6 +392,7 @@ class V5Walker {
  private:
   const std::string& path_;
   bool big_endian_;
+  bool compressed_ = false;
 };
 
 // True when the 128-byte header marks a v5 or v7.3 file, as matio decides:
@@ -410,6 +430,7 @@ Status WalkV5(const std::string& path, std::ifstream* in, std::uint64_t file_siz
     std::string name;
     std::uint64_t max_elements = 0;
     bool numeric = false;
+    walker.SetCompressed(type == kMiCompressed);
     if (type == kMiMatrix) {
       FileSource source(in, offset + 8);
       NRSFM_RETURN_IF_ERROR(
@@ -481,10 +502,17 @@ Status WalkV4(const std::string& path, std::ifstream* in, std::uint64_t file_siz
     const std::uint64_t element = kElementSize[p] * (complex ? 2 : 1);
     const std::uint64_t data =
         SaturatingProduct(SaturatingProduct(std::uint64_t(rows), std::uint64_t(cols)), element);
-    claims->max_elements.emplace(name, (left - name_length) / element);
-    // Data that run past the end: matio reads the header only (and finds
-    // no record after it); the reader names the variable and its size.
-    if (data > left - name_length) return Status::OK();
+    // Data that run past the end are an error of the whole file: matio
+    // seeks past them to the next record, and when that seek fails (an
+    // offset beyond what the file system allows) it reads the next record
+    // from within the data instead.
+    if (data > left - name_length) {
+      return Status::Error(corrupt + "variable '" + name + "' claims a size of " +
+                           std::to_string(rows) + " x " + std::to_string(cols) +
+                           ", more than the " + std::to_string(left - name_length) +
+                           " bytes after its name hold)");
+    }
+    claims->max_elements.emplace(name, data / element);
     offset += sizeof(h) + name_length + data;
   }
   return Status::OK();

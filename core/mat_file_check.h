@@ -8,8 +8,8 @@
 // The check walks the file as matio will read it and bounds every claim by
 // the bytes of the element that holds it:
 //   v4   each record's header as matio reads it (byte order from the
-//        thousands digit of its type, as matio decides), its name within the
-//        file; the data of a record are what the file still holds.
+//        thousands digit of its type, as matio decides), its name and its
+//        data within the file.
 //   v5   every data element's byte count within its parent's (a top-level
 //        variable's within the file; the inflated size of a compressed one
 //        within 1032 times its compressed bytes, deflate's largest ratio);
@@ -28,13 +28,10 @@
 #include <map>
 #include <string>
 
+#include "core/input_budget.h"  // kMaxDeflateRatio
 #include "core/status.h"
 
 namespace nrsfm {
-
-// zlib's deflate never inflates more than 1032 bytes from one (zlib
-// technical details): the most a compressed byte can claim.
-inline constexpr std::uint64_t kMaxDeflateRatio = 1032;
 
 // Arrays nested in cells or structs deeper than this are refused (matio
 // reads them recursively).
@@ -51,7 +48,8 @@ struct MatFileClaims {
 // as above. Fails with "<path>: not a MATLAB .mat file (v4, v5 or v7.3)"
 // when the first v4 record is invalid, and with "<path>: the .mat file is
 // truncated or corrupt (<what claims what>)" on a claim the file cannot
-// hold.
+// hold (e.g. "variable 'W' claims a size of 60 x 40, more than the 9580
+// bytes after its name hold").
 Status CheckMatFileClaims(const std::string& path, std::uint64_t file_size,
                           MatFileClaims* claims);
 

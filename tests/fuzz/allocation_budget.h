@@ -1,8 +1,7 @@
 // The allocation budget of the fuzz targets: while a target reads an input
-// of N bytes, one allocation of more than 64 MB + 1032 · N bytes is a
-// finding (what a file of N bytes may make the readers hold: zlib inflates
-// at most 1032 bytes from one, core/mat_file_check.h; the 64 MB leave room
-// for small files). The hook prints the sizes and the stack and aborts, so
+// of N bytes, one allocation of more than InputArrayBudget(N) = 64 MB +
+// 1032 · N bytes (core/input_budget.h: what a file of N bytes may make the
+// readers hold) is a finding. The hook prints the sizes and the stack and aborts, so
 // libFuzzer keeps the input as a crash-* artifact.
 //
 // The hook sees only allocations that succeed. In the strict-allocation
@@ -22,11 +21,10 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "core/input_budget.h"
+
 namespace nrsfm {
 namespace fuzz {
-
-inline constexpr std::size_t kBudgetSlackBytes = std::size_t(64) << 20;
-inline constexpr std::size_t kBudgetBytesPerInputByte = 1032;
 
 inline std::atomic<std::size_t> g_budget_limit{0};  // 0: no input being read
 inline std::atomic<std::size_t> g_budget_input_size{0};
@@ -54,7 +52,7 @@ class AllocationBudget {
         __sanitizer_install_malloc_and_free_hooks(&BudgetMallocHook, &BudgetFreeHook) != 0;
     if (!installed) std::abort();  // a broken set-up, not a finding
     g_budget_input_size.store(input_size);
-    g_budget_limit.store(kBudgetSlackBytes + kBudgetBytesPerInputByte * input_size);
+    g_budget_limit.store(static_cast<std::size_t>(InputArrayBudget(input_size)));
   }
   ~AllocationBudget() { g_budget_limit.store(0); }
   AllocationBudget(const AllocationBudget&) = delete;
