@@ -220,7 +220,7 @@ class V5Walker {
 
   // Walks one array (a miMATRIX element of `size` bytes) as matio reads it:
   // the array flags (16 bytes, whatever their tag says), the dimensions
-  // when their tag says miINT32, the name when its tag says miINT8 (or a
+  // (below), the name when its tag says miINT8 (or a
   // small miINT8 element of 1 to 4 bytes), then a cell's cells, a struct's
   // fields and, uncompressed, a function handle's arrays; a compressed
   // opaque object is not read into. At the top level (`name` and
@@ -253,22 +253,33 @@ class V5Walker {
       return Corrupt(what, "a tag runs past the end of its element");
     }
     left -= 8;
-    std::uint64_t count = 0;  // elements; matio: no dimensions unless miINT32
-    if (U32At(tag, big_endian_) == kMiInt32) {
-      const std::uint64_t rank = U32At(tag + 4, big_endian_) / 4;
-      const std::uint64_t bytes = 4 * rank + 4 * (rank % 2);  // padded to 8
+    // The dimensions. Uncompressed, matio reads them under an miINT32 tag
+    // (byte count / 4 of them and the padding) and goes on to the name
+    // under any other; compressed, it reads the byte count padded to 8 (into
+    // 4 bytes of memory per byte) under any tag whose low half says miINT32,
+    // takes them as dimensions only under miINT32 itself, and fails the
+    // variable under any other.
+    const std::uint32_t dims_type = U32At(tag, big_endian_);
+    const std::uint64_t dims_size = U32At(tag + 4, big_endian_);
+    if (compressed_ && (dims_type & 0xffff) != kMiInt32) {
+      return Corrupt(what, "invalid dimensions");
+    }
+    std::uint64_t count = 0;  // elements; 0 without dimensions
+    if (compressed_ || dims_type == kMiInt32) {
+      const std::uint64_t rank = dims_type == kMiInt32 ? dims_size / 4 : 0;
+      const std::uint64_t bytes = compressed_ ? RoundUp8(dims_size) : 4 * rank + 4 * (rank % 2);
       if (bytes > left) {
-        return Corrupt(what, "a data element claims " + std::to_string(4 * rank) +
+        return Corrupt(what, "a data element claims " + std::to_string(dims_size) +
                                  " bytes, more than the " + std::to_string(left) +
                                  " left in its array");
       }
-      count = 1;
+      count = rank > 0 ? 1 : 0;
       for (std::uint64_t i = 0; i < rank; ++i) {
         unsigned char dim[4];
         if (!source->Read(dim, 4)) return Corrupt(what, "its dimensions cannot be read");
         count = SaturatingProduct(count, U32At(dim, big_endian_));
       }
-      if (!source->Skip(4 * (rank % 2))) return Corrupt(what, "its dimensions cannot be read");
+      if (!source->Skip(bytes - 4 * rank)) return Corrupt(what, "its dimensions cannot be read");
       left -= bytes;
     }
 
