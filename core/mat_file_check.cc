@@ -229,7 +229,9 @@ class V5Walker {
   Status Array(ByteSource* source, const std::string& what, std::uint64_t size, int depth,
                std::string* name, std::uint64_t* max_elements, bool* numeric) {
     const bool top = name != nullptr;
-    if (size == 0) return Status::OK();  // [] in a cell or a struct field
+    // [] in a cell or a struct field. (At the top level matio reads a
+    // header whatever the size says: an empty one runs past its end.)
+    if (size == 0 && !top) return Status::OK();
     if (depth > kMaxMatNesting) {
       return Corrupt(what, "arrays nested more than " + std::to_string(kMaxMatNesting) +
                                " deep");
