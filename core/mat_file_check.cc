@@ -119,6 +119,8 @@ class InflateSource : public ByteSource {
     }
     return true;
   }
+  // True once inflate has failed on the compressed data themselves.
+  bool Corrupted() const { return initialized_ && !ok_; }
   bool Skip(std::uint64_t n) override {
     unsigned char scratch[16384];
     while (n > 0) {
@@ -453,7 +455,11 @@ Status WalkV5(const std::string& path, std::ifstream* in, std::uint64_t file_siz
       std::uint64_t left = kU64Max;
       Tag tag;
       const std::string inflated = what + " (compressed)";
-      NRSFM_RETURN_IF_ERROR(walker.ReadTag(&source, inflated, &left, &tag));
+      const Status tagged = walker.ReadTag(&source, inflated, &left, &tag);
+      if (!tagged.ok() && source.Corrupted()) {
+        return walker.Corrupt(inflated, "its compressed data cannot be inflated");
+      }
+      NRSFM_RETURN_IF_ERROR(tagged);
       if (tag.small || tag.type != kMiMatrix) {
         return walker.Corrupt(inflated, "it does not hold an array");
       }
@@ -463,8 +469,12 @@ Status WalkV5(const std::string& path, std::ifstream* in, std::uint64_t file_siz
                                             ", more than deflate can give (" +
                                             std::to_string(kMaxDeflateRatio) + ":1)");
       }
-      NRSFM_RETURN_IF_ERROR(
-          walker.Array(&source, inflated, tag.size, 0, &name, &max_elements, &numeric));
+      const Status walked =
+          walker.Array(&source, inflated, tag.size, 0, &name, &max_elements, &numeric);
+      if (!walked.ok() && source.Corrupted()) {
+        return walker.Corrupt(inflated, "its compressed data cannot be inflated");
+      }
+      NRSFM_RETURN_IF_ERROR(walked);
     }
     if (numeric) claims->max_elements.emplace(name, max_elements);
     offset += 8 + size;
