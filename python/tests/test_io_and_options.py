@@ -153,7 +153,9 @@ def test_reconstruct_takes_what_read_gives(tmp_path):
     nrsfm.synth(dataset="superquadric", frames=40, points=30, output=path)
     t = nrsfm.read(path)
     r = nrsfm.reconstruct(t.W, 4, mask=t.mask, cameras=t.cameras)
-    assert nrsfm.evaluate(path, r)["error3d_pct"] < 5.0
+    # Noise-free: measured 1.2e-10 % (2026-11-27); the bound leaves room for
+    # where the stopping rule (a relative cost change) ends.
+    assert nrsfm.evaluate(path, r)["error3d_pct"] < 1e-6
 
 
 def test_synth_reproject_writes_its_truth_and_evaluate_scores_the_object_frame(tmp_path):
