@@ -7,32 +7,25 @@
 #include <limits>
 #include <string>
 
+#include "core/mat_v5_format.h"
+
 namespace nrsfm {
 namespace {
 
-// MAT-file v5 data types and array classes (MATLAB "MAT-File Format").
-enum : std::uint32_t { kMiInt8 = 1, kMiInt32 = 5, kMiUint32 = 6, kMiMatrix = 14, kMiCompressed = 15 };
-enum : std::uint32_t {
-  kMxCell = 1,
-  kMxStruct = 2,
-  kMxDouble = 6,
-  kMxUint64 = 15,
-  kMxFunction = 16,
-  kMxOpaque = 17
-};
+using namespace mat_v5;  // the v5 codes
 
 constexpr std::uint64_t kU64Max = std::numeric_limits<std::uint64_t>::max();
 
 // Bytes per element of a v5 data type; 0 for a type that holds no numbers.
 std::uint64_t SizeOfType(std::uint32_t type) {
   switch (type) {
-    case 1: case 2: case 16:  // int8, uint8, utf8
+    case kMiInt8: case kMiUint8: case kMiUtf8:
       return 1;
-    case 3: case 4: case 17:  // int16, uint16, utf16
+    case kMiInt16: case kMiUint16: case kMiUtf16:
       return 2;
-    case 5: case 6: case 7: case 18:  // int32, uint32, single, utf32
+    case kMiInt32: case kMiUint32: case kMiSingle: case kMiUtf32:
       return 4;
-    case 9: case 12: case 13:  // double, int64, uint64
+    case kMiDouble: case kMiInt64: case kMiUint64:
       return 8;
     default:
       return 0;

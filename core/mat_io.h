@@ -8,8 +8,8 @@
 //
 // Files are not trusted: every function checks that the path is a readable,
 // non-empty regular file, that every size it claims fits in the bytes that
-// hold it before matio reads anything (core/mat_file_check.h: a file of N
-// bytes never makes matio allocate much more than 8 · 1032 · N bytes), that
+// hold it before matio reads anything (core/mat_file_check.h: for a file of
+// N bytes no single allocation is larger than about 8 · 1032 · N bytes), that
 // matio recognises it, and the class, flags, rank and size of the variable
 // before it reads the data. Errors name the
 // file and the variable. These functions install a process-wide matio log

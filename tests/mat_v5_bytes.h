@@ -18,41 +18,16 @@
 #include <string>
 #include <vector>
 
+#include "core/mat_v5_format.h"
+
 namespace nrsfm {
 namespace testing_util {
 namespace v5 {
 
-// Data types.
-enum : std::uint32_t {
-  kMiInt8 = 1,
-  kMiUint8 = 2,
-  kMiInt16 = 3,
-  kMiUint16 = 4,
-  kMiInt32 = 5,
-  kMiUint32 = 6,
-  kMiSingle = 7,
-  kMiDouble = 9,
-  kMiInt64 = 12,
-  kMiUint64 = 13,
-  kMiMatrix = 14
-};
-// Array classes and flags.
-enum : std::uint8_t {
-  kMxCell = 1,
-  kMxStruct = 2,
-  kMxChar = 4,
-  kMxSparse = 5,
-  kMxDouble = 6,
-  kMxSingle = 7,
-  kMxInt8 = 8,
-  kMxUint8 = 9,
-  kMxInt16 = 10,
-  kMxUint16 = 11,
-  kMxInt32 = 12,
-  kMxUint32 = 13,
-  kMxInt64 = 14,
-  kMxUint64 = 15
-};
+// The format's data types (kMi…) and array classes (kMx…).
+using namespace ::nrsfm::mat_v5;
+
+// Array flags.
 constexpr std::uint8_t kFlagComplex = 0x08, kFlagLogical = 0x02;
 
 // The bytes of `values`, as they lie in memory (little-endian here).
