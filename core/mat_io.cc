@@ -12,6 +12,8 @@
 #include <sstream>
 #include <system_error>
 
+#include "core/mat_file_check.h"
+
 namespace nrsfm {
 namespace {
 
@@ -95,93 +97,12 @@ Status CheckReadableFile(const std::string& path, std::uintmax_t* size) {
   return Status::OK();
 }
 
-std::int32_t Int32At(const unsigned char* bytes, bool big_endian) {
-  std::uint32_t value = 0;
-  for (int i = 0; i < 4; ++i) {
-    value |= std::uint32_t(bytes[big_endian ? 3 - i : i]) << (8 * i);
-  }
-  return static_cast<std::int32_t>(value);
-}
-
-// True when the 128-byte header marks a v5 or v7.3 file, as matio decides:
-// bytes 126..127 "IM" or "MI", version 0x0100 or 0x0200 at bytes 124..125.
-// matio treats every other file as v4.
-bool HasV5Header(const unsigned char* header) {
-  const bool little = header[126] == 'I' && header[127] == 'M';
-  const bool big = header[126] == 'M' && header[127] == 'I';
-  if (!little && !big) return false;
-  const int version = little ? header[124] | (header[125] << 8)
-                             : (header[124] << 8) | header[125];
-  return version == 0x0100 || version == 0x0200;
-}
-
-// matio trusts the sizes in a v4 variable header (a 20-byte header can make
-// it allocate gigabytes for the name), so a file that matio would read as v4
-// is walked record by record first: each header (type MOPT, mrows, ncols,
-// imagf, namelen) must be valid and the name must fit in the file (data
-// that do not fit end the walk; CheckHeader rejects that variable).
-Status CheckV4Records(const std::string& path, std::uintmax_t file_size) {
-  std::ifstream in(path, std::ios::binary);
-  unsigned char header[128];
-  if (file_size >= 128 &&
-      in.read(reinterpret_cast<char*>(header), sizeof(header)) &&
-      HasV5Header(header)) {
-    return Status::OK();
-  }
-  const std::string not_mat = path + ": not a MATLAB .mat file (v4, v5 or v7.3)";
-  const std::string corrupt = path + ": the .mat file is truncated or corrupt (";
-  std::uintmax_t offset = 0;
-  for (int record = 1; offset < file_size; ++record) {
-    const std::string at = "variable " + std::to_string(record) +
-                           " of a v4 file at byte " + std::to_string(offset);
-    unsigned char h[20];
-    in.clear();
-    in.seekg(static_cast<std::streamoff>(offset));
-    if (file_size - offset < sizeof(h) ||
-        !in.read(reinterpret_cast<char*>(h), sizeof(h))) {
-      return Status::Error(record == 1 ? not_mat
-                                       : corrupt + "truncated header of " + at + ")");
-    }
-    bool big_endian = false;
-    std::int32_t type = Int32At(h, false);
-    if (type < 0 || type >= 2000) {
-      big_endian = true;
-      type = Int32At(h, true);
-    }
-    const int o = type / 100 % 10, p = type / 10 % 10, t = type % 10;
-    const std::int32_t rows = Int32At(h + 4, big_endian);
-    const std::int32_t cols = Int32At(h + 8, big_endian);
-    const std::int32_t imagf = Int32At(h + 12, big_endian);
-    const std::int32_t name_length = Int32At(h + 16, big_endian);
-    if (type < 0 || type >= 2000 || o != 0 || p > 5 || t > 2 || rows < 0 ||
-        cols < 0 || (imagf != 0 && imagf != 1) || name_length < 1) {
-      return Status::Error(record == 1 ? not_mat
-                                       : corrupt + "invalid header of " + at + ")");
-    }
-    static constexpr std::uintmax_t kElementSize[] = {8, 4, 4, 2, 2, 1};
-    const std::uintmax_t left = file_size - offset - sizeof(h);
-    const std::uintmax_t element = kElementSize[p] * (imagf + 1);
-    if (std::uintmax_t(name_length) > left) {
-      return Status::Error(corrupt + "the name of " + at +
-                           " runs past the end of the file)");
-    }
-    // Data that run past the end: matio reads the header only, and
-    // CheckHeader names the variable and its claimed size.
-    if (rows > 0 && cols > 0 &&
-        std::uintmax_t(cols) >
-            (left - name_length) / element / std::uintmax_t(rows)) {
-      return Status::OK();
-    }
-    offset += sizeof(h) + name_length +
-              std::uintmax_t(rows) * std::uintmax_t(cols) * element;
-  }
-  return Status::OK();
-}
-
+// Opens the file for matio once every size it claims has been checked
+// against the bytes that hold it (core/mat_file_check.h).
 Status OpenMat(const std::string& path, MatioSession* session, MatFilePtr* mat,
-               std::uintmax_t* file_size) {
+               std::uintmax_t* file_size, MatFileClaims* claims) {
   NRSFM_RETURN_IF_ERROR(CheckReadableFile(path, file_size));
-  NRSFM_RETURN_IF_ERROR(CheckV4Records(path, *file_size));
+  NRSFM_RETURN_IF_ERROR(CheckMatFileClaims(path, *file_size, claims));
   mat->reset(Mat_Open(path.c_str(), MAT_ACC_RDONLY));
   if (*mat == nullptr) {
     return Status::Error(path + ": not a MATLAB .mat file (v4, v5 or v7.3)" +
@@ -271,11 +192,14 @@ std::string DimsString(const matvar_t& var) {
 }
 
 // Checks class, flags, rank (2..max_rank) and size of a variable header and
-// returns its element count. `file_size` bounds the data size, and each
-// dimension, of an empty array too: zlib/deflate never compresses better
-// than ~1032:1.
+// returns its element count. The count may not exceed `max_elements`, what
+// the variable's stored data can hold (core/mat_file_check.h). Each
+// dimension on its own is bounded by the file size too: an empty array (a
+// zero dimension) has no data to bound the others, and 0 x 2^60 is no real
+// variable.
 Status CheckHeader(const std::string& what, const matvar_t& var, int max_rank,
-                   std::uintmax_t file_size, std::size_t* numel) {
+                   std::uintmax_t file_size, std::uint64_t max_elements,
+                   std::size_t* numel) {
   if (!IsNumericClass(var.class_type)) {
     return Status::Error(what + " is " + ClassName(var.class_type) +
                          ", not a numeric array");
@@ -291,23 +215,31 @@ Status CheckHeader(const std::string& what, const matvar_t& var, int max_rank,
                          DimsString(var) + "); expected " +
                          (max_rank == 2 ? "a 2-D matrix" : "at most 3-D"));
   }
-  const std::uintmax_t max_elements = file_size * 1100 + (1u << 20);
+  const std::uintmax_t max_dimension = file_size * kMaxDeflateRatio + (1u << 20);
   std::uintmax_t count = 1;
+  bool too_large = false;
   for (int i = 0; i < var.rank; ++i) {
-    // Each dimension on its own too: an empty array (a zero dimension) has
-    // no data to bound the others, and 0 x 2^60 is no real variable.
-    if (var.dims[i] > max_elements ||
-        (var.dims[i] > 0 && count > max_elements / var.dims[i])) {
-      return Status::Error(what + " claims a size of " + DimsString(var) +
-                           ", more than the file can hold (corrupt file?)");
-    }
-    count *= var.dims[i];
+    too_large = too_large || var.dims[i] > max_dimension;
+    // Saturates at max_elements + 1 (a zero dimension still makes 0).
+    count = var.dims[i] > 0 && count > (max_elements + 1) / var.dims[i]
+                ? max_elements + 1
+                : count * var.dims[i];
   }
-  if (count > static_cast<std::uintmax_t>(Eigen::Index(1) << 40)) {
-    return Status::Error(what + " is too large (" + DimsString(var) + ")");
+  if (too_large || count > max_elements) {
+    return Status::Error(what + " claims a size of " + DimsString(var) +
+                         ", more than the file can hold (truncated or corrupt file?)");
   }
   *numel = static_cast<std::size_t>(count);
   return Status::OK();
+}
+
+// What the stored data of variable `name` can hold: from the walk of a v4
+// or v5 file, else (v7.3, compressed by HDF5) 1032 one-byte elements per
+// byte of the file.
+std::uint64_t MaxElements(const MatFileClaims& claims, const std::string& name,
+                          std::uintmax_t file_size) {
+  const auto it = claims.max_elements.find(name);
+  return it != claims.max_elements.end() ? it->second : file_size * kMaxDeflateRatio;
 }
 
 template <typename T>
@@ -374,7 +306,8 @@ Status ReadNumeric(const std::string& path, const std::string& name,
   MatioSession session;
   MatFilePtr mat;
   std::uintmax_t file_size = 0;
-  NRSFM_RETURN_IF_ERROR(OpenMat(path, &session, &mat, &file_size));
+  MatFileClaims claims;
+  NRSFM_RETURN_IF_ERROR(OpenMat(path, &session, &mat, &file_size, &claims));
   const std::string what = path + ": variable " + Quote(name);
 
   session.ClearLog();
@@ -392,7 +325,9 @@ Status ReadNumeric(const std::string& path, const std::string& name,
                          "; the file has: " + JoinNames(names));
   }
   std::size_t numel = 0;
-  NRSFM_RETURN_IF_ERROR(CheckHeader(what, *info, max_rank, file_size, &numel));
+  const std::uint64_t max_elements = MaxElements(claims, name, file_size);
+  NRSFM_RETURN_IF_ERROR(
+      CheckHeader(what, *info, max_rank, file_size, max_elements, &numel));
 
   session.ClearLog();
   MatVarPtr var(Mat_VarRead(mat.get(), name.c_str()));
@@ -406,7 +341,7 @@ Status ReadNumeric(const std::string& path, const std::string& name,
   // Never trust the second read to agree with the first.
   std::size_t numel_read = 0;
   NRSFM_RETURN_IF_ERROR(
-      CheckHeader(what, *var, max_rank, file_size, &numel_read));
+      CheckHeader(what, *var, max_rank, file_size, max_elements, &numel_read));
   if (numel_read != numel) {
     return Status::Error(what +
                          ": inconsistent size in the file (corrupt file?)");
@@ -505,7 +440,8 @@ Status ListMatVariables(const std::string& path,
   MatioSession session;
   MatFilePtr mat;
   std::uintmax_t file_size = 0;
-  NRSFM_RETURN_IF_ERROR(OpenMat(path, &session, &mat, &file_size));
+  MatFileClaims claims;
+  NRSFM_RETURN_IF_ERROR(OpenMat(path, &session, &mat, &file_size, &claims));
   return ScanNames(path, mat.get(), &session, names);
 }
 

@@ -7,8 +7,11 @@
 // values beyond 2^53 lose precision).
 //
 // Files are not trusted: every function checks that the path is a readable,
-// non-empty regular file, that matio recognises it, and the class, flags,
-// rank and size of the variable before it reads the data. Errors name the
+// non-empty regular file, that every size it claims fits in the bytes that
+// hold it before matio reads anything (core/mat_file_check.h: for a file of
+// N bytes no single allocation is larger than about 8 · 1032 · N bytes), that
+// matio recognises it, and the class, flags, rank and size of the variable
+// before it reads the data. Errors name the
 // file and the variable. These functions install a process-wide matio log
 // function (Mat_LogInitFunc) that prints nothing: matio's messages (and the
 // HDF5 errors it forwards) are captured, and the one that explains a failure
@@ -29,7 +32,8 @@ namespace nrsfm {
 // a directory, is empty, is not a .mat file or is truncated/corrupt; when the
 // variable does not exist (the message lists the variables that do); when it
 // is not numeric (char, struct, cell, object, sparse, complex) or not 2-D;
-// when a dimension or the element count is more than the file can hold.
+// when a dimension or the element count is more than the file can hold
+// ("claims a size of …, more than the file can hold").
 // An empty variable (0 rows or 0 columns) is returned as such: callers must
 // check the size before they index it.
 Status ReadMatVariable(const std::string& path, const std::string& name,

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <tuple>
 
 namespace nrsfm {
 
@@ -109,6 +110,17 @@ Status Measurements::Validate() const {
         << visible.cols() << ", expected " << NumViews() << " x "
         << num_points;
     return Status::Error(msg.str());
+  }
+  for (const auto& [ids, count, what] :
+       {std::make_tuple(&frame_ids, num_frames, "frame_ids"),
+        std::make_tuple(&point_ids, num_points, "point_ids")}) {
+    bool increasing = ids->empty() || (*ids)[0] >= 0;
+    for (std::size_t i = 1; i < ids->size(); ++i) increasing = increasing && (*ids)[i - 1] < (*ids)[i];
+    if ((!ids->empty() && static_cast<int>(ids->size()) != count) || !increasing) {
+      msg << "measurements: " << what << " has " << ids->size()
+          << " entries, expected none or " << count << " strictly increasing from 0 up";
+      return Status::Error(msg.str());
+    }
   }
   for (int view = 0; view < NumViews(); ++view) {
     for (int p = 0; p < num_points; ++p) {

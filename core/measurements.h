@@ -12,6 +12,7 @@
 #define NRSFM_CORE_MEASUREMENTS_H_
 
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -27,6 +28,13 @@ struct Measurements {
   int num_points = 0;   // P
   Eigen::MatrixXd W;         // (2·F·M) × P, see the layout above.
   VisibilityMask visible;    // (F·M) × P.
+  // The input's own index of each frame and point, when the reader numbered
+  // them otherwise: an observation list too sparse for a W over all its
+  // indices keeps only the frames and points it mentions, in increasing
+  // order (core/text_io.h). Empty (the usual case): frame t and point p are
+  // the input's t and p. Otherwise of size F and P, strictly increasing.
+  std::vector<int> frame_ids;
+  std::vector<int> point_ids;
 
   // Index of the (frame, camera) pair: the row of `visible`, the column of
   // Model::rotations / translations.
@@ -60,7 +68,8 @@ struct Measurements {
                                   Measurements* measurements);
 
   // Checks sizes and values: F ≥ 1, M ≥ 1, P ≥ 1, matching W and mask sizes,
-  // finite visible entries. Does not judge whether the data can be
+  // finite visible entries, frame_ids and point_ids empty or of size F and P
+  // and strictly increasing from 0 up. Does not judge whether the data can be
   // reconstructed (see the solvers for that).
   Status Validate() const;
 };

@@ -172,6 +172,10 @@ std::string ReconstructionJson(const Measurements& measurements, const Model& mo
   json["num_points"] = model.num_points;
   json["num_bases"] = model.num_bases;
   json["num_visible"] = measurements.NumVisible();
+  // The input's index of each frame and point when the reader renumbered
+  // them (a sparse observation list, core/text_io.h).
+  if (!measurements.frame_ids.empty()) json["input_frames"] = measurements.frame_ids;
+  if (!measurements.point_ids.empty()) json["input_points"] = measurements.point_ids;
   Json options = Json::object();
   for (const auto& [key, value] : report.options) options[key] = value;
   json["options"] = options;

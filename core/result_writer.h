@@ -13,7 +13,11 @@
 //                                                 basis shape k).
 //   basis.csv          k,point,x,y,z              S_k, k = 0..K-1.
 //   result.json        the report below plus F, M, P, K, the number of
-//                      visible entries and library versions (NaN → null).
+//                      visible entries and library versions (NaN → null);
+//                      "input_frames" / "input_points" when the measurements
+//                      have frame_ids / point_ids (the input's index of each
+//                      frame and point; every index in the files is the
+//                      result's, 0…F−1 and 0…P−1).
 // Points and frames left out of a reconstruction (report.dropped_points /
 // dropped_frames) are NaN in the model and written as "nan" in the CSV and
 // PLY files; any other NaN in the model is an error.

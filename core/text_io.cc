@@ -8,15 +8,16 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <new>
+#include <limits>
 #include <string_view>
 #include <system_error>
+#include <tuple>
+#include <vector>
+
+#include "core/input_budget.h"
 
 namespace nrsfm {
 namespace {
-
-// Largest W (entries) an observation list may imply: 2^28 doubles = 2 GiB.
-constexpr std::int64_t kMaxListEntries = std::int64_t(1) << 28;
 
 Status OpenTextFile(const std::string& path, std::ifstream* in) {
   std::error_code ec;
@@ -154,7 +155,7 @@ Status ReadRows(const std::string& path, std::ifstream* in, int* line_number,
 
 // Index field of an observation list: an integral, non-negative number.
 Status ParseIndex(std::string_view field, const std::string& where, int column,
-                  const char* name, std::int64_t* index) {
+                  const char* name, int* index) {
   double value = 0.0;
   NRSFM_RETURN_IF_ERROR(ParseNumber(field, where, column, &value));
   const std::string at = where + ", column " + std::to_string(column) + ": " +
@@ -164,7 +165,7 @@ Status ParseIndex(std::string_view field, const std::string& where, int column,
   }
   if (value < 0) return Status::Error(at + " is negative");
   if (value >= 2147483647.0) return Status::Error(at + " is too large");
-  *index = static_cast<std::int64_t>(value);
+  *index = static_cast<int>(value);
   return Status::OK();
 }
 
@@ -183,6 +184,76 @@ void WriteNumber(std::FILE* file, double value) {
   } else {
     std::fprintf(file, "%.17g", value);
   }
+}
+
+// One line of an observation list.
+struct Observation {
+  int frame, camera, point;
+  double u, v;
+  int line;
+};
+
+// The same (frame, camera, point) on two lines is an error naming both (the
+// first repeat in file order). Sorts the observations by index.
+Status CheckNoRepeatedObservation(const std::string& path,
+                                  std::vector<Observation>* observations) {
+  const auto key = [](const Observation& o) { return std::tie(o.frame, o.camera, o.point); };
+  std::sort(observations->begin(), observations->end(),
+            [](const Observation& a, const Observation& b) {
+              return std::make_tuple(a.frame, a.camera, a.point, a.line) <
+                     std::make_tuple(b.frame, b.camera, b.point, b.line);
+            });
+  // In each run of one index, the first holds the first line and the second
+  // the first repeat.
+  const Observation* repeat = nullptr;
+  int first_line = 0;
+  for (std::size_t i = 1; i < observations->size(); ++i) {
+    const Observation& a = (*observations)[i - 1];
+    const Observation& b = (*observations)[i];
+    const bool a_starts_run = i == 1 || key((*observations)[i - 2]) != key(a);
+    if (key(a) == key(b) && a_starts_run && (repeat == nullptr || b.line < repeat->line)) {
+      repeat = &b;
+      first_line = a.line;
+    }
+  }
+  if (repeat == nullptr) return Status::OK();
+  return Status::Error(Where(path, repeat->line) + ": frame " + std::to_string(repeat->frame) +
+                       ", camera " + std::to_string(repeat->camera) + ", point " +
+                       std::to_string(repeat->point) + " was already given on line " +
+                       std::to_string(first_line));
+}
+
+// Bytes of W and its visibility mask for F frames, M cameras, P points
+// (saturating).
+std::uint64_t DenseBytes(std::int64_t frames, std::int64_t cameras, std::int64_t points) {
+  const std::uint64_t views = std::uint64_t(frames) * std::uint64_t(cameras);  // < 2^62
+  constexpr std::uint64_t kBytesPerEntry = 2 * sizeof(double) + sizeof(bool);
+  if (points != 0 && views > std::numeric_limits<std::uint64_t>::max() / kBytesPerEntry /
+                                 std::uint64_t(points)) {
+    return std::numeric_limits<std::uint64_t>::max();
+  }
+  return views * std::uint64_t(points) * kBytesPerEntry;
+}
+
+std::string MegaBytes(std::uint64_t bytes) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.0f MB", bytes / 1e6);
+  return text;
+}
+
+// The distinct values of one index of the observations, increasing.
+std::vector<int> MentionedIndices(const std::vector<Observation>& observations,
+                                  int Observation::*index) {
+  std::vector<int> ids;
+  ids.reserve(observations.size());
+  for (const Observation& o : observations) ids.push_back(o.*index);
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return ids;
+}
+
+int IndexOf(const std::vector<int>& ids, int id) {
+  return static_cast<int>(std::lower_bound(ids.begin(), ids.end(), id) - ids.begin());
 }
 
 }  // namespace
@@ -240,11 +311,6 @@ Status ReadObservationList(const std::string& path,
                            Measurements* measurements) {
   std::ifstream in;
   NRSFM_RETURN_IF_ERROR(OpenTextFile(path, &in));
-  struct Observation {
-    std::int64_t frame, camera, point;
-    double u, v;
-    int line;
-  };
   std::vector<Observation> observations;
   std::vector<std::string_view> fields;
   std::string line;
@@ -269,54 +335,53 @@ Status ReadObservationList(const std::string& path,
                            ": u and v must be numbers (leave a missing "
                            "observation out of the list instead of NaN)");
     }
-    num_frames = std::max(num_frames, o.frame + 1);
-    num_cameras = std::max(num_cameras, o.camera + 1);
-    num_points = std::max(num_points, o.point + 1);
+    num_frames = std::max(num_frames, std::int64_t{o.frame} + 1);
+    num_cameras = std::max(num_cameras, std::int64_t{o.camera} + 1);
+    num_points = std::max(num_points, std::int64_t{o.point} + 1);
     observations.push_back(o);
   }
   if (in.bad()) return Status::Error(path + ": read error");
   if (observations.empty())
     return Status::Error(path + ": no observations in the file");
-  // Each factor is < 2^31, so the first product cannot overflow int64.
-  const std::int64_t views = num_frames * num_cameras;
-  if (views > kMaxListEntries || 2 * views * num_points > kMaxListEntries) {
-    return Status::Error(
-        path + ": the largest indices (F = " + std::to_string(num_frames) +
-        ", M = " + std::to_string(num_cameras) + ", P = " +
-        std::to_string(num_points) + ") imply a W larger than 2^28 entries");
-  }
+  NRSFM_RETURN_IF_ERROR(CheckNoRepeatedObservation(path, &observations));
 
+  // W over every index up to the largest, when the budget allows it; else
+  // over the frames and points the list mentions (their ids kept).
+  std::error_code ec;
+  const std::uintmax_t file_size = std::filesystem::file_size(path, ec);
+  const std::uint64_t budget = InputArrayBudget(ec ? 0 : file_size);
+  // W's rows (2FM) must also be int indices (Measurements::Row).
+  const auto fits = [budget, num_cameras](std::int64_t frames, std::int64_t points) {
+    return DenseBytes(frames, num_cameras, points) <= budget &&
+           2 * frames * num_cameras <= std::numeric_limits<int>::max();
+  };
   Measurements m;
-  m.num_frames = static_cast<int>(num_frames);
   m.num_cameras = static_cast<int>(num_cameras);
-  m.num_points = static_cast<int>(num_points);
-  Eigen::MatrixXi first_line;
-  // The dense W of a sparse list can be far larger than the file (one line
-  // may imply gigabytes): memory it cannot get is the file's error.
-  try {
-    m.W.setConstant(2 * m.NumViews(), m.num_points, std::nan(""));
-    m.visible.setConstant(m.NumViews(), m.num_points, false);
-    first_line.setZero(m.NumViews(), m.num_points);
-  } catch (const std::bad_alloc&) {
-    return Status::Error(
-        path + ": the largest indices (F = " + std::to_string(num_frames) +
-        ", M = " + std::to_string(num_cameras) +
-        ", P = " + std::to_string(num_points) + ") imply a W of " +
-        std::to_string(2 * views * num_points) +
-        " entries, more than can be allocated");
-  }
-  for (const Observation& o : observations) {
-    const int view =
-        m.View(static_cast<int>(o.frame), static_cast<int>(o.camera));
-    const int p = static_cast<int>(o.point);
-    if (first_line(view, p) != 0) {
+  if (!fits(num_frames, num_points)) {
+    m.frame_ids = MentionedIndices(observations, &Observation::frame);
+    m.point_ids = MentionedIndices(observations, &Observation::point);
+    const std::int64_t frames = static_cast<std::int64_t>(m.frame_ids.size());
+    const std::int64_t points = static_cast<std::int64_t>(m.point_ids.size());
+    if (!fits(frames, points)) {
       return Status::Error(
-          Where(path, o.line) + ": frame " + std::to_string(o.frame) +
-          ", camera " + std::to_string(o.camera) + ", point " +
-          std::to_string(o.point) + " was already given on line " +
-          std::to_string(first_line(view, p)));
+          path + ": the " + std::to_string(observations.size()) + " observations of F = " +
+          std::to_string(frames) + " frames, M = " + std::to_string(num_cameras) +
+          " cameras and P = " + std::to_string(points) +
+          " points would need a W of " + MegaBytes(DenseBytes(frames, num_cameras, points)) +
+          ", more than a list of its size may take (" + MegaBytes(budget) +
+          ", 64 MB + 1032 bytes per byte of the file): too sparse for nrsfm's dense W");
     }
-    first_line(view, p) = o.line;
+    num_frames = frames;
+    num_points = points;
+  }
+  m.num_frames = static_cast<int>(num_frames);
+  m.num_points = static_cast<int>(num_points);
+  m.W.setConstant(2 * m.NumViews(), m.num_points, std::nan(""));
+  m.visible.setConstant(m.NumViews(), m.num_points, false);
+  for (const Observation& o : observations) {
+    const int t = m.frame_ids.empty() ? o.frame : IndexOf(m.frame_ids, o.frame);
+    const int p = m.point_ids.empty() ? o.point : IndexOf(m.point_ids, o.point);
+    const int view = m.View(t, o.camera);
     m.W(2 * view, p) = o.u;
     m.W(2 * view + 1, p) = o.v;
     m.visible(view, p) = true;
@@ -335,7 +400,9 @@ Status WriteObservationList(const std::string& path,
       const int view = measurements.View(t, c);
       for (int p = 0; p < measurements.num_points; ++p) {
         if (!measurements.visible(view, p)) continue;
-        std::fprintf(file, "%d %d %d %.17g %.17g\n", t, c, p,
+        std::fprintf(file, "%d %d %d %.17g %.17g\n",
+                     measurements.frame_ids.empty() ? t : measurements.frame_ids[t], c,
+                     measurements.point_ids.empty() ? p : measurements.point_ids[p],
                      measurements.W(2 * view, p),
                      measurements.W(2 * view + 1, p));
       }

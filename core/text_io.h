@@ -41,17 +41,28 @@ Status ReadCsvTable(const std::string& path,
 // Reads a sparse observation list: one observation per line,
 //   frame camera point u v
 // with 0-based integer indices (written as integers, "3", or integral
-// numbers, "3.0") and finite u, v. F, M and P are each the largest index + 1;
-// views and points that no line mentions are simply not visible (whether the
-// result can be reconstructed is for the solvers to judge). Fails on a line
-// with other than 5 fields, a negative or non-integer index, non-finite u or
-// v, the same (frame, camera, point) twice (naming both lines), no
-// observation at all, or sizes whose W would exceed 2^28 entries or more
-// memory than can be allocated.
+// numbers, "3.0") and finite u, v. The list is held sparse until its
+// indices are known; then W (2FM × P) and its mask are built as follows.
+//   - F, M and P are each the largest index + 1 (frames and points that no
+//     line mentions are simply not visible: the solvers leave them out and
+//     report them), when that W with its mask (17 bytes an entry) fits in
+//     InputArrayBudget(file size) = 64 MB + 1032 bytes per byte of the file
+//     (core/input_budget.h);
+//   - otherwise F and P count only the frames and points the list mentions,
+//     numbered in increasing order of their index, and
+//     measurements->frame_ids / point_ids give each one's index in the list
+//     (a frame index of a million with one observation is one more frame,
+//     not a 2 GB W). M stays the largest camera index + 1.
+// Fails on a line with other than 5 fields, a negative or non-integer index
+// (or one of 2^31 - 1 or more), non-finite u or v, the same (frame, camera,
+// point) twice (naming both lines), no observation at all, or when even the
+// W of the mentioned frames and points exceeds the budget (the error names
+// F, M, P and the sizes).
 Status ReadObservationList(const std::string& path, Measurements* measurements);
 
 // Writes the visible observations of `measurements` as an observation list
-// (frame-major order, full precision).
+// (frame-major order, full precision), with the input's indices when it has
+// frame_ids / point_ids.
 Status WriteObservationList(const std::string& path,
                             const Measurements& measurements);
 

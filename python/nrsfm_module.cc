@@ -850,6 +850,10 @@ Reconstruction Refine(py::handle w, py::handle model_object, py::handle mask, in
 struct Tracks {
   py::object W, mask;
   int cameras = 1;
+  // read: the file's index of each frame and point when the reader
+  // renumbered them (core/text_io.h, a sparse observation list); else None.
+  py::object frame_ids = py::none();
+  py::object point_ids = py::none();
   py::object truth = py::none();  // synth: a Reconstruction of the truth
   py::object P3_gt = py::none();  // synth: camera 0's truth, (3F, P) block layout
 };
@@ -859,6 +863,8 @@ Tracks TracksOf(const Measurements& m) {
   tracks.W = WArray(m);
   tracks.mask = MaskArray(m);
   tracks.cameras = m.num_cameras;
+  if (!m.frame_ids.empty()) tracks.frame_ids = py::cast(m.frame_ids);
+  if (!m.point_ids.empty()) tracks.point_ids = py::cast(m.point_ids);
   return tracks;
 }
 
@@ -1193,6 +1199,11 @@ PYBIND11_MODULE(nrsfm, m) {
       .def_readonly("W", &Tracks::W, "(2FM, P) float64, NaN = missing")
       .def_readonly("mask", &Tracks::mask, "(FM, P) bool, True = visible")
       .def_readonly("cameras", &Tracks::cameras, "M")
+      .def_readonly("frame_ids", &Tracks::frame_ids,
+                    "read: the list's index of each frame when an observation list too sparse "
+                    "for a W over all its indices was renumbered to the frames it mentions; "
+                    "else None")
+      .def_readonly("point_ids", &Tracks::point_ids, "read: likewise for the points; else None")
       .def_readonly("truth", &Tracks::truth,
                     "synth: a Reconstruction of the truth (reproject: the path of the "
                     "written file, scored in its object frame); else None")

@@ -12,45 +12,22 @@
 #ifndef NRSFM_TESTS_MAT_V5_BYTES_H_
 #define NRSFM_TESTS_MAT_V5_BYTES_H_
 
+#include <zlib.h>
+
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "core/mat_v5_format.h"
 
 namespace nrsfm {
 namespace testing_util {
 namespace v5 {
 
-// Data types.
-enum : std::uint32_t {
-  kMiInt8 = 1,
-  kMiUint8 = 2,
-  kMiInt16 = 3,
-  kMiUint16 = 4,
-  kMiInt32 = 5,
-  kMiUint32 = 6,
-  kMiSingle = 7,
-  kMiDouble = 9,
-  kMiInt64 = 12,
-  kMiUint64 = 13,
-  kMiMatrix = 14
-};
-// Array classes and flags.
-enum : std::uint8_t {
-  kMxCell = 1,
-  kMxStruct = 2,
-  kMxChar = 4,
-  kMxSparse = 5,
-  kMxDouble = 6,
-  kMxSingle = 7,
-  kMxInt8 = 8,
-  kMxUint8 = 9,
-  kMxInt16 = 10,
-  kMxUint16 = 11,
-  kMxInt32 = 12,
-  kMxUint32 = 13,
-  kMxInt64 = 14,
-  kMxUint64 = 15
-};
+// The format's data types (kMi…) and array classes (kMx…).
+using namespace ::nrsfm::mat_v5;
+
+// Array flags.
 constexpr std::uint8_t kFlagComplex = 0x08, kFlagLogical = 0x02;
 
 // The bytes of `values`, as they lie in memory (little-endian here).
@@ -99,6 +76,22 @@ inline std::string Matrix(std::uint8_t mx_class, std::uint8_t flags,
 inline std::string Double(const std::string& name, const std::vector<int>& dims,
                           const std::vector<double>& values) {
   return Matrix(kMxDouble, 0, dims, name, Element(kMiDouble, Raw(values)));
+}
+
+// A miCOMPRESSED element holding `element` (e.g. a Matrix) deflated with
+// zlib, as MATLAB writes v7 files; not padded. `claimed_size` replaces the
+// inflated element's byte count when given (a corrupt file).
+inline std::string Compressed(std::string element, std::int64_t claimed_size = -1) {
+  if (claimed_size >= 0) {
+    const std::uint32_t size = static_cast<std::uint32_t>(claimed_size);
+    element.replace(4, 4, Raw(std::vector<std::uint32_t>{size}));
+  }
+  uLongf length = compressBound(element.size());
+  std::string deflated(length, '\0');
+  compress(reinterpret_cast<Bytef*>(deflated.data()), &length,
+           reinterpret_cast<const Bytef*>(element.data()), element.size());
+  deflated.resize(length);
+  return Raw(std::vector<std::uint32_t>{15, static_cast<std::uint32_t>(length)}) + deflated;
 }
 
 // An empty miMATRIX element (no bytes at all): how MATLAB stores the []

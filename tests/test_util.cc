@@ -22,6 +22,11 @@ std::string SharedDatasetsDir() {
   return "";
 }
 
+bool SharedDataRequired() {
+  const char* env = std::getenv("NRSFM_REQUIRE_SHARED");
+  return env != nullptr && std::string(env) == "1";
+}
+
 namespace {
 std::mutex temp_dirs_mutex;
 std::vector<std::string>& TempDirs() {

@@ -21,6 +21,23 @@
 
 namespace nrsfm {
 namespace tools {
+namespace {
+
+// The warning of an input whose frames or points the reader renumbered
+// (Measurements::frame_ids, point_ids), "" otherwise.
+std::string RenumberedInputWarning(const Measurements& m) {
+  if (m.frame_ids.empty() && m.point_ids.empty()) return "";
+  return "the list's largest indices (frame " + std::to_string(m.frame_ids.back()) +
+         ", point " + std::to_string(m.point_ids.back()) +
+         ") would make too large a W for it: the result holds only the " +
+         std::to_string(m.num_frames) + " frames and " + std::to_string(m.num_points) +
+         " points it mentions, numbered 0.." + std::to_string(m.num_frames - 1) + " and 0.." +
+         std::to_string(m.num_points - 1) +
+         " in increasing order of their index (result.json: input_frames and input_points "
+         "give each one's index in the list)";
+}
+
+}  // namespace
 
 Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
                       std::ostream& progress) {
@@ -64,7 +81,10 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
                            std::to_string(truth.NumFrames()) + ", P = " +
                            std::to_string(truth.NumPoints()) + " but the input has F = " +
                            std::to_string(measurements.num_frames) + ", P = " +
-                           std::to_string(measurements.num_points));
+                           std::to_string(measurements.num_points) +
+                           (measurements.frame_ids.empty()
+                                ? ""
+                                : " (the frames and points the list mentions)"));
     }
   }
 
@@ -83,7 +103,14 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
   }
 
   ReconstructionRun run;
-  NRSFM_RETURN_IF_ERROR(RunReconstruction(flags, options, measurements, flags.input, &run));
+  const Status solved = RunReconstruction(flags, options, measurements, flags.input, &run);
+  if (!solved.ok() && !measurements.frame_ids.empty()) {
+    return Status::Error(solved.message() +
+                         " (F and P count the frames and points the list mentions; its largest "
+                         "indices are frame " + std::to_string(measurements.frame_ids.back()) +
+                         ", point " + std::to_string(measurements.point_ids.back()) + ")");
+  }
+  NRSFM_RETURN_IF_ERROR(solved);
   const ReconstructResult& result = run.result;
   if (run.auto_k) {
     const SelectNumBasesResult& selection = run.selection;
@@ -109,8 +136,10 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
     NRSFM_RETURN_IF_ERROR(EvaluateShapes(truth, ShapesOfModel(result.model, 0), &errors)
                               .WithContext("--truth"));
   }
-  const ReconstructionReport report =
+  ReconstructionReport report =
       MakeReport(flags, flags.input, run, flags.truth.empty() ? nullptr : &errors);
+  const std::string renumbered = RenumberedInputWarning(measurements);
+  if (!renumbered.empty()) report.warnings.insert(report.warnings.begin(), renumbered);
 
   WriteOptions write_options;
   write_options.write_ply = flags.ply;

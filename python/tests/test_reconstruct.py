@@ -131,7 +131,9 @@ def test_two_cameras_and_options_by_keyword():
                                        "temporal": 1.0}
     errors = nrsfm.evaluate(s.truth, r)
     print("two-camera shoe with rigidity:", errors)
-    assert errors["error3d_pct"] < 2.0
+    # Measured 0.465 % (2026-11-27): noise-free, but biased by the smoothness
+    # and temporal terms and stopped at 50 iterations.
+    assert errors["error3d_pct"] < 0.55
 
 
 def test_k_auto_reports_its_curve():
@@ -165,8 +167,11 @@ def test_refine_a_start_of_your_own():
     assert summary["final_cost"] < summary["initial_cost"]
     assert summary["iterations"] + 1 == len(seen)
     assert [i for i, _ in seen] == list(range(len(seen)))
-    assert summary["reprojection_rms"] < 0.002
-    assert nrsfm.evaluate(truth, r)["e3d"] < 0.01
+    # Below the noise: sigma = 0.001 per coordinate is sqrt(2) sigma = 0.0014
+    # of 2-D distance, less what the parameters absorb; measured 0.00123.
+    assert summary["reprojection_rms"] < 0.0014
+    # Measured 0.0031 (2026-11-27).
+    assert nrsfm.evaluate(truth, r)["e3d"] < 0.004
     # A Reconstruction is a start too: refining the truth leaves it in place.
     again = nrsfm.refine(s.W, truth, max_iterations=5)
     assert np.max(np.abs(again.basis - truth.basis)) < 0.01

@@ -132,6 +132,59 @@ TEST(ObservationList, ReadsSizesFromTheLargestIndices) {
   EXPECT_EQ(m.VisiblePerView()(m.View(1, 0)) + m.VisiblePerView()(m.View(1, 1)),
             0);
   EXPECT_TRUE(std::isnan(m.W(2 * m.View(1, 0), 0)));
+  // Within the budget the list's own indices are kept.
+  EXPECT_TRUE(m.frame_ids.empty());
+  EXPECT_TRUE(m.point_ids.empty());
+}
+
+// A list whose largest indices would make a W over the budget (64 MB +
+// 1032 bytes per byte of the file) keeps only the frames and points it
+// mentions, with their indices: two lines with frame 1 300 000 took 2 GB
+// as 1 300 001 frames. Written back, it has the list's indices again.
+TEST(ObservationList, TooSparseForItsIndicesKeepsTheFramesAndPointsItMentions) {
+  const std::string dir = MakeTempDir("obs_sparse");
+  const std::string path = WriteFile(dir, "two.obs", "0 0 0 1 2\n1300000 0 99 1.0 2.0\n");
+  Measurements m;
+  ASSERT_TRUE(ReadObservationList(path, &m).ok());
+  EXPECT_EQ(m.num_frames, 2);
+  EXPECT_EQ(m.num_cameras, 1);
+  EXPECT_EQ(m.num_points, 2);
+  EXPECT_EQ(m.frame_ids, (std::vector<int>{0, 1300000}));
+  EXPECT_EQ(m.point_ids, (std::vector<int>{0, 99}));
+  EXPECT_TRUE(m.Validate().ok());
+  EXPECT_EQ(m.NumVisible(), 2);
+  EXPECT_EQ(m.Observation(0, 0, 0), Eigen::Vector2d(1, 2));
+  EXPECT_EQ(m.Observation(1, 0, 1), Eigen::Vector2d(1, 2));
+  EXPECT_FALSE(m.visible(m.View(0, 0), 1));
+
+  const std::string copy = dir + "/copy.obs";
+  ASSERT_TRUE(WriteObservationList(copy, m).ok());
+  EXPECT_TRUE(Contains(testing_util::ReadFileToString(copy), "\n1300000 0 99 1 2\n"));
+  Measurements read;
+  ASSERT_TRUE(ReadObservationList(copy, &read).ok());
+  EXPECT_EQ(read.frame_ids, m.frame_ids);
+  EXPECT_EQ(read.point_ids, m.point_ids);
+  EXPECT_TRUE((read.visible == m.visible).all());
+  EXPECT_EQ(read.Observation(1, 0, 1), m.Observation(1, 0, 1));
+}
+
+// Even the frames and points it mentions can make a W over the budget: a
+// "diagonal" list of 3000 frames that each see another point (17 bytes an
+// entry of W and mask: 153 MB for a 51 kB file).
+TEST(ObservationList, TooSparseEvenForTheMentionedFramesAndPointsIsAnError) {
+  std::string text;
+  for (int i = 0; i < 3000; ++i) {
+    text += std::to_string(i) + " 0 " + std::to_string(i) + " 1 2\n";
+  }
+  const std::string path = WriteFile(MakeTempDir("obs_diagonal"), "diagonal.obs", text);
+  Measurements m;
+  const Status s = ReadObservationList(path, &m);
+  EXPECT_TRUE(Contains(s.message(),
+                       path + ": the 3000 observations of F = 3000 frames, M = 1 cameras and "
+                              "P = 3000 points would need a W of 153 MB, more than a list of "
+                              "its size may take ("))
+      << s.message();
+  EXPECT_TRUE(Contains(s.message(), "too sparse for nrsfm's dense W")) << s.message();
 }
 
 TEST(ObservationList, WriteThenReadKeepsEveryObservation) {
@@ -182,9 +235,9 @@ TEST(ObservationList, BadInputsNameTheLine) {
       {"0 0 0 1 inf\n", "line 1, column 5: infinite value"},
       {"0 0 zero 1 2\n", "line 1, column 3: 'zero' is not a number"},
       {"# nothing\n", "no observations in the file"},
-      {"100000 0 100000 1 2\n",
-       "the largest indices (F = 100001, M = 1, P = 100001) imply a W larger "
-       "than 2^28"},
+      // The first repeat in file order (line 3), not in index order.
+      {"5 0 0 1 2\n0 0 0 1 2\n5 0 0 3 4\n0 0 0 3 4\n",
+       "line 3: frame 5, camera 0, point 0 was already given on line 1"},
   };
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const std::string path =

@@ -12,6 +12,7 @@
 #include "core/ground_truth.h"
 #include "core/mat_io.h"
 #include "core/read_measurements.h"
+#include "tests/fuzz/allocation_budget.h"
 #include "tests/fuzz/fuzz_input_file.h"
 
 namespace {
@@ -40,6 +41,7 @@ bool FuzzHdf5() {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data,
                                       std::size_t size) {
+  const nrsfm::fuzz::AllocationBudget budget(size);
   if (!FuzzHdf5() && IsHdf5MatFile(data, size)) return -1;
   const std::string path = nrsfm::fuzz::WriteInputFile(data, size, ".mat");
 

@@ -7,10 +7,12 @@
 
 #include "core/read_measurements.h"
 #include "core/text_io.h"
+#include "tests/fuzz/allocation_budget.h"
 #include "tests/fuzz/fuzz_input_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data,
                                       std::size_t size) {
+  const nrsfm::fuzz::AllocationBudget budget(size);
   const std::string path = nrsfm::fuzz::WriteInputFile(data, size, ".obs");
 
   nrsfm::Measurements measurements;

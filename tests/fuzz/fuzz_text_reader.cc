@@ -13,6 +13,7 @@
 #include "core/read_measurements.h"
 #include "core/result_reader.h"
 #include "core/text_io.h"
+#include "tests/fuzz/allocation_budget.h"
 #include "tests/fuzz/fuzz_input_file.h"
 
 namespace {
@@ -31,6 +32,7 @@ bool PointsFiniteOrLeftOut(const Eigen::Matrix3Xd& points) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data,
                                       std::size_t size) {
+  const nrsfm::fuzz::AllocationBudget budget(size);
   const std::string path = nrsfm::fuzz::WriteInputFile(data, size, ".csv");
 
   Eigen::MatrixXd matrix;

@@ -34,7 +34,7 @@ mkdir "$work/kept"
 cp "$work/seeds/$kind"/* "$work/kept/"
 find "$corpus" -maxdepth 1 -type f -name 'crash-*' -exec cp {} "$work/kept/" \;
 
-ASAN_OPTIONS=allocator_may_return_null=1:max_allocation_size_mb=64 \
+ASAN_OPTIONS=allocator_may_return_null=0 \
 LSAN_OPTIONS=suppressions=$fuzz_dir/lsan.supp TMPDIR=$work \
   "$build/$target" -merge=1 -max_len=4096 -timeout=20 -rss_limit_mb=1536 \
   "$work/kept" "$corpus" "$@" 2>"$work/merge.log" ||

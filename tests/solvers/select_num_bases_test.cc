@@ -45,13 +45,18 @@ TEST(SelectNumBases, KeepsTheTrueKAndEstimatesTheNoise) {
     }
     EXPECT_EQ(result.num_bases, k);
     EXPECT_EQ(result.reconstruction.model.num_bases, k);
-    // σ̂ within 20 % of the true σ (N ≈ 3600 residuals, n(K_max) ≈ 800).
+    // σ̂ within 20 % of the true σ (N ≈ 3600 residuals, n(K_max) ≈ 800);
+    // measured 0.00946 (K = 2) and 0.00972 (K = 3), 2026-11-27.
     EXPECT_NEAR(result.noise_stddev, kNoise, 0.2 * kNoise);
-    // Fewer bases than the truth leave a residual well above the noise.
-    EXPECT_GT(result.curve[k - 2].reprojection_rms, 2.0 * result.curve[k - 2].expected_rms);
-    EXPECT_LT(ComputeE3D(CameraFrameShapes(s.truth),
-                         CameraFrameShapes(result.reconstruction.model)),
-              0.1);
+    // Fewer bases than the truth leave a residual well above the noise:
+    // measured 9.4 (K = 2) and 9.2 (K = 3) times the RMS the noise leaves.
+    EXPECT_GT(result.curve[k - 2].reprojection_rms, 5.0 * result.curve[k - 2].expected_rms);
+    const double e3d = ComputeE3D(CameraFrameShapes(s.truth),
+                                  CameraFrameShapes(result.reconstruction.model));
+    std::printf("true K %d: chosen K %d, noise estimate %.5f, e3D %.4f\n", k, result.num_bases,
+                result.noise_stddev, e3d);
+    // Measured 0.0216 (K = 2) and 0.0233 (K = 3), 2026-11-27.
+    EXPECT_LT(e3d, 0.026);
   }
 }
 

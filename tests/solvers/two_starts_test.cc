@@ -102,10 +102,17 @@ TEST(TwoStarts, AStopRequestEndsBoth) {
     RunTwoRefinements(solver, concurrent, Scripted([](int) { return 1.0; }, -1, &ran_first),
                       Scripted([](int) { return 2.0; }, -1, &ran_second));
     // The third report is the first's iteration 2; each then stops within
-    // the iterations the lockstep lets it run ahead (one).
+    // the iterations the lockstep lets it run ahead (one). Both ran (the
+    // counters start at -1): the first to its iteration 2 at least, the
+    // second to its iteration 0 at least.
+    EXPECT_GE(ran_first, 2) << concurrent;
     EXPECT_LE(ran_first, 3) << concurrent;
+    EXPECT_GE(ran_second, 0) << concurrent;
     EXPECT_LE(ran_second, 3) << concurrent;
-    // Asked before the starts: neither runs an iteration past its first.
+    EXPECT_GE(reports, 3) << concurrent;
+    // Asked before the starts: each runs its iteration 0 and no further.
+    ran_first = -1;
+    ran_second = -1;
     solver.stop_requested = [] { return true; };
     RunTwoRefinements(solver, concurrent, Scripted([](int) { return 1.0; }, -1, &ran_first),
                       Scripted([](int) { return 2.0; }, -1, &ran_second));
