@@ -203,7 +203,8 @@ def test_read_raises_value_error_for_bad_contents(tmp_path):
     (tmp_path / "w.txtx").write_text("1 2\n3 4\n")
     assert "cannot tell the input format" in message(nrsfm.read, tmp_path / "w.txtx")
     assert message(nrsfm.read, tmp_path / "w.dat", format="xml") == \
-        '--format: input format: unknown value "xml" (expected one of auto, mat, text, list)'
+        '--format: input format: unknown value "xml" (expected one of auto, mat, text, list, ' \
+        'coco, openpose)'
 
 
 def test_read_takes_the_cameras_from_the_file_and_names_both_counts(tmp_path):
