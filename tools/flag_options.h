@@ -11,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "core/ground_truth.h"
 #include "core/mat_io.h"
 #include "core/measurements.h"
@@ -53,8 +55,26 @@ Status ParseNumBasesFlag(const std::string& value, bool* auto_k, int* num_bases)
 // "--K_max: K selection: max_num_bases must be >= 2, got 1".
 Status BuildReconstructOptions(const CommandFlags& flags, ReconstructOptions* options);
 
-// --var, --mask_var, --format and --cameras; errors on an unknown --format.
+// The flags that say how --input is read: --var, --mask_var, --format,
+// --cameras and the keypoint inputs' --frame_key, --part, --min_confidence
+// (the keywords of the Python module's read()).
+const std::set<std::string>& InputFlags();
+
+// Those flags as InputOptions; errors, under the flag's name, on an unknown
+// --format or --part and a bad --frame_key or --min_confidence.
 Status BuildInputOptions(const CommandFlags& flags, InputOptions* input);
+
+// ProblemOptions::observation_weights from relative weights `given`, (F·M)
+// × P like measurements.visible: a keypoint input's confidence
+// (--confidence_weights) or the weights a Python or MATLAB caller gives.
+// They are scaled to average 1 over the visible observations, so that equal
+// weights give the unweighted reconstruction and the extra terms' λ keep
+// their balance with the data term; entries that are not visible are 0
+// (whatever `given` holds there, NaN too). Errors, naming `name`, on another
+// size, a visible entry that is negative or not finite, and when every
+// visible entry is 0.
+Status RelativeObservationWeights(const Eigen::ArrayXXd& given, const Measurements& measurements,
+                                  const std::string& name, Eigen::ArrayXXd* weights);
 
 // After the input is read: every term given a weight has the cameras it
 // needs (ExtraTerm::CheckCameras); the error names `input` and the flag,
@@ -79,6 +99,11 @@ struct ReconstructionRun {
 // Runs it on `measurements` with `options` (BuildReconstructOptions; its
 // solver.progress / stop_requested are used as given). `context` prefixes
 // the errors of a fixed K (the tool: the input path).
+// With observation weights, an error when a K to be run would leave points
+// or frames out (solvers/drop_unobserved.h): Reconstruct() passes the
+// weights of all the measurements on to the ones it keeps, whose sizes
+// differ, so such a run cannot be done yet; the error names what would be
+// left out.
 Status RunReconstruction(const CommandFlags& flags, const ReconstructOptions& options,
                          const Measurements& measurements, const std::string& context,
                          ReconstructionRun* run);
