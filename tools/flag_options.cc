@@ -242,6 +242,36 @@ Status RelativeObservationWeights(const Eigen::ArrayXXd& given, const Measuremen
   return Status::OK();
 }
 
+Status MeasurementsFromArrays(const Eigen::MatrixXd& w, const Eigen::MatrixXd& mask, int cameras,
+                              Measurements* measurements) {
+  if (cameras < 1) return Status::Error("cameras must be >= 1, got " + std::to_string(cameras));
+  Eigen::MatrixXd visible_w = w;
+  NRSFM_RETURN_IF_ERROR(Measurements::FromMatrixWithNaN(visible_w, cameras, "W", measurements));
+  if (mask.size() > 0) {
+    NRSFM_RETURN_IF_ERROR(ApplyVisibilityMask(mask, "mask", cameras, &visible_w));
+    NRSFM_RETURN_IF_ERROR(
+        Measurements::FromMatrixWithNaN(visible_w, cameras, "W", measurements));
+  }
+  return measurements->Validate().WithContext("W");
+}
+
+std::set<std::string> NotArrayReconstructFlags() {
+  std::set<std::string> names = ToolOnlyFlags();
+  names.insert(InputFlags().begin(), InputFlags().end());
+  names.insert({"K", "confidence_weights"});
+  return names;
+}
+
+Status ArrayReconstructOptions(const Measurements& measurements,
+                               const Eigen::ArrayXXd& observation_weights, CommandFlags* flags,
+                               ReconstructOptions* options) {
+  NRSFM_RETURN_IF_ERROR(CheckTermCameras(*flags, "W", measurements.num_cameras));
+  flags->confidence_weights = observation_weights.size() > 0;
+  if (!flags->confidence_weights) return Status::OK();
+  return RelativeObservationWeights(observation_weights, measurements, "observation_weights",
+                                    &options->problem.observation_weights);
+}
+
 Status CheckTermCameras(const CommandFlags& flags, const std::string& input,
                         int num_cameras) {
   const std::vector<ExtraTerm>& terms = ExtraTerms();

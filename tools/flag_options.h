@@ -76,6 +76,30 @@ Status BuildInputOptions(const CommandFlags& flags, InputOptions* input);
 Status RelativeObservationWeights(const Eigen::ArrayXXd& given, const Measurements& measurements,
                                   const std::string& name, Eigen::ArrayXXd* weights);
 
+// Measurements from a W given in memory (2FM × P, NaN = missing) and a
+// visibility mask (FM × P or 2FM × P, nonzero = visible; empty = none), as
+// the Python module and the MATLAB function take them; `cameras` = M ≥ 1.
+// Errors name "W" and "mask" (e.g. "W: only one coordinate of …").
+Status MeasurementsFromArrays(const Eigen::MatrixXd& w, const Eigen::MatrixXd& mask, int cameras,
+                              Measurements* measurements);
+
+// The flags of reconstruct that are not options of a reconstruction of
+// arrays (the Python module's reconstruct() and the MATLAB function): the
+// tool's own (ToolOnlyFlags), how a file is read (InputFlags; cameras is an
+// argument there), K (an argument) and confidence_weights (the caller gives
+// observation weights instead).
+std::set<std::string> NotArrayReconstructFlags();
+
+// The rest of the options of a reconstruction of arrays, after
+// BuildReconstructOptions and MeasurementsFromArrays: CheckTermCameras
+// (naming "W") and, from `observation_weights` (empty = none),
+// ProblemOptions::observation_weights (RelativeObservationWeights, naming
+// "observation_weights"); flags->confidence_weights is set to whether there
+// are weights, so that the report's options say so.
+Status ArrayReconstructOptions(const Measurements& measurements,
+                               const Eigen::ArrayXXd& observation_weights, CommandFlags* flags,
+                               ReconstructOptions* options);
+
 // After the input is read: every term given a weight has the cameras it
 // needs (ExtraTerm::CheckCameras); the error names `input` and the flag,
 // e.g. "s.mat: --rigidity: needs data from M >= 2 synchronised cameras, got

@@ -181,7 +181,11 @@ def test_read_raises_os_error_for_files_that_cannot_be_opened(tmp_path):
     with pytest.raises(FileNotFoundError) as info:
         nrsfm.read(tmp_path / "nope.mat")
     assert str(info.value) == str(tmp_path / "nope.mat") + ": no such file"
+    # A folder is read as OpenPose's folder of frames; one named .mat is not.
+    (tmp_path / "d.mat").mkdir()
     with pytest.raises(IsADirectoryError):
+        nrsfm.read(tmp_path / "d.mat")
+    with pytest.raises(ValueError, match="no .json files in the folder"):
         nrsfm.read(tmp_path)
     if os.geteuid() != 0:  # root reads anything
         locked = tmp_path / "locked.txt"
