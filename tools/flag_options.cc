@@ -272,6 +272,69 @@ Status ArrayReconstructOptions(const Measurements& measurements,
                                     &options->problem.observation_weights);
 }
 
+namespace {
+
+Status ParseFlagText(const std::string& /*name*/, const std::string& text, std::string* value) {
+  *value = text;
+  return Status::OK();
+}
+
+Status ParseFlagText(const std::string& name, const std::string& text, int* value) {
+  if (ParseInt(text, value)) return Status::OK();
+  return Status::Error(name + " must be an integer, got '" + text + "'");
+}
+
+Status ParseFlagText(const std::string& name, const std::string& text, std::uint64_t* value) {
+  try {
+    std::size_t used = 0;
+    const unsigned long long v = std::stoull(text, &used);
+    if (used == text.size() && text.find('-') == std::string::npos) {
+      *value = static_cast<std::uint64_t>(v);
+      return Status::OK();
+    }
+  } catch (...) {
+  }
+  return Status::Error(name + " must be an integer in [0, 2^64), got '" + text + "'");
+}
+
+Status ParseFlagText(const std::string& name, const std::string& text, double* value) {
+  try {
+    std::size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size()) {
+      *value = v;
+      return Status::OK();
+    }
+  } catch (...) {
+  }
+  return Status::Error(name + " must be a number, got '" + text + "'");
+}
+
+Status ParseFlagText(const std::string& name, const std::string& text, bool* value) {
+  if (text == "true" || text == "1") {
+    *value = true;
+  } else if (text == "false" || text == "0") {
+    *value = false;
+  } else {
+    return Status::Error(name + " must be true or false, got '" + text + "'");
+  }
+  return Status::OK();
+}
+
+}  // namespace
+
+Status SetFlagFromText(const std::string& name, const std::string& text, CommandFlags* flags) {
+#define NRSFM_SET_FLAG(type, flag_name, value, help) \
+  if (name == #flag_name) return ParseFlagText(name, text, &flags->flag_name);
+  NRSFM_COMMAND_FLAGS(NRSFM_SET_FLAG)
+#undef NRSFM_SET_FLAG
+  const std::vector<ExtraTerm>& terms = ExtraTerms();
+  for (std::size_t i = 0; i < terms.size(); ++i) {
+    if (name == terms[i].name) return ParseFlagText(name, text, &flags->term_weights[i]);
+  }
+  return Status::Error("unknown option '" + name + "'");
+}
+
 Status CheckTermCameras(const CommandFlags& flags, const std::string& input,
                         int num_cameras) {
   const std::vector<ExtraTerm>& terms = ExtraTerms();

@@ -100,6 +100,12 @@ Status ArrayReconstructOptions(const Measurements& measurements,
                                const Eigen::ArrayXXd& observation_weights, CommandFlags* flags,
                                ReconstructOptions* options);
 
+// Sets the flag `name` of `flags` (a member of NRSFM_COMMAND_FLAGS or an
+// extra term) from `text` as the command line would give it: an integer,
+// a number, "true"/"false" (or "1"/"0") or any string, by the flag's type.
+// Errors name the flag and the value; an unknown name is an error too.
+Status SetFlagFromText(const std::string& name, const std::string& text, CommandFlags* flags);
+
 // After the input is read: every term given a weight has the cameras it
 // needs (ExtraTerm::CheckCameras); the error names `input` and the flag,
 // e.g. "s.mat: --rigidity: needs data from M >= 2 synchronised cameras, got
