@@ -26,6 +26,7 @@
 #include "core/result_reader.h"
 #include "core/synthetic.h"
 #include "tests/test_util.h"
+#include "tests/tools/tool_test.h"
 
 namespace nrsfm {
 namespace {
@@ -115,20 +116,9 @@ void WriteOpenPose(const std::string& dir, const Eigen::MatrixXd& w, const Eigen
   }
 }
 
-class KeypointTest : public ::testing::Test {
+class KeypointTest : public ToolTest {
  protected:
-  void SetUp() override {
-    dir_ = testing_util::MakeTempDir("nrsfm_keypoint");
-    ASSERT_FALSE(dir_.empty());
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  RunResult Run(const std::string& args) {
-    return testing_util::RunInDirectory(dir_, NRSFM_CLI, args);
-  }
-  std::string Path(const std::string& name) const { return (fs::path(dir_) / name).string(); }
+  KeypointTest() : ToolTest("nrsfm_keypoint") {}
   nlohmann::json Result(const std::string& out) {
     return nlohmann::json::parse(testing_util::ReadFileToString(Path(out + "/result.json")));
   }
@@ -146,7 +136,6 @@ class KeypointTest : public ::testing::Test {
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_EQ(r.err.find("Check failed"), std::string::npos) << r.err;
   }
-  std::string dir_;
 };
 
 // Largest difference between two results' points, NaN where both are NaN.
