@@ -21,6 +21,8 @@ constexpr EnumName<InputFormat> kInputFormatNames[] = {
     {InputFormat::kMat, "mat"},
     {InputFormat::kText, "text"},
     {InputFormat::kList, "list"},
+    {InputFormat::kCoco, "coco"},
+    {InputFormat::kOpenPose, "openpose"},
 };
 
 std::string Lower(std::string s) {
@@ -38,16 +40,22 @@ Status DetectFormat(const std::string& path, InputFormat requested,
   }
   const std::string ext =
       Lower(std::filesystem::path(path).extension().string());
-  if (ext == ".mat") {
+  std::error_code ec;
+  if (ext != ".mat" && std::filesystem::is_directory(path, ec)) {
+    *format = InputFormat::kOpenPose;
+  } else if (ext == ".mat") {
     *format = InputFormat::kMat;
   } else if (ext == ".txt" || ext == ".csv" || ext == ".tsv" || ext == ".dat") {
     *format = InputFormat::kText;
   } else if (ext == ".obs" || ext == ".list") {
     *format = InputFormat::kList;
+  } else if (ext == ".json") {
+    *format = InputFormat::kCoco;
   } else {
     return Status::Error(
         path + ": cannot tell the input format from the extension '" + ext +
-        "' (.mat; .txt/.csv/.tsv/.dat; .obs/.list); set the format");
+        "' (.mat; .txt/.csv/.tsv/.dat; .obs/.list; .json; a folder of OpenPose "
+        ".json files); set the format");
   }
   return Status::OK();
 }
@@ -233,11 +241,12 @@ Status InputOptions::Check() const {
                                       std::to_string(num_cameras));
   check.Require(NameOf(kInputFormatNames, format) != std::string("unknown"),
                 "invalid format " + std::to_string(static_cast<int>(format)));
+  check.Nested(keypoints.Check());
   return check.status();
 }
 
 Status ReadMeasurements(const std::string& path, const InputOptions& options,
-                        Measurements* measurements) {
+                        Measurements* measurements, InputDetails* details) {
   NRSFM_RETURN_IF_ERROR(options.Check());
   InputFormat format = InputFormat::kAuto;
   NRSFM_RETURN_IF_ERROR(DetectFormat(path, options.format, &format));
@@ -250,7 +259,20 @@ Status ReadMeasurements(const std::string& path, const InputOptions& options,
         InputFormatName(format) + ")");
   }
   Measurements m;
-  if (format == InputFormat::kMat) {
+  InputDetails found;
+  if (format == InputFormat::kCoco || format == InputFormat::kOpenPose) {
+    if (options.num_cameras > 1) {
+      return Status::Error(path + ": keypoint files hold one camera, but " +
+                           std::to_string(options.num_cameras) + " cameras were asked for");
+    }
+    Keypoints keypoints;
+    NRSFM_RETURN_IF_ERROR(format == InputFormat::kCoco
+                              ? ReadCocoKeypoints(path, options.keypoints, &keypoints)
+                              : ReadOpenPoseFolder(path, options.keypoints, &keypoints));
+    m = std::move(keypoints.measurements);
+    found.confidence = std::move(keypoints.confidence);
+    found.warnings = std::move(keypoints.warnings);
+  } else if (format == InputFormat::kMat) {
     NRSFM_RETURN_IF_ERROR(ReadMatMeasurements(path, options, &m));
   } else if (format == InputFormat::kText) {
     Eigen::MatrixXd w;
@@ -268,6 +290,7 @@ Status ReadMeasurements(const std::string& path, const InputOptions& options,
   }
   NRSFM_RETURN_IF_ERROR(m.Validate().WithContext(path));
   *measurements = std::move(m);
+  if (details != nullptr) *details = std::move(found);
   return Status::OK();
 }
 

@@ -1,10 +1,16 @@
 // Measurements from an input file (README.md, "Input formats"): a MATLAB .mat file, a text
-// matrix W, or an observation list.
+// matrix W, an observation list, or detector keypoints.
 //
-// Format (options.format = kAuto decides by the extension, any case):
+// Format (options.format = kAuto decides by the extension, any case, or
+// a folder):
 //   .mat                      MATLAB v4, v5 or v7.3 (core/mat_io.h)
 //   .txt .csv .tsv .dat       text matrix W, 2FM × P (core/text_io.h)
 //   .obs .list                observation list "frame camera point u v"
+//   .json                     COCO keypoint results (core/keypoint_io.h)
+//   a folder                  OpenPose's per-frame .json files (same)
+// Keypoint inputs are monocular and in pixels with v down, and carry each
+// keypoint's score (InputDetails::confidence); options.keypoints says how
+// they are read.
 //
 // In a .mat file the measurements come from the variable options.variable,
 // or, when it is "", from the first that exists of
@@ -28,9 +34,11 @@
 #define NRSFM_CORE_READ_MEASUREMENTS_H_
 
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
+#include "core/keypoint_io.h"
 #include "core/measurements.h"
 #include "core/status.h"
 
@@ -41,8 +49,10 @@ enum class InputFormat {
   kMat,   // MATLAB .mat
   kText,  // text matrix W
   kList,  // observation list
+  kCoco,      // COCO keypoint results (.json)
+  kOpenPose,  // a folder of OpenPose per-frame .json files
 };
-// "auto", "mat", "text", "list"; the error lists them.
+// "auto", "mat", "text", "list", "coco", "openpose"; the error lists them.
 const char* InputFormatName(InputFormat format);
 Status ParseInputFormat(const std::string& name, InputFormat* format);
 
@@ -55,15 +65,33 @@ struct InputOptions {
   // the input: a .mat file's `cameras` variable, an observation list's
   // largest camera index + 1, else 1. A value >= 1 must agree with what the
   // file records (an error names both). P3_gt and X are monocular (M = 1).
+  // Keypoint inputs (M = 1).
   int num_cameras = 0;
   InputFormat format = InputFormat::kAuto;
+  // How keypoint inputs are read: frame order, OpenPose part, the least
+  // score of a visible keypoint.
+  KeypointOptions keypoints;
 
-  // Errors on num_cameras < 0 and a format not in the enum.
+  // Errors on num_cameras < 0, a format not in the enum and invalid
+  // keypoint options.
   Status Check() const;
 };
 
+// What an input holds besides the measurements.
+struct InputDetails {
+  // (F·M) × P: the detector's score of each keypoint of a keypoint input
+  // (Keypoints::confidence: NaN in frames with no person); empty for the
+  // other formats, which hold no scores.
+  Eigen::ArrayXXd confidence;
+  // Lines for the user about the input (keypoint inputs: frames with no
+  // person, frames with several); often empty.
+  std::vector<std::string> warnings;
+};
+
+// Reads `path` (header) into `measurements` and, when `details` is not
+// null, `details`. Errors name the file and what is wrong with it.
 Status ReadMeasurements(const std::string& path, const InputOptions& options,
-                        Measurements* measurements);
+                        Measurements* measurements, InputDetails* details = nullptr);
 
 // Sets `*w` (2FM × P, M = num_cameras) to NaN where `mask` says an entry is
 // not visible (0 = not visible, any other number = visible). `mask` is

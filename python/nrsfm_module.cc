@@ -274,15 +274,12 @@ FunctionOptions MakeOptions(const std::string& command, std::set<std::string> le
   return options;
 }
 
-// reconstruct(W, K, mask, cameras, progress, **options): every reconstruct
-// flag but the input file's (var, mask_var, format), the tool's files and
-// printing, and K and cameras (arguments).
+// reconstruct(W, K, mask, cameras, progress, observation_weights,
+// **options): every reconstruct flag that is an option of a reconstruction
+// of arrays (tools::NotArrayReconstructFlags()).
 const FunctionOptions& ReconstructOptionsOf() {
-  static const FunctionOptions options = [] {
-    std::set<std::string> left_out = tools::ToolOnlyFlags();
-    left_out.insert({"var", "mask_var", "format", "K", "cameras"});
-    return MakeOptions("reconstruct", left_out);
-  }();
+  static const FunctionOptions options =
+      MakeOptions("reconstruct", tools::NotArrayReconstructFlags());
   return options;
 }
 
@@ -298,13 +295,14 @@ const FunctionOptions& RefineOptionsOf() {
   return options;
 }
 
-// read(path, **options): how reconstruct and view read their input.
+// read(path, **options): how reconstruct and view read their input
+// (tools::InputFlags(), in --help order).
 const FunctionOptions& ReadOptionsOf() {
   static const FunctionOptions options = [] {
     FunctionOptions o;
     o.command = "reconstruct";
-    for (const char* name : {"cameras", "var", "mask_var", "format"}) {
-      o.flags.push_back(FindFlag(name));
+    for (const Flag& flag : Flags()) {
+      if (tools::InputFlags().count(flag.name) > 0) o.flags.push_back(&flag);
     }
     return o;
   }();
@@ -447,15 +445,11 @@ Array NewArray(const std::vector<py::ssize_t>& shape) { return Array(shape); }
 // Measurements from W (2FM × P) and an optional mask, named "W" and "mask"
 // in the messages.
 Measurements MeasurementsOf(py::handle w_object, py::handle mask_object, int cameras) {
-  if (cameras < 1) ThrowValueError("cameras must be >= 1, got " + std::to_string(cameras));
-  Eigen::MatrixXd w = ToMatrix(w_object, "W");
+  const Eigen::MatrixXd w = ToMatrix(w_object, "W");
+  const Eigen::MatrixXd mask =
+      mask_object.is_none() ? Eigen::MatrixXd() : ToMatrix(mask_object, "mask");
   Measurements m;
-  Check(Measurements::FromMatrixWithNaN(w, cameras, "W", &m));
-  if (!mask_object.is_none()) {
-    Check(ApplyVisibilityMask(ToMatrix(mask_object, "mask"), "mask", cameras, &w));
-    Check(Measurements::FromMatrixWithNaN(w, cameras, "W", &m));
-  }
-  Check(m.Validate().WithContext("W"));
+  Check(tools::MeasurementsFromArrays(w, mask, cameras, &m));
   return m;
 }
 
@@ -468,6 +462,13 @@ py::array WArray(const Measurements& m) {
     }
   }
   return std::move(w);
+}
+
+// The observation_weights argument (FM, P) as given, or empty for None
+// (tools::ArrayReconstructOptions scales them).
+Eigen::ArrayXXd ObservationWeightsOf(py::handle object) {
+  if (object.is_none()) return Eigen::ArrayXXd();
+  return ToMatrix(object, "observation_weights").array();
 }
 
 py::array MaskArray(const Measurements& m) {
@@ -743,7 +744,8 @@ py::dict JsonToDict(const std::string& text) {
 // The functions.
 
 Reconstruction Reconstruct(py::handle w, py::handle k, py::handle mask, int cameras,
-                           py::object progress, const py::kwargs& kwargs) {
+                           py::object progress, py::handle observation_weights,
+                           const py::kwargs& kwargs) {
   CommandFlags flags;
   ApplyKeywords(ReconstructOptionsOf(), "reconstruct", kwargs, &flags);
   if (py::isinstance<py::str>(k)) {
@@ -758,7 +760,8 @@ Reconstruction Reconstruct(py::handle w, py::handle k, py::handle mask, int came
   ReconstructOptions options;
   Check(tools::BuildReconstructOptions(flags, &options));
   const Measurements measurements = MeasurementsOf(w, mask, cameras);
-  Check(tools::CheckTermCameras(flags, "W", measurements.num_cameras));
+  Check(tools::ArrayReconstructOptions(measurements, ObservationWeightsOf(observation_weights),
+                                       &flags, &options));
 
   Interruptible interruptible(std::move(progress));
   interruptible.Configure(&options.solver);
@@ -801,14 +804,16 @@ Reconstruction Reconstruct(py::handle w, py::handle k, py::handle mask, int came
 }
 
 Reconstruction Refine(py::handle w, py::handle model_object, py::handle mask, int cameras,
-                      py::object progress, const py::kwargs& kwargs) {
+                      py::object progress, py::handle observation_weights,
+                      const py::kwargs& kwargs) {
   CommandFlags flags;
   ApplyKeywords(RefineOptionsOf(), "refine", kwargs, &flags);
   flags.cameras = cameras;
   ReconstructOptions options;
   Check(tools::BuildReconstructOptions(flags, &options));
   const Measurements measurements = MeasurementsOf(w, mask, cameras);
-  Check(tools::CheckTermCameras(flags, "W", measurements.num_cameras));
+  Check(tools::ArrayReconstructOptions(measurements, ObservationWeightsOf(observation_weights),
+                                       &flags, &options));
   Model model = ModelFromPython(model_object, measurements);
 
   Interruptible interruptible(std::move(progress));
@@ -838,6 +843,7 @@ Reconstruction Refine(py::handle w, py::handle model_object, py::handle mask, in
   const CommandFlags& f = flags;
   for (const Flag* flag : RefineOptionsOf().flags) used[py::str(flag->name)] = flag->get(f);
   s["options"] = used;
+  s["observation_weights"] = options.problem.observation_weights.size() > 0;
   result.summary = s;
   if (!summary.usable) {
     ThrowUnusable("the refinement did not give a usable solution (" + summary.message +
@@ -854,6 +860,9 @@ struct Tracks {
   // renumbered them (core/text_io.h, a sparse observation list); else None.
   py::object frame_ids = py::none();
   py::object point_ids = py::none();
+  // read() of a keypoint input: the detector's score of each keypoint,
+  // (FM, P), NaN in frames with no person; else None.
+  py::object confidence = py::none();
   py::object truth = py::none();  // synth: a Reconstruction of the truth
   py::object P3_gt = py::none();  // synth: camera 0's truth, (3F, P) block layout
 };
@@ -879,9 +888,26 @@ Tracks Read(py::handle path_object, const py::kwargs& kwargs) {
   InputOptions input;
   Check(tools::BuildInputOptions(flags, &input));
   Measurements m;
-  const Status status = ReadMeasurements(path, input, &m);
-  if (!status.ok()) ThrowFileError(path, status);
-  return TracksOf(m);
+  InputDetails details;
+  const Status status = ReadMeasurements(path, input, &m, &details);
+  // A folder is an input (OpenPose's) unless a file's format is asked for.
+  const std::string extension = std::filesystem::path(path).extension().string();
+  const bool folder_input = input.format == InputFormat::kOpenPose ||
+                            (input.format == InputFormat::kAuto && extension != ".mat");
+  if (!status.ok()) ThrowFileError(path, status, folder_input);
+  Tracks tracks = TracksOf(m);
+  if (details.confidence.size() > 0) {
+    Array confidence = NewArray({details.confidence.rows(), details.confidence.cols()});
+    auto a = confidence.mutable_unchecked<2>();
+    for (Eigen::Index i = 0; i < details.confidence.rows(); ++i) {
+      for (Eigen::Index j = 0; j < details.confidence.cols(); ++j) {
+        a(i, j) = details.confidence(i, j);
+      }
+    }
+    tracks.confidence = confidence;
+  }
+  Warn(details.warnings);
+  return tracks;
 }
 
 Tracks Synth(const py::kwargs& kwargs) {
@@ -1065,13 +1091,17 @@ they are copied. Outputs are new C-contiguous float64 arrays.
 )";
 
 std::string ReconstructDoc() {
-  return "reconstruct(W, K, mask=None, cameras=1, progress=None, **options) -> Reconstruction\n"
+  return "reconstruct(W, K, mask=None, cameras=1, progress=None, observation_weights=None,\n"
+         "            **options) -> Reconstruction\n"
          "\n"
          "The closed-form start and its Ceres refinement, as `nrsfm reconstruct`\n"
          "(README.md, docs/priors.md). K is an int >= 1 or 'auto'. progress, if given,\n"
          "is called as progress(iteration, cost, seconds) once per Levenberg-Marquardt\n"
          "iteration; an exception it raises (and Ctrl-C) stops the solve and is raised.\n"
          "The solve runs without the GIL.\n"
+         "observation_weights, if given, (FM, P): relative weights of the observations'\n"
+         "residuals (e.g. read()'s confidence of a keypoint input, as the tool's\n"
+         "--confidence_weights), scaled to average 1 over the visible observations.\n"
          "\n"
          "Returns a Reconstruction: the arrays below, summary (the dict nrsfm writes as\n"
          "result.json, plus K_selection with K = 'auto'), dropped_points and\n"
@@ -1085,14 +1115,16 @@ std::string ReconstructDoc() {
 }
 
 std::string RefineDoc() {
-  return "refine(W, model, mask=None, cameras=1, progress=None, **options) -> Reconstruction\n"
+  return "refine(W, model, mask=None, cameras=1, progress=None, observation_weights=None,\n"
+         "       **options) -> Reconstruction\n"
          "\n"
          "Levenberg-Marquardt refinement of a model of your own (the library's Refine(),\n"
          "solvers/refine.h) against W, with exactly the term weights given. model is a\n"
          "Reconstruction, any object with the attributes, or a dict: rotations,\n"
          "translations, weights, basis required; scales, rig_rotations, rig_scales\n"
          "optional (1, identity, 1); shapes as below. The model given is not changed.\n"
-         "progress and Ctrl-C as for reconstruct. summary: usable, converged, stopped,\n"
+         "progress, Ctrl-C and observation_weights as for reconstruct. summary: usable,\n"
+         "converged, stopped,\n"
          "message, costs, reprojection RMS, iterations, linear solver, seconds.\n"
          "Raises ValueError on bad input, and whose .result holds the model given when\n"
          "the refinement is not usable.\n"
@@ -1105,8 +1137,12 @@ std::string ReadDoc() {
   return "read(path, **options) -> Tracks\n"
          "\n"
          "Reads measurements as `nrsfm reconstruct --input` does: .mat v4/v5/v7.3 (W,\n"
-         "P3_gt or X), text/CSV W, observation list (.obs/.list). Returns Tracks with\n"
-         "W (2FM, P, NaN = missing), mask (FM, P, bool) and cameras (M). Raises OSError\n"
+         "P3_gt or X), text/CSV W, observation list (.obs/.list), COCO keypoint results\n"
+         "(.json) or a folder of OpenPose .json frames (pixels, v down). Returns Tracks\n"
+         "with W (2FM, P, NaN = missing), mask (FM, P, bool), cameras (M) and, for\n"
+         "keypoints, confidence (FM, P; the detector's scores, NaN in frames with no\n"
+         "person); what the file's frames lack (no person) is issued as NrsfmWarning.\n"
+         "Raises OSError\n"
          "(FileNotFoundError, IsADirectoryError, PermissionError) when the file cannot be\n"
          "opened, ValueError when its contents are at fault.\n"
          "\n"
@@ -1204,6 +1240,9 @@ PYBIND11_MODULE(nrsfm, m) {
                     "for a W over all its indices was renumbered to the frames it mentions; "
                     "else None")
       .def_readonly("point_ids", &Tracks::point_ids, "read: likewise for the points; else None")
+      .def_readonly("confidence", &Tracks::confidence,
+                    "read of a keypoint input: (FM, P) detector scores, NaN in frames with "
+                    "no person; else None")
       .def_readonly("truth", &Tracks::truth,
                     "synth: a Reconstruction of the truth (reproject: the path of the "
                     "written file, scored in its object frame); else None")
@@ -1217,10 +1256,10 @@ PYBIND11_MODULE(nrsfm, m) {
   m.attr("NrsfmWarning") = NrsfmWarning();
   m.def("reconstruct", &Reconstruct, Keep(ReconstructDoc()), py::arg("W"), py::arg("K"),
         py::arg("mask") = py::none(), py::arg("cameras") = 1,
-        py::arg("progress") = py::none());
+        py::arg("progress") = py::none(), py::arg("observation_weights") = py::none());
   m.def("refine", &Refine, Keep(RefineDoc()), py::arg("W"), py::arg("model"),
         py::arg("mask") = py::none(), py::arg("cameras") = 1,
-        py::arg("progress") = py::none());
+        py::arg("progress") = py::none(), py::arg("observation_weights") = py::none());
   m.def("read", &Read, Keep(ReadDoc()), py::arg("path"));
   m.def("evaluate", &Evaluate, Keep(EvaluateDoc()), py::arg("truth"), py::arg("result"));
   m.def("synth", &Synth, Keep(SynthDoc()));

@@ -29,6 +29,19 @@ int FewestPointsOfFrame(const Measurements& m, const std::vector<bool>& point_ke
   return fewest;
 }
 
+// The indices 0 … count − 1 that are not in `left_out` (ascending), in order.
+std::vector<int> KeptIndices(int count, const std::vector<int>& left_out) {
+  std::vector<int> kept;
+  for (int index = 0, i = 0; index < count; ++index) {
+    if (i < static_cast<int>(left_out.size()) && left_out[i] == index) {
+      ++i;
+    } else {
+      kept.push_back(index);
+    }
+  }
+  return kept;
+}
+
 }  // namespace
 
 int MinViewsPerPoint(int num_bases) {
@@ -102,21 +115,8 @@ Status FindUnobserved(const Measurements& measurements, int num_bases,
 Measurements WithoutUnobserved(const Measurements& measurements,
                                const Unobserved& unobserved) {
   const Measurements& m = measurements;
-  std::vector<int> frames, points;
-  for (int t = 0, i = 0; t < m.num_frames; ++t) {
-    if (i < static_cast<int>(unobserved.frames.size()) && unobserved.frames[i] == t) {
-      ++i;
-    } else {
-      frames.push_back(t);
-    }
-  }
-  for (int p = 0, i = 0; p < m.num_points; ++p) {
-    if (i < static_cast<int>(unobserved.points.size()) && unobserved.points[i] == p) {
-      ++i;
-    } else {
-      points.push_back(p);
-    }
-  }
+  const std::vector<int> frames = KeptIndices(m.num_frames, unobserved.frames);
+  const std::vector<int> points = KeptIndices(m.num_points, unobserved.points);
   Measurements kept;
   kept.num_frames = static_cast<int>(frames.size());
   kept.num_cameras = m.num_cameras;
@@ -128,6 +128,27 @@ Measurements WithoutUnobserved(const Measurements& measurements,
       for (int j = 0; j < kept.num_points; ++j) {
         kept.W.block<2, 1>(kept.Row(i, c), j) = m.W.block<2, 1>(m.Row(frames[i], c), points[j]);
         kept.visible(kept.View(i, c), j) = m.visible(m.View(frames[i], c), points[j]);
+      }
+    }
+  }
+  return kept;
+}
+
+Eigen::ArrayXXd WithoutUnobserved(const Eigen::ArrayXXd& per_observation,
+                                  const Measurements& measurements,
+                                  const Unobserved& unobserved) {
+  const Measurements& m = measurements;
+  if (per_observation.rows() != m.NumViews() || per_observation.cols() != m.num_points) {
+    return per_observation;
+  }
+  const std::vector<int> frames = KeptIndices(m.num_frames, unobserved.frames);
+  const std::vector<int> points = KeptIndices(m.num_points, unobserved.points);
+  const int num_cameras = m.num_cameras;
+  Eigen::ArrayXXd kept(static_cast<int>(frames.size()) * num_cameras, points.size());
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    for (int c = 0; c < num_cameras; ++c) {
+      for (std::size_t j = 0; j < points.size(); ++j) {
+        kept(i * num_cameras + c, j) = per_observation(m.View(frames[i], c), points[j]);
       }
     }
   }

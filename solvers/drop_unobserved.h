@@ -46,6 +46,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "core/measurements.h"
 #include "core/model.h"
 #include "core/status.h"
@@ -75,6 +77,15 @@ Status FindUnobserved(const Measurements& measurements, int num_bases,
 // keep their order (renumbered 0, 1, …).
 Measurements WithoutUnobserved(const Measurements& measurements,
                                const Unobserved& unobserved);
+
+// Per-observation values of `measurements`, (F·M) × P like
+// Measurements::visible (e.g. ProblemOptions::observation_weights), for the
+// observations WithoutUnobserved(measurements) keeps, in its order. An
+// array of another size (an empty one too) is returned unchanged, so that
+// whoever checks the size against the measurements reports it.
+Eigen::ArrayXXd WithoutUnobserved(const Eigen::ArrayXXd& per_observation,
+                                  const Measurements& measurements,
+                                  const Unobserved& unobserved);
 
 // A model of WithoutUnobserved(measurements) on the full index of
 // `measurements` (F, M, P of the input, K of the model): the kept frames'

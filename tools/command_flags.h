@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/keypoint_io.h"
 #include "core/read_measurements.h"
 #include "core/synthetic.h"
 #include "problems/extra_terms.h"
@@ -24,8 +25,9 @@
 // X(type, name, default, help)
 #define NRSFM_COMMAND_FLAGS(X)                                                   \
   X(std::string, input, "",                                                      \
-    "reconstruct, view: input file (.mat v4/v5/v7.3, text/CSV W, or an "         \
-    "observation list .obs/.list 'frame camera point u v'); synth --dataset "   \
+    "reconstruct, view: input file (.mat v4/v5/v7.3, text/CSV W, an "            \
+    "observation list .obs/.list 'frame camera point u v', COCO keypoint "       \
+    "results .json, or a folder of OpenPose .json frames); synth --dataset "    \
     "reproject: the source truth (.mat with S+Rs, P3_gt or X).")                 \
   X(std::string, var, ::nrsfm::InputOptions().variable,                          \
     "reconstruct, view: variable of a .mat input (default: W, then P3_gt, "      \
@@ -35,7 +37,19 @@
     "(nonzero = visible).")                                                      \
   X(std::string, format,                                                         \
     ::nrsfm::InputFormatName(::nrsfm::InputOptions().format),                    \
-    "reconstruct, view: input format auto|mat|text|list.")                       \
+    "reconstruct, view: input format auto|mat|text|list|coco|openpose (auto: "   \
+    "by the extension, .json = coco; a folder = openpose).")                     \
+  X(std::string, frame_key, ::nrsfm::KeypointOptions().frame_key,                \
+    "reconstruct, view: COCO keypoint input: the field of each entry that "      \
+    "orders the frames (integers: every number from the smallest to the "       \
+    "largest is a frame, one without an entry has no person).")                  \
+  X(std::string, part,                                                           \
+    ::nrsfm::KeypointPartName(::nrsfm::KeypointOptions().part),                  \
+    "reconstruct, view: OpenPose input: the keypoints of people[0] that are "    \
+    "the points, pose|face|hand_left|hand_right.")                               \
+  X(double, min_confidence, ::nrsfm::KeypointOptions().min_confidence,           \
+    "reconstruct, view: keypoint input: a keypoint whose detector score is "     \
+    "below this is missing (a score of 0 always is).")                           \
   X(int, cameras, ::nrsfm::InputOptions().num_cameras,                           \
     "reconstruct: number of synchronised cameras M of a W input with 2FM rows; " \
     "0 = what the file records (a .mat file's 'cameras' variable, an "          \
@@ -75,6 +89,9 @@
     "reconstruct: blocks held at their start values during the refinement, a "  \
     "comma list of rotations,translations,weights,basis,scales,rig (e.g. "      \
     "your own cameras with --init and refine, or refine in Python).")           \
+  X(bool, confidence_weights, false,                                             \
+    "reconstruct: keypoint input: weight each observation's residual by its "    \
+    "detector score (the scores scaled to average 1 over the visible points).")  \
   X(int, max_iterations, ::nrsfm::SolverOptions().max_iterations,                \
     "reconstruct: Levenberg-Marquardt iterations.")                              \
   X(int, threads, ::nrsfm::SolverOptions().num_threads,                          \

@@ -69,8 +69,19 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
   InputOptions input_options;
   NRSFM_RETURN_IF_ERROR(BuildInputOptions(flags, &input_options));
   Measurements measurements;
-  NRSFM_RETURN_IF_ERROR(ReadMeasurements(flags.input, input_options, &measurements));
+  InputDetails details;
+  NRSFM_RETURN_IF_ERROR(ReadMeasurements(flags.input, input_options, &measurements, &details));
   NRSFM_RETURN_IF_ERROR(CheckTermCameras(flags, flags.input, measurements.num_cameras));
+  if (flags.confidence_weights) {
+    if (details.confidence.size() == 0) {
+      return Status::Error("--confidence_weights: " + flags.input +
+                           " holds no detector scores (only keypoint inputs do: COCO "
+                           "results .json, OpenPose folders)");
+    }
+    NRSFM_RETURN_IF_ERROR(RelativeObservationWeights(details.confidence, measurements,
+                                                     flags.input + ": confidence",
+                                                     &options.problem.observation_weights));
+  }
 
   GroundTruth truth;
   if (!flags.truth.empty()) {
@@ -140,6 +151,8 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
       MakeReport(flags, flags.input, run, flags.truth.empty() ? nullptr : &errors);
   const std::string renumbered = RenumberedInputWarning(measurements);
   if (!renumbered.empty()) report.warnings.insert(report.warnings.begin(), renumbered);
+  report.warnings.insert(report.warnings.begin(), details.warnings.begin(),
+                         details.warnings.end());
 
   WriteOptions write_options;
   write_options.write_ply = flags.ply;

@@ -13,6 +13,7 @@
 
 #include "core/result_reader.h"
 #include "problems/extra_terms.h"
+#include "solvers/drop_unobserved.h"
 
 namespace nrsfm {
 namespace tools {
@@ -212,12 +213,157 @@ Status BuildReconstructOptions(const CommandFlags& flags, ReconstructOptions* op
   return options->Check();
 }
 
+const std::set<std::string>& InputFlags() {
+  static const std::set<std::string> names = {"var",       "mask_var", "format",
+                                              "cameras",   "frame_key", "part",
+                                              "min_confidence"};
+  return names;
+}
+
 Status BuildInputOptions(const CommandFlags& flags, InputOptions* input) {
   *input = InputOptions();
   input->variable = flags.var;
   input->mask_variable = flags.mask_var;
   input->num_cameras = flags.cameras;
-  return ParseInputFormat(flags.format, &input->format).WithContext("--format");
+  NRSFM_RETURN_IF_ERROR(ParseInputFormat(flags.format, &input->format).WithContext("--format"));
+  NRSFM_RETURN_IF_ERROR(
+      ParseKeypointPart(flags.part, &input->keypoints.part).WithContext("--part"));
+  NRSFM_RETURN_IF_ERROR(CheckFlag<KeypointOptions>(
+      "frame_key", [&](KeypointOptions* o) { o->frame_key = flags.frame_key; }));
+  NRSFM_RETURN_IF_ERROR(CheckFlag<KeypointOptions>(
+      "min_confidence", [&](KeypointOptions* o) { o->min_confidence = flags.min_confidence; }));
+  input->keypoints.frame_key = flags.frame_key;
+  input->keypoints.min_confidence = flags.min_confidence;
+  return Status::OK();
+}
+
+Status RelativeObservationWeights(const Eigen::ArrayXXd& given, const Measurements& measurements,
+                                  const std::string& name, Eigen::ArrayXXd* weights) {
+  const Measurements& m = measurements;
+  if (given.rows() != m.NumViews() || given.cols() != m.num_points) {
+    return Status::Error(name + " is " + std::to_string(given.rows()) + " x " +
+                         std::to_string(given.cols()) + ", expected " +
+                         std::to_string(m.NumViews()) + " x " + std::to_string(m.num_points) +
+                         " (one weight per frame and camera, and point)");
+  }
+  double sum = 0.0;
+  for (int view = 0; view < m.NumViews(); ++view) {
+    for (int p = 0; p < m.num_points; ++p) {
+      if (!m.visible(view, p)) continue;
+      const double w = given(view, p);
+      if (!(std::isfinite(w) && w >= 0.0)) {
+        std::ostringstream msg;
+        msg << name << ": the weight of the visible observation of view " << view
+            << ", point " << p << " is " << w << "; weights must be finite and >= 0";
+        return Status::Error(msg.str());
+      }
+      sum += w;
+    }
+  }
+  if (!(sum > 0.0)) {
+    return Status::Error(name + ": every visible observation has weight 0");
+  }
+  const double scale = m.NumVisible() / sum;
+  *weights = Eigen::ArrayXXd::Zero(m.NumViews(), m.num_points);
+  for (int view = 0; view < m.NumViews(); ++view) {
+    for (int p = 0; p < m.num_points; ++p) {
+      if (m.visible(view, p)) (*weights)(view, p) = given(view, p) * scale;
+    }
+  }
+  return Status::OK();
+}
+
+Status MeasurementsFromArrays(const Eigen::MatrixXd& w, const Eigen::MatrixXd& mask, int cameras,
+                              Measurements* measurements) {
+  if (cameras < 1) return Status::Error("cameras must be >= 1, got " + std::to_string(cameras));
+  Eigen::MatrixXd visible_w = w;
+  NRSFM_RETURN_IF_ERROR(Measurements::FromMatrixWithNaN(visible_w, cameras, "W", measurements));
+  if (mask.size() > 0) {
+    NRSFM_RETURN_IF_ERROR(ApplyVisibilityMask(mask, "mask", cameras, &visible_w));
+    NRSFM_RETURN_IF_ERROR(
+        Measurements::FromMatrixWithNaN(visible_w, cameras, "W", measurements));
+  }
+  return measurements->Validate().WithContext("W");
+}
+
+std::set<std::string> NotArrayReconstructFlags() {
+  std::set<std::string> names = ToolOnlyFlags();
+  names.insert(InputFlags().begin(), InputFlags().end());
+  names.insert({"K", "confidence_weights"});
+  return names;
+}
+
+Status ArrayReconstructOptions(const Measurements& measurements,
+                               const Eigen::ArrayXXd& observation_weights, CommandFlags* flags,
+                               ReconstructOptions* options) {
+  NRSFM_RETURN_IF_ERROR(CheckTermCameras(*flags, "W", measurements.num_cameras));
+  flags->confidence_weights = observation_weights.size() > 0;
+  if (!flags->confidence_weights) return Status::OK();
+  return RelativeObservationWeights(observation_weights, measurements, "observation_weights",
+                                    &options->problem.observation_weights);
+}
+
+namespace {
+
+Status ParseFlagText(const std::string& /*name*/, const std::string& text, std::string* value) {
+  *value = text;
+  return Status::OK();
+}
+
+Status ParseFlagText(const std::string& name, const std::string& text, int* value) {
+  if (ParseInt(text, value)) return Status::OK();
+  return Status::Error(name + " must be an integer, got '" + text + "'");
+}
+
+Status ParseFlagText(const std::string& name, const std::string& text, std::uint64_t* value) {
+  try {
+    std::size_t used = 0;
+    const unsigned long long v = std::stoull(text, &used);
+    if (used == text.size() && text.find('-') == std::string::npos) {
+      *value = static_cast<std::uint64_t>(v);
+      return Status::OK();
+    }
+  } catch (...) {
+  }
+  return Status::Error(name + " must be an integer in [0, 2^64), got '" + text + "'");
+}
+
+Status ParseFlagText(const std::string& name, const std::string& text, double* value) {
+  try {
+    std::size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size()) {
+      *value = v;
+      return Status::OK();
+    }
+  } catch (...) {
+  }
+  return Status::Error(name + " must be a number, got '" + text + "'");
+}
+
+Status ParseFlagText(const std::string& name, const std::string& text, bool* value) {
+  if (text == "true" || text == "1") {
+    *value = true;
+  } else if (text == "false" || text == "0") {
+    *value = false;
+  } else {
+    return Status::Error(name + " must be true or false, got '" + text + "'");
+  }
+  return Status::OK();
+}
+
+}  // namespace
+
+Status SetFlagFromText(const std::string& name, const std::string& text, CommandFlags* flags) {
+#define NRSFM_SET_FLAG(type, flag_name, value, help) \
+  if (name == #flag_name) return ParseFlagText(name, text, &flags->flag_name);
+  NRSFM_COMMAND_FLAGS(NRSFM_SET_FLAG)
+#undef NRSFM_SET_FLAG
+  const std::vector<ExtraTerm>& terms = ExtraTerms();
+  for (std::size_t i = 0; i < terms.size(); ++i) {
+    if (name == terms[i].name) return ParseFlagText(name, text, &flags->term_weights[i]);
+  }
+  return Status::Error("unknown option '" + name + "'");
 }
 
 Status CheckTermCameras(const CommandFlags& flags, const std::string& input,
@@ -239,11 +385,37 @@ Status ReadTruth(const std::string& path, const std::string& variable, GroundTru
   return ReadGroundTruth(path, variable, truth);
 }
 
+namespace {
+
+// The error of RunReconstruction (header) when a weighted run with K bases
+// would leave points or frames out.
+Status CheckWeightedRunLeavesNothingOut(const Measurements& measurements, int num_bases) {
+  Unobserved unobserved;
+  if (!FindUnobserved(measurements, num_bases, &unobserved).ok() || unobserved.empty()) {
+    return Status::OK();  // nothing left out, or Reconstruct() says what is wrong
+  }
+  return Status::Error(
+      "observation weights (--confidence_weights) with K = " + std::to_string(num_bases) +
+      ": the reconstruction would leave points or frames out, which a weighted run cannot "
+      "do yet (" + UnobservedWarning(measurements, unobserved) +
+      "); reconstruct without the weights, or with a lower --min_confidence or K");
+}
+
+}  // namespace
+
 Status RunReconstruction(const CommandFlags& flags, const ReconstructOptions& options,
                          const Measurements& measurements, const std::string& context,
                          ReconstructionRun* run) {
   *run = ReconstructionRun();
   NRSFM_RETURN_IF_ERROR(ParseNumBasesFlag(flags.K, &run->auto_k, &run->num_bases));
+  if (options.problem.observation_weights.size() > 0) {
+    const int lowest = run->auto_k ? 1 : run->num_bases;
+    const int highest = run->auto_k ? flags.K_max : run->num_bases;
+    for (int k = lowest; k <= highest; ++k) {
+      const Status status = CheckWeightedRunLeavesNothingOut(measurements, k);
+      if (!status.ok()) return context.empty() ? status : status.WithContext(context);
+    }
+  }
   if (run->auto_k) {
     SelectNumBasesOptions select_options;
     select_options.max_num_bases = flags.K_max;

@@ -11,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "core/ground_truth.h"
 #include "core/mat_io.h"
 #include "core/measurements.h"
@@ -58,8 +60,56 @@ Status ParseHeldBlocks(const std::string& list, ProblemOptions* options);
 // "--K_max: K selection: max_num_bases must be >= 2, got 1".
 Status BuildReconstructOptions(const CommandFlags& flags, ReconstructOptions* options);
 
-// --var, --mask_var, --format and --cameras; errors on an unknown --format.
+// The flags that say how --input is read: --var, --mask_var, --format,
+// --cameras and the keypoint inputs' --frame_key, --part, --min_confidence
+// (the keywords of the Python module's read()).
+const std::set<std::string>& InputFlags();
+
+// Those flags as InputOptions; errors, under the flag's name, on an unknown
+// --format or --part and a bad --frame_key or --min_confidence.
 Status BuildInputOptions(const CommandFlags& flags, InputOptions* input);
+
+// ProblemOptions::observation_weights from relative weights `given`, (F·M)
+// × P like measurements.visible: a keypoint input's confidence
+// (--confidence_weights) or the weights a Python or MATLAB caller gives.
+// They are scaled to average 1 over the visible observations, so that equal
+// weights give the unweighted reconstruction and the extra terms' λ keep
+// their balance with the data term; entries that are not visible are 0
+// (whatever `given` holds there, NaN too). Errors, naming `name`, on another
+// size, a visible entry that is negative or not finite, and when every
+// visible entry is 0.
+Status RelativeObservationWeights(const Eigen::ArrayXXd& given, const Measurements& measurements,
+                                  const std::string& name, Eigen::ArrayXXd* weights);
+
+// Measurements from a W given in memory (2FM × P, NaN = missing) and a
+// visibility mask (FM × P or 2FM × P, nonzero = visible; empty = none), as
+// the Python module and the MATLAB function take them; `cameras` = M ≥ 1.
+// Errors name "W" and "mask" (e.g. "W: only one coordinate of …").
+Status MeasurementsFromArrays(const Eigen::MatrixXd& w, const Eigen::MatrixXd& mask, int cameras,
+                              Measurements* measurements);
+
+// The flags of reconstruct that are not options of a reconstruction of
+// arrays (the Python module's reconstruct() and the MATLAB function): the
+// tool's own (ToolOnlyFlags), how a file is read (InputFlags; cameras is an
+// argument there), K (an argument) and confidence_weights (the caller gives
+// observation weights instead).
+std::set<std::string> NotArrayReconstructFlags();
+
+// The rest of the options of a reconstruction of arrays, after
+// BuildReconstructOptions and MeasurementsFromArrays: CheckTermCameras
+// (naming "W") and, from `observation_weights` (empty = none),
+// ProblemOptions::observation_weights (RelativeObservationWeights, naming
+// "observation_weights"); flags->confidence_weights is set to whether there
+// are weights, so that the report's options say so.
+Status ArrayReconstructOptions(const Measurements& measurements,
+                               const Eigen::ArrayXXd& observation_weights, CommandFlags* flags,
+                               ReconstructOptions* options);
+
+// Sets the flag `name` of `flags` (a member of NRSFM_COMMAND_FLAGS or an
+// extra term) from `text` as the command line would give it: an integer,
+// a number, "true"/"false" (or "1"/"0") or any string, by the flag's type.
+// Errors name the flag and the value; an unknown name is an error too.
+Status SetFlagFromText(const std::string& name, const std::string& text, CommandFlags* flags);
 
 // After the input is read: every term given a weight has the cameras it
 // needs (ExtraTerm::CheckCameras); the error names `input` and the flag,
@@ -84,6 +134,11 @@ struct ReconstructionRun {
 // Runs it on `measurements` with `options` (BuildReconstructOptions; its
 // solver.progress / stop_requested are used as given). `context` prefixes
 // the errors of a fixed K (the tool: the input path).
+// With observation weights, an error when a K to be run would leave points
+// or frames out (solvers/drop_unobserved.h): Reconstruct() passes the
+// weights of all the measurements on to the ones it keeps, whose sizes
+// differ, so such a run cannot be done yet; the error names what would be
+// left out.
 Status RunReconstruction(const CommandFlags& flags, const ReconstructOptions& options,
                          const Measurements& measurements, const std::string& context,
                          ReconstructionRun* run);

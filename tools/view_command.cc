@@ -3,6 +3,7 @@
 #include <iomanip>
 #include <string>
 
+#include "tools/flag_options.h"
 #include "tools/view_data.h"
 #include "tools/view_page.h"
 
@@ -17,10 +18,7 @@ Status RunView(const CommandFlags& flags, std::ostream& out) {
   options.truth_path = flags.truth;
   options.truth_variable = flags.truth_var;
   options.input_path = flags.input;
-  options.input_variable = flags.var;
-  options.input_mask_variable = flags.mask_var;
-  NRSFM_RETURN_IF_ERROR(
-      ParseInputFormat(flags.format, &options.input_format).WithContext("--format"));
+  NRSFM_RETURN_IF_ERROR(BuildInputOptions(flags, &options.input));
   ViewData data;
   NRSFM_RETURN_IF_ERROR(GatherViewData(options, &data));
   const std::string html =

@@ -36,8 +36,17 @@ bool IsIndex(double value) {
   return value >= 0 && value < 2147483647.0 && value == std::floor(value);
 }
 
+// `x` minus the mean of its finite points (a point the reconstruction left
+// out is NaN and stays so).
 Eigen::Matrix3Xd Centred(const Eigen::Matrix3Xd& x) {
-  return x.colwise() - x.rowwise().mean();
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  int count = 0;
+  for (Eigen::Index p = 0; p < x.cols(); ++p) {
+    if (!x.col(p).allFinite()) continue;
+    sum += x.col(p);
+    ++count;
+  }
+  return x.colwise() - (count > 0 ? Eigen::Vector3d(sum / count) : Eigen::Vector3d::Zero());
 }
 
 // translations.csv (frame,camera,tx,ty,scale): T_tc per view, 2 × FM
@@ -70,12 +79,17 @@ Status ReadTranslations(const std::string& dir, int num_frames,
                          std::to_string(static_cast<long>(num_frames) * cameras));
   }
   Eigen::Matrix2Xd result = Eigen::Matrix2Xd::Constant(2, num_frames * cameras, kNaN);
+  std::vector<bool> seen(num_frames * cameras, false);
   for (Eigen::Index r = 0; r < table.rows(); ++r) {
     const int view = static_cast<int>(table(r, 0)) * cameras + static_cast<int>(table(r, 1));
     const std::string where = file + ": frame " + Str(static_cast<int>(table(r, 0))) +
                               ", camera " + Str(static_cast<int>(table(r, 1)));
-    if (!std::isnan(result(0, view))) return Status::Error(where + " appears twice");
-    if (!table.block<1, 2>(r, 2).allFinite()) {
+    if (seen[view]) return Status::Error(where + " appears twice");
+    seen[view] = true;
+    // A frame the reconstruction left out has nan, nan (result.json's
+    // dropped_frames).
+    const bool left_out = table.block<1, 2>(r, 2).array().isNaN().all();
+    if (!left_out && !table.block<1, 2>(r, 2).allFinite()) {
       return Status::Error(where + ": tx, ty are not finite");
     }
     result.col(view) = table.block<1, 2>(r, 2).transpose();
@@ -187,15 +201,36 @@ Status AddTruth(const ViewDataOptions& options, const GroundTruth& estimate,
           : "camera 0's frame (points_camera.csv), as nrsfm evaluate scores it";
   const std::vector<Eigen::Matrix3Xd>& shown = ScoredShapes(estimate, frame);
   const std::vector<Eigen::Matrix3Xd>& truth_shapes = ScoredShapes(truth, frame);
-  const E3DDetail detail = ComputeE3DDetail(truth_shapes, shown);
+  // What the reconstruction left out (NaN) is not scored (EvaluateShapes):
+  // the alignment and the errors are of the kept frames and points, each
+  // frame centred on its kept points.
+  const std::vector<int>& out_frames = data->metrics.unscored_frames;
+  const std::vector<int>& out_points = data->metrics.unscored_points;
+  std::vector<int> kept_points;
+  for (int p = 0; p < data->num_points; ++p) {
+    if (!std::binary_search(out_points.begin(), out_points.end(), p)) kept_points.push_back(p);
+  }
+  std::vector<Eigen::Matrix3Xd> kept_truth, kept_shown;
+  for (int t = 0; t < data->num_frames; ++t) {
+    if (std::binary_search(out_frames.begin(), out_frames.end(), t)) continue;
+    kept_truth.push_back(truth_shapes[t](Eigen::all, kept_points));
+    kept_shown.push_back(shown[t](Eigen::all, kept_points));
+  }
+  const E3DDetail detail = ComputeE3DDetail(kept_truth, kept_shown);
+  const auto centred = [&kept_points](const Eigen::Matrix3Xd& x) -> Eigen::Matrix3Xd {
+    const Eigen::Vector3d mean = x(Eigen::all, kept_points).rowwise().mean();
+    return x.colwise() - mean;
+  };
   data->estimate.clear();
   data->truth_aligned.clear();
-  data->frame_error.resize(data->num_frames);
-  for (int t = 0; t < data->num_frames; ++t) {
-    data->estimate.push_back(Centred(shown[t]));
+  data->frame_error = Eigen::VectorXd::Constant(data->num_frames, kNaN);
+  for (int t = 0, k = 0; t < data->num_frames; ++t) {
+    data->estimate.push_back(centred(shown[t]));
     // Y is orthogonal: ||X − Y X̂|| = ||Yᵀ X − X̂||.
-    data->truth_aligned.push_back(detail.alignment.transpose() * Centred(truth_shapes[t]));
-    data->frame_error(t) = detail.frame_errors[t];
+    data->truth_aligned.push_back(detail.alignment.transpose() * centred(truth_shapes[t]));
+    if (!std::binary_search(out_frames.begin(), out_frames.end(), t)) {
+      data->frame_error(t) = detail.frame_errors[k++];
+    }
   }
   data->has_truth = true;
   return Status::OK();
@@ -203,12 +238,14 @@ Status AddTruth(const ViewDataOptions& options, const GroundTruth& estimate,
 
 Status AddTracks(const ViewDataOptions& options, const std::string& result_dir,
                  Measurements* measurements, ViewData* data) {
-  InputOptions input_options;
-  input_options.variable = options.input_variable;
-  input_options.mask_variable = options.input_mask_variable;
-  input_options.format = options.input_format;
+  InputOptions input_options = options.input;
   input_options.num_cameras = data->num_cameras;
-  NRSFM_RETURN_IF_ERROR(ReadMeasurements(options.input_path, input_options, measurements));
+  InputDetails details;
+  NRSFM_RETURN_IF_ERROR(
+      ReadMeasurements(options.input_path, input_options, measurements, &details));
+  for (const std::string& warning : details.warnings) {
+    data->notes.push_back(options.input_path + ": " + warning);
+  }
   const Measurements& m = *measurements;
   if (m.num_frames != data->num_frames || m.num_cameras != data->num_cameras ||
       m.num_points != data->num_points) {

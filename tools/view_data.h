@@ -35,9 +35,10 @@ struct ViewDataOptions {
   // directory; "" = none. `truth_variable` as --truth_var.
   std::string truth_path, truth_variable;
   // The 2D tracks the result was reconstructed from (any input format of
-  // core/read_measurements.h); "" = none. Read with the result's M cameras.
-  std::string input_path, input_variable, input_mask_variable;
-  InputFormat input_format = InputFormat::kAuto;
+  // core/read_measurements.h, read with `input`); "" = none. Read with the
+  // result's M cameras (input.num_cameras is not used).
+  std::string input_path;
+  InputOptions input;
 };
 
 struct ViewData {

@@ -181,7 +181,11 @@ def test_read_raises_os_error_for_files_that_cannot_be_opened(tmp_path):
     with pytest.raises(FileNotFoundError) as info:
         nrsfm.read(tmp_path / "nope.mat")
     assert str(info.value) == str(tmp_path / "nope.mat") + ": no such file"
+    # A folder is read as OpenPose's folder of frames; one named .mat is not.
+    (tmp_path / "d.mat").mkdir()
     with pytest.raises(IsADirectoryError):
+        nrsfm.read(tmp_path / "d.mat")
+    with pytest.raises(ValueError, match="no .json files in the folder"):
         nrsfm.read(tmp_path)
     if os.geteuid() != 0:  # root reads anything
         locked = tmp_path / "locked.txt"
@@ -203,7 +207,8 @@ def test_read_raises_value_error_for_bad_contents(tmp_path):
     (tmp_path / "w.txtx").write_text("1 2\n3 4\n")
     assert "cannot tell the input format" in message(nrsfm.read, tmp_path / "w.txtx")
     assert message(nrsfm.read, tmp_path / "w.dat", format="xml") == \
-        '--format: input format: unknown value "xml" (expected one of auto, mat, text, list)'
+        '--format: input format: unknown value "xml" (expected one of auto, mat, text, list, ' \
+        'coco, openpose)'
 
 
 def test_read_takes_the_cameras_from_the_file_and_names_both_counts(tmp_path):

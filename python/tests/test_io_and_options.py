@@ -133,7 +133,12 @@ def test_keywords_are_the_tools_flags_with_its_defaults():
                  "temporal", "temporal_rotations", "temporal_shape", "rotation_acceleration"):
         assert name in reconstruct
     assert set(nrsfm.OPTIONS["refine"]) < reconstruct
-    assert set(nrsfm.OPTIONS["read"]) == {"cameras", "var", "mask_var", "format"}
+    assert set(nrsfm.OPTIONS["read"]) == {"cameras", "var", "mask_var", "format", "frame_key",
+                                          "part", "min_confidence"}
+    # How a file is read, and weights from a file's scores, are not options
+    # of a reconstruction of arrays (observation_weights is an argument).
+    for name in nrsfm.OPTIONS["read"].keys() | {"confidence_weights"}:
+        assert name not in reconstruct
 
 
 def test_docstrings_describe_every_keyword():

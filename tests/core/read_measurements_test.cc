@@ -327,7 +327,8 @@ TEST(ReadMeasurements, BadInputsGiveClearErrors) {
                        "can only be named for .mat input"));
   InputFormat format = InputFormat::kAuto;
   EXPECT_EQ(ParseInputFormat("xml", &format).message(),
-            "input format: unknown value \"xml\" (expected one of auto, mat, text, list)");
+            "input format: unknown value \"xml\" (expected one of auto, mat, text, list, coco, "
+            "openpose)");
   ASSERT_TRUE(ParseInputFormat("list", &format).ok());
   EXPECT_EQ(format, InputFormat::kList);
   EXPECT_STREQ(InputFormatName(InputFormat::kText), "text");

@@ -5,12 +5,12 @@
 # writes those itself, so they are not committed) and the inputs kept before
 # it. Inputs named crash-* (ones that broke a reader) are always kept.
 #
-#   tests/fuzz/merge_corpus.sh <fuzz build dir> <mat|text|list> <input dir>...
+#   tests/fuzz/merge_corpus.sh <fuzz build dir> <mat|text|list|keypoints> <input dir>...
 #
 # It runs one fuzz target process; run it when no other fuzzer is running.
 set -euo pipefail
 if [ $# -lt 3 ]; then
-  echo "usage: $0 <fuzz build dir> <mat|text|list> <input dir>..." >&2
+  echo "usage: $0 <fuzz build dir> <mat|text|list|keypoints> <input dir>..." >&2
   exit 2
 fi
 build=$(cd "$1" && pwd)
@@ -20,7 +20,8 @@ case $kind in
   mat) target=fuzz_mat_reader ;;
   text) target=fuzz_text_reader ;;
   list) target=fuzz_observation_list ;;
-  *) echo "$0: the kind must be mat, text or list, not '$kind'" >&2; exit 2 ;;
+  keypoints) target=fuzz_keypoints ;;
+  *) echo "$0: the kind must be mat, text, list or keypoints, not '$kind'" >&2; exit 2 ;;
 esac
 fuzz_dir=$(cd "$(dirname "$0")" && pwd)
 corpus=$fuzz_dir/corpus/$kind

@@ -1,7 +1,7 @@
 // Writes the seed corpora of the fuzz targets, with the project's own
 // writers and the hand-made v5 files of tests/mat_v5_bytes.h (uncompressed
 // v5, empty arrays of every shape, cells and structs with empty fields),
-// into <out>/{mat,text,list}/ (and empty <out>/work/{mat,text,list}/ for the
+// into <out>/{mat,text,list,keypoints}/ (and empty <out>/work/<kind>/ for the
 // inputs libFuzzer finds while it runs):
 //   write_fuzz_seeds <out>
 #include <cstdio>
@@ -59,7 +59,7 @@ int main(int argc, char** argv) {
   }
   namespace fs = std::filesystem;
   const fs::path out = argv[1];
-  for (const char* kind : {"mat", "text", "list"}) {
+  for (const char* kind : {"mat", "text", "list", "keypoints"}) {
     fs::create_directories(out / kind);
     fs::create_directories(out / "work" / kind);
   }
@@ -167,6 +167,25 @@ int main(int argc, char** argv) {
     std::ofstream list(out / "list" / "two_cameras.obs");
     list << "# frame camera point u v\n0 0 0 1 2\n0 1 0 3 4\n1 0 1 5.0 6\n"
          << "1 1 2 -7 8e2\n2.0 0 1 1 1\n";
+  }
+  {
+    // COCO keypoint results (frames with a gap, two entries in one) and an
+    // OpenPose folder of three frames, the files separated by form feeds.
+    std::ofstream coco(out / "keypoints" / "coco.json");
+    coco << R"([{"image_id": 3, "category_id": 1, "keypoints": [1, 2, 0.9, 3, 4, 0.1, )"
+         << R"(5, 6, 1], "score": 0.8}, {"image_id": 1, "keypoints": [1.5, 2, 1, 3, 4, 1, )"
+         << R"(0, 0, 0], "score": 1}, {"image_id": 3, "keypoints": [7, 8, 1, 9, 1e1, 1, )"
+         << R"(-1, 2, 0.5]}])";
+    std::ofstream named(out / "keypoints" / "coco_named.json");
+    named << R"([{"image_id": "b10", "keypoints": [1, 2, 1, 3, 4, 1]}, )"
+          << R"({"image_id": "b9", "keypoints": [5, 6, 0.5, 7, 8, 0.25]}])";
+    std::ofstream openpose(out / "keypoints" / "openpose.json", std::ios::binary);
+    openpose << R"({"version": 1.3, "people": [{"person_id": [-1], "pose_keypoints_2d": )"
+             << R"([1, 2, 0.9, 3, 4, 0.8], "face_keypoints_2d": [], )"
+             << R"("hand_left_keypoints_2d": [], "hand_right_keypoints_2d": []}]})" << '\f'
+             << R"({"version": 1.3, "people": []})" << '\f'
+             << R"({"people": [{"pose_keypoints_2d": [5, 6, 1, 7, 8, 0]}, )"
+             << R"({"pose_keypoints_2d": [1, 1, 1, 2, 2, 1]}]})";
   }
   return ok ? 0 : 1;
 }

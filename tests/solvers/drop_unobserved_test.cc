@@ -190,6 +190,37 @@ TEST(FindUnobserved, ExpandModelPutsTheKeptValuesBackAndNaNElsewhere) {
   EXPECT_EQ(full.rig_rotations, s.truth.rig_rotations);
 }
 
+// Per-observation values (observation weights) follow the observations
+// WithoutUnobserved keeps: value 100·view + point of the input lands where
+// that observation lands; an array of another size is left as it is.
+TEST(FindUnobserved, PerObservationValuesFollowTheKeptObservations) {
+  const SyntheticSequence s = Sequence(10, 12, 2, 0.0, 2);  // F = 10, M = 2, P = 12
+  Unobserved unobserved;
+  unobserved.num_bases = 2;
+  unobserved.points = {0, 7};
+  unobserved.frames = {4, 9};
+  Eigen::ArrayXXd values(20, 12);
+  for (int view = 0; view < 20; ++view) {
+    for (int p = 0; p < 12; ++p) values(view, p) = 100 * view + p;
+  }
+  const Eigen::ArrayXXd kept = WithoutUnobserved(values, s.measurements, unobserved);
+  const Measurements kept_m = WithoutUnobserved(s.measurements, unobserved);
+  ASSERT_EQ(kept.rows(), kept_m.NumViews());  // 8 frames × 2 cameras
+  ASSERT_EQ(kept.rows(), 16);
+  ASSERT_EQ(kept.cols(), 10);
+  // Kept frame 4 is input frame 5; kept point 6 is input point 8; camera 1:
+  // input view 5·2 + 1 = 11.
+  EXPECT_EQ(kept(kept_m.View(4, 1), 6), 1108.0);
+  // Kept frame 7 is input frame 8 (frames 4 and 9 left out); point 0 is 1.
+  EXPECT_EQ(kept(kept_m.View(7, 0), 0), 1601.0);
+  EXPECT_EQ(kept(0, 0), 1.0);
+  EXPECT_EQ(kept(kept_m.View(3, 1), 9), 711.0);  // input frame 3, camera 1, point 11
+
+  EXPECT_EQ(WithoutUnobserved(Eigen::ArrayXXd(), s.measurements, unobserved).size(), 0);
+  const Eigen::ArrayXXd wrong = Eigen::ArrayXXd::Ones(19, 12);
+  EXPECT_EQ(WithoutUnobserved(wrong, s.measurements, unobserved).rows(), 19);
+}
+
 // Reconstruct() with default options and K bases; a usable refinement.
 void ReconstructWithK(const Measurements& m, int num_bases, ReconstructResult* result) {
   ReconstructOptions options;

@@ -20,6 +20,7 @@
 #include "core/mat_io.h"
 #include "tests/mat_v5_bytes.h"
 #include "tests/test_util.h"
+#include "tests/tools/tool_test.h"
 
 namespace nrsfm {
 namespace {
@@ -52,22 +53,9 @@ Eigen::MatrixXd RotatingW(int frames, int points) {
   return w;
 }
 
-class BadInputTest : public ::testing::Test {
+class BadInputTest : public ToolTest {
  protected:
-  void SetUp() override {
-    dir_ = testing_util::MakeTempDir("nrsfm_bad_input");
-    ASSERT_FALSE(dir_.empty());
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-
-  RunResult Run(const std::string& args) {
-    return testing_util::RunInDirectory(dir_, NRSFM_CLI, args);
-  }
-
-  std::string Path(const std::string& name) const { return (fs::path(dir_) / name).string(); }
+  BadInputTest() : ToolTest("nrsfm_bad_input") {}
 
   void WriteW(const std::string& name, const Eigen::MatrixXd& w) {
     ASSERT_TRUE(WriteMat(Path(name), MatVersion::kV5, {{"W", w, {}}}).ok());
@@ -90,8 +78,6 @@ class BadInputTest : public ::testing::Test {
     }
     EXPECT_FALSE(fs::exists(Path("o"))) << input;
   }
-
-  std::string dir_;
 };
 
 TEST_F(BadInputTest, NanAndInfInTheMeasurements) {

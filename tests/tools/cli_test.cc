@@ -14,6 +14,7 @@
 
 #include "problems/extra_terms.h"
 #include "tests/test_util.h"
+#include "tests/tools/tool_test.h"
 
 namespace nrsfm {
 namespace {
@@ -26,23 +27,9 @@ std::string ReadFile(const fs::path& path) {
   return testing_util::ReadFileToString(path.string());
 }
 
-class CliTest : public ::testing::Test {
+class CliTest : public ToolTest {
  protected:
-  void SetUp() override {
-    dir_ = testing_util::MakeTempDir("nrsfm_cli");
-    ASSERT_FALSE(dir_.empty());
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-
-  // Runs `nrsfm <args>` in the test directory.
-  RunResult Run(const std::string& args) {
-    return testing_util::RunInDirectory(dir_, NRSFM_CLI, args);
-  }
-
-  std::string Path(const std::string& name) const { return (fs::path(dir_) / name).string(); }
+  CliTest() : ToolTest("nrsfm_cli") {}
 
   // The evaluate JSON line of a result directory against a truth file.
   nlohmann::json Evaluate(const std::string& truth, const std::string& result) {
@@ -69,8 +56,6 @@ class CliTest : public ::testing::Test {
       EXPECT_FALSE(fs::exists(Path(out))) << args;
     }
   }
-
-  std::string dir_;
 };
 
 TEST_F(CliTest, HelpListsTheCommandsAndOnlyTheToolsFlags) {

@@ -59,6 +59,40 @@ TEST(BuildReconstructOptions, NamesTheFlagAndTheValue) {
 
 // result.json's "options" come from the one flag list and the term table:
 // every reconstruct flag but the tool's own files, once.
+// The MATLAB function sets flags by name from text, as the command line
+// gives them.
+TEST(SetFlagFromText, ParsesByTheFlagsType) {
+  CommandFlags flags;
+  ASSERT_TRUE(SetFlagFromText("max_iterations", "7", &flags).ok());
+  EXPECT_EQ(flags.max_iterations, 7);
+  ASSERT_TRUE(SetFlagFromText("robust_scale", "0.25", &flags).ok());
+  EXPECT_EQ(flags.robust_scale, 0.25);
+  ASSERT_TRUE(SetFlagFromText("init", "rigid", &flags).ok());
+  EXPECT_EQ(flags.init, "rigid");
+  ASSERT_TRUE(SetFlagFromText("ply", "true", &flags).ok());
+  EXPECT_TRUE(flags.ply);
+  ASSERT_TRUE(SetFlagFromText("ply", "0", &flags).ok());
+  EXPECT_FALSE(flags.ply);
+  ASSERT_TRUE(SetFlagFromText("seed", "18446744073709551615", &flags).ok());
+  EXPECT_EQ(flags.seed, 18446744073709551615ULL);
+  ASSERT_TRUE(SetFlagFromText(ExtraTerms()[0].name, "1e3", &flags).ok());
+  EXPECT_EQ(flags.term_weights[0], 1000.0);
+
+  EXPECT_EQ(SetFlagFromText("max_iterations", "7.5", &flags).message(),
+            "max_iterations must be an integer, got '7.5'");
+  EXPECT_EQ(SetFlagFromText("robust_scale", "big", &flags).message(),
+            "robust_scale must be a number, got 'big'");
+  EXPECT_EQ(SetFlagFromText("robust_scale", "2x", &flags).message(),
+            "robust_scale must be a number, got '2x'");
+  EXPECT_EQ(SetFlagFromText("ply", "yes", &flags).message(),
+            "ply must be true or false, got 'yes'");
+  EXPECT_EQ(SetFlagFromText("seed", "-1", &flags).message(),
+            "seed must be an integer in [0, 2^64), got '-1'");
+  EXPECT_EQ(SetFlagFromText("bogus", "1", &flags).message(), "unknown option 'bogus'");
+  EXPECT_EQ(flags.max_iterations, 7);  // a failed parse leaves the flag
+  EXPECT_EQ(flags.robust_scale, 0.25);
+}
+
 TEST(OptionList, EveryReconstructFlagOnce) {
   CommandFlags flags;
   flags.K = "auto";

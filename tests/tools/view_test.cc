@@ -22,6 +22,7 @@
 #include "core/result_reader.h"
 #include "problems/delaunay_edges.h"
 #include "tests/test_util.h"
+#include "tests/tools/tool_test.h"
 
 namespace nrsfm {
 namespace {
@@ -134,21 +135,9 @@ double Mean(const nlohmann::json& array) {
   return sum / static_cast<double>(array.size());
 }
 
-class ViewTest : public ::testing::Test {
+class ViewTest : public ToolTest {
  protected:
-  void SetUp() override {
-    dir_ = testing_util::MakeTempDir("nrsfm_view");
-    ASSERT_FALSE(dir_.empty());
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-
-  RunResult Run(const std::string& args) {
-    return testing_util::RunInDirectory(dir_, NRSFM_CLI, args);
-  }
-  std::string Path(const std::string& name) const { return (fs::path(dir_) / name).string(); }
+  ViewTest() : ToolTest("nrsfm_view") {}
 
   // A noisy random-basis sequence with missing entries (r.mat) and its
   // K = 2 reconstruction (r/).
@@ -178,8 +167,6 @@ class ViewTest : public ::testing::Test {
           << "left behind: " << entry.path();
     }
   }
-
-  std::string dir_;
 };
 
 TEST_F(ViewTest, PageIsSelfContainedAndHoldsTheReconstruction) {

@@ -158,11 +158,13 @@
     controls.addEventListener('change', render3d);
   }
 
+  // A point the reconstruction left out is null: NaN, which WebGL does not draw.
   function toThree(array, t, p, out, o) {
     var i = 3 * (t * P + p), sign = state.vUp ? 1 : -1;
-    out[o] = array[i];
-    out[o + 1] = sign * array[i + 1];
-    out[o + 2] = sign * array[i + 2];
+    var missing = array[i] === null;
+    out[o] = missing ? NaN : array[i];
+    out[o + 1] = missing ? NaN : sign * array[i + 1];
+    out[o + 2] = missing ? NaN : sign * array[i + 2];
   }
 
   function fillPoints(points, array, t) {
@@ -274,8 +276,11 @@
       g.lineWidth = 1;
       g.beginPath();
       for (i = 0; i < edges.length; ++i) {
-        a = px(uv(data.reprojection, t, c, edges[i][0]));
-        q = px(uv(data.reprojection, t, c, edges[i][1]));
+        a = uv(data.reprojection, t, c, edges[i][0]);
+        q = uv(data.reprojection, t, c, edges[i][1]);
+        if (a[0] === null || q[0] === null) continue;  // left out
+        a = px(a);
+        q = px(q);
         g.moveTo(a[0], a[1]);
         g.lineTo(q[0], q[1]);
       }
@@ -285,9 +290,10 @@
     for (p = 0; p < P; ++p) {
       var track = data.tracks ? uv(data.tracks, t, c, p) : [null, null];
       visible.push(track[0] !== null && track[1] !== null);
-      if (visible[p] && state.residuals) {
+      q = uv(data.reprojection, t, c, p);
+      if (visible[p] && state.residuals && q[0] !== null) {
         a = px(track);
-        q = px(uv(data.reprojection, t, c, p));
+        q = px(q);
         g.strokeStyle = COLOR.residual;
         g.lineWidth = 1.5;
         g.beginPath();
@@ -308,7 +314,9 @@
       g.stroke();
     }
     for (p = 0; p < P; ++p) {
-      a = px(uv(data.reprojection, t, c, p));
+      a = uv(data.reprojection, t, c, p);
+      if (a[0] === null) continue;  // left out of the reconstruction
+      a = px(a);
       g.fillStyle = (data.tracks && !visible[p]) ? COLOR.missing : COLOR.reprojection;
       g.beginPath();
       g.arc(a[0], a[1], 2.5, 0, 2 * Math.PI);

@@ -1,0 +1,342 @@
+// nrsfm_reconstruct: the reconstruction of `nrsfm reconstruct` as a MEX
+// function for Octave (mkoctfile --mex) and MATLAB (mex); docs/matlab.md.
+//
+//   [model, info] = nrsfm_reconstruct(W, K, 'Name', value, ...)
+//
+// W      2FM x P double, rows 2(tM + c) + 1, 2(tM + c) + 2 (1-based) = u, v
+//        of frame t, camera c (t, c 0-based); NaN = missing (both
+//        coordinates). The layout of the Akhter et al. files' W.
+// K      the number of basis shapes, a positive integer, or 'auto'.
+// Names  (case-insensitive) every option of the Python module's
+//        nrsfm.reconstruct, which are the tool's flags (init, priors,
+//        robust, robust_scale, max_iterations, threads, linear_solver,
+//        seed, K_max, K_threshold and the extra terms' weights:
+//        temporal_shape, ...), with a char value for a text option, a
+//        numeric or logical scalar otherwise; and
+//          'mask'                FM x P or 2FM x P, nonzero = visible;
+//          'cameras'             M, the number of synchronised cameras (1);
+//          'observation_weights' FM x P relative weights of the
+//                                observations' residuals (scaled to average
+//                                1 over the visible ones, as the tool's
+//                                --confidence_weights scales the scores).
+//
+// model  a struct with the arrays of the Python module's Reconstruction, in
+//        MATLAB's order (first index fastest):
+//          rotations     3 x 3 x F x M   R_tc, camera from object
+//          translations  2 x F x M       T_tc
+//          scales        F x M           s_tc (camera 1: 1)
+//          weights       F x K           l_tk
+//          basis         3 x P x K       S_k
+//          points_object 3 x P x F       S_t = sum_k l_tk S_k
+//          points_camera 3 x P x F x M   X_tc = s_tc R_tc S_t (no translation)
+//          rig_rotations 3 x 3 x (M - 1), rig_scales (M - 1) x 1
+//          dropped_points, dropped_frames  1-based indices of what was left
+//                        out for too few observations (NaN in the arrays)
+//        so that W(2(tM + c) + (1:2), :) = points_camera(1:2, :, t, c) +
+//        translations(:, t, c) for t, c 1-based.
+// info   the summary: result.json of the tool as a struct (jsondecode),
+//        plus K_selection with K = 'auto'.
+//
+// Bad input and failures are errors (identifier nrsfm:error) with the
+// tool's message; warnings (points left out, little rotation) are warnings
+// with identifier nrsfm:warning. A refinement that is not usable is an
+// error. Only the C MEX API that MATLAB and Octave share is used, and no
+// C++ object is alive when an error is raised (MATLAB's mexErrMsgIdAndTxt
+// does not unwind C++ frames).
+#include <cctype>
+#include <cstdio>
+#include <exception>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "core/result_writer.h"
+#include "core/rotation.h"
+#include "tools/command_flags.h"
+#include "tools/flag_options.h"
+
+#include "mex.h"
+
+namespace {
+
+using nrsfm::Model;
+using nrsfm::Status;
+using nrsfm::tools::CommandFlags;
+
+// What one call leaves for mexFunction to raise or return once every C++
+// object is gone.
+struct Outcome {
+  std::string error;                  // "" = success
+  std::vector<std::string> warnings;  // nrsfm:warning
+  mxArray* model = nullptr;
+  mxArray* summary_json = nullptr;    // a char array, decoded by jsondecode
+};
+
+std::string Lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+std::string SizeText(const mxArray* a) {
+  const mwSize n = mxGetNumberOfDimensions(a);
+  const mwSize* dims = mxGetDimensions(a);
+  std::string text;
+  for (mwSize i = 0; i < n; ++i) text += (i ? " x " : "") + std::to_string(dims[i]);
+  return text;
+}
+
+// A real, full, 2-D numeric or logical array as a double matrix; `name`
+// names it in errors.
+Status ToMatrix(const mxArray* a, const std::string& name, Eigen::MatrixXd* out) {
+  if (!(mxIsNumeric(a) || mxIsLogical(a)) || mxIsComplex(a) || mxIsSparse(a) ||
+      mxGetNumberOfDimensions(a) != 2) {
+    return Status::Error(name + " must be a real full 2-D numeric matrix, got a " +
+                         std::string(mxGetClassName(a)) + " array of size " + SizeText(a) +
+                         (mxIsSparse(a) ? " (sparse)" : ""));
+  }
+  const mwSize rows = mxGetM(a), cols = mxGetN(a);
+  out->resize(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
+  if (mxIsDouble(a)) {
+    *out = Eigen::Map<const Eigen::MatrixXd>(mxGetPr(a), rows, cols);
+    return Status::OK();
+  }
+  // Other classes element by element (mxGetScalar reads only the first).
+  mxArray* converted = nullptr;
+  mxArray* input = const_cast<mxArray*>(a);
+  if (mexCallMATLABWithTrap(1, &converted, 1, &input, "double") != nullptr ||
+      converted == nullptr) {
+    return Status::Error(name + ": cannot convert a " + std::string(mxGetClassName(a)) +
+                         " array to double");
+  }
+  *out = Eigen::Map<const Eigen::MatrixXd>(mxGetPr(converted), rows, cols);
+  mxDestroyArray(converted);
+  return Status::OK();
+}
+
+// An option's value as the tool's flag text: a char row, a logical or a
+// numeric real scalar.
+Status ValueText(const mxArray* a, const std::string& name, std::string* text) {
+  if (mxIsChar(a)) {
+    char* s = mxArrayToString(a);
+    if (s == nullptr) return Status::Error(name + " must be a char row vector");
+    *text = s;
+    mxFree(s);
+    return Status::OK();
+  }
+  if ((mxIsNumeric(a) || mxIsLogical(a)) && !mxIsComplex(a) && mxGetNumberOfElements(a) == 1) {
+    if (mxIsLogical(a)) {
+      *text = mxGetLogicals(a)[0] ? "true" : "false";
+      return Status::OK();
+    }
+    char buffer[64];
+    std::snprintf(buffer, sizeof(buffer), "%.17g", mxGetScalar(a));
+    *text = buffer;
+    return Status::OK();
+  }
+  return Status::Error(name + " must be a char row, or a real numeric or logical scalar; got a " +
+                       std::string(mxGetClassName(a)) + " array of size " + SizeText(a));
+}
+
+// The options nrsfm_reconstruct takes by name (the tool's flags that apply
+// to arrays), lower-case name -> flag name.
+std::vector<std::pair<std::string, std::string>> OptionNames() {
+  const std::set<std::string> left_out = nrsfm::tools::NotArrayReconstructFlags();
+  std::vector<std::pair<std::string, std::string>> names;
+  const auto add = [&](const std::string& name, const std::string& help) {
+    if (left_out.count(name) == 0 && !nrsfm::tools::FlagHelpFor(help, "reconstruct").empty()) {
+      names.emplace_back(Lower(name), name);
+    }
+  };
+#define NRSFM_MEX_OPTION(type, name, value, help) add(#name, help);
+  NRSFM_COMMAND_FLAGS(NRSFM_MEX_OPTION)
+#undef NRSFM_MEX_OPTION
+  for (const nrsfm::ExtraTerm& term : nrsfm::ExtraTerms()) {
+    add(term.name, nrsfm::tools::TermFlagHelp(term));
+  }
+  return names;
+}
+
+mxArray* NewArray(std::vector<mwSize> dims) {
+  return mxCreateNumericArray(dims.size(), dims.data(), mxDOUBLE_CLASS, mxREAL);
+}
+
+mxArray* IndexRow(const std::vector<int>& indices) {
+  mxArray* a = mxCreateDoubleMatrix(1, indices.size(), mxREAL);
+  for (std::size_t i = 0; i < indices.size(); ++i) mxGetPr(a)[i] = indices[i] + 1.0;
+  return a;
+}
+
+// The model struct of the header.
+mxArray* ModelStruct(const Model& model, const std::vector<int>& dropped_points,
+                     const std::vector<int>& dropped_frames) {
+  const mwSize f = model.num_frames, m = model.num_cameras, p = model.num_points,
+               k = model.num_bases;
+  mxArray* rotations = NewArray({3, 3, f, m});
+  mxArray* translations = NewArray({2, f, m});
+  mxArray* scales = NewArray({f, m});
+  mxArray* weights = NewArray({f, k});
+  mxArray* basis = NewArray({3, p, k});
+  mxArray* points_object = NewArray({3, p, f});
+  mxArray* points_camera = NewArray({3, p, f, m});
+  mxArray* rig_rotations = NewArray({3, 3, m - 1});
+  mxArray* rig_scales = NewArray({m - 1, 1});
+  for (mwSize t = 0; t < f; ++t) {
+    for (mwSize c = 0; c < m; ++c) {
+      const int view = model.View(static_cast<int>(t), static_cast<int>(c));
+      Eigen::Map<Eigen::Matrix3d>(mxGetPr(rotations) + 9 * (t + f * c)) =
+          model.Rotation(static_cast<int>(t), static_cast<int>(c));
+      Eigen::Map<Eigen::Vector2d>(mxGetPr(translations) + 2 * (t + f * c)) =
+          model.translations.col(view);
+      mxGetPr(scales)[t + f * c] = model.scales(view);
+      Eigen::Map<Eigen::Matrix3Xd>(mxGetPr(points_camera) + 3 * p * (t + f * c), 3, p) =
+          model.ShapeInCamera(static_cast<int>(t), static_cast<int>(c));
+    }
+    Eigen::Map<Eigen::Matrix3Xd>(mxGetPr(points_object) + 3 * p * t, 3, p) =
+        model.ShapeInObject(static_cast<int>(t));
+    for (mwSize b = 0; b < k; ++b) mxGetPr(weights)[t + f * b] = model.weights(b, t);
+  }
+  for (mwSize b = 0; b < k; ++b) {
+    Eigen::Map<Eigen::Matrix3Xd>(mxGetPr(basis) + 3 * p * b, 3, p) =
+        model.basis.middleRows(3 * b, 3);
+  }
+  for (mwSize c = 0; c + 1 < m; ++c) {
+    Eigen::Map<Eigen::Matrix3d>(mxGetPr(rig_rotations) + 9 * c) =
+        nrsfm::AngleAxisToRotation(model.rig_rotations.col(c));
+    mxGetPr(rig_scales)[c] = model.rig_scales(c);
+  }
+  const char* fields[] = {"rotations",     "translations",  "scales",         "weights",
+                          "basis",         "points_object", "points_camera",  "rig_rotations",
+                          "rig_scales",    "dropped_points", "dropped_frames"};
+  mxArray* out = mxCreateStructMatrix(1, 1, sizeof(fields) / sizeof(fields[0]), fields);
+  mxArray* values[] = {rotations,     translations,  scales,        weights,
+                       basis,         points_object, points_camera, rig_rotations,
+                       rig_scales,    IndexRow(dropped_points), IndexRow(dropped_frames)};
+  for (std::size_t i = 0; i < sizeof(fields) / sizeof(fields[0]); ++i) {
+    mxSetField(out, 0, fields[i], values[i]);
+  }
+  return out;
+}
+
+// The call, with every C++ object in this scope; errors go to
+// outcome->error.
+Status Run(int nlhs, int nrhs, const mxArray* prhs[], Outcome* outcome) {
+  if (nrhs < 2 || nrhs % 2 != 0) {
+    return Status::Error(
+        "usage: [model, info] = nrsfm_reconstruct(W, K, 'Name', value, ...)");
+  }
+  if (nlhs > 2) return Status::Error("nrsfm_reconstruct returns at most two outputs");
+  CommandFlags flags;
+  if (mxIsLogical(prhs[1])) return Status::Error("K must be a positive integer or 'auto'");
+  NRSFM_RETURN_IF_ERROR(ValueText(prhs[1], "K", &flags.K));
+  bool auto_k = false;
+  int num_bases = 0;
+  NRSFM_RETURN_IF_ERROR(nrsfm::tools::ParseNumBasesFlag(flags.K, &auto_k, &num_bases));
+
+  Eigen::MatrixXd w, mask, observation_weights;
+  NRSFM_RETURN_IF_ERROR(ToMatrix(prhs[0], "W", &w));
+  int cameras = 1;
+  const std::vector<std::pair<std::string, std::string>> names = OptionNames();
+  for (int i = 2; i < nrhs; i += 2) {
+    if (!mxIsChar(prhs[i])) {
+      return Status::Error("argument " + std::to_string(i + 1) +
+                           " must be an option name (a char row)");
+    }
+    std::string name;
+    NRSFM_RETURN_IF_ERROR(ValueText(prhs[i], "an option name", &name));
+    const std::string lower = Lower(name);
+    const mxArray* value = prhs[i + 1];
+    if (lower == "mask") {
+      NRSFM_RETURN_IF_ERROR(ToMatrix(value, "mask", &mask));
+      continue;
+    }
+    if (lower == "observation_weights") {
+      NRSFM_RETURN_IF_ERROR(ToMatrix(value, "observation_weights", &observation_weights));
+      continue;
+    }
+    if (lower == "cameras") {
+      std::string text;
+      NRSFM_RETURN_IF_ERROR(ValueText(value, "cameras", &text));
+      NRSFM_RETURN_IF_ERROR(nrsfm::tools::SetFlagFromText("cameras", text, &flags));
+      cameras = flags.cameras;
+      continue;
+    }
+    std::string flag;
+    for (const auto& [key, flag_name] : names) {
+      if (key == lower) flag = flag_name;
+    }
+    if (flag.empty()) {
+      std::string known = "mask, cameras, observation_weights";
+      for (const auto& entry : names) known += ", " + entry.second;
+      return Status::Error("unknown option '" + name + "'; the options are " + known);
+    }
+    std::string text;
+    NRSFM_RETURN_IF_ERROR(ValueText(value, flag, &text));
+    NRSFM_RETURN_IF_ERROR(nrsfm::tools::SetFlagFromText(flag, text, &flags));
+  }
+
+  nrsfm::ReconstructOptions options;
+  NRSFM_RETURN_IF_ERROR(nrsfm::tools::BuildReconstructOptions(flags, &options));
+  flags.cameras = cameras;
+  nrsfm::Measurements measurements;
+  NRSFM_RETURN_IF_ERROR(
+      nrsfm::tools::MeasurementsFromArrays(w, mask, cameras, &measurements));
+  NRSFM_RETURN_IF_ERROR(nrsfm::tools::ArrayReconstructOptions(
+      measurements, observation_weights.array(), &flags, &options));
+  nrsfm::tools::ReconstructionRun run;
+  NRSFM_RETURN_IF_ERROR(
+      nrsfm::tools::RunReconstruction(flags, options, measurements, "", &run));
+  const nrsfm::ReconstructionReport report = nrsfm::tools::MakeReport(flags, "", run, nullptr);
+  if (!run.result.refine.usable) {
+    return Status::Error("the refinement did not give a usable solution (" +
+                         run.result.refine.message + ")");
+  }
+  nlohmann::ordered_json summary = nlohmann::ordered_json::parse(
+      nrsfm::ReconstructionJson(measurements, run.result.model, report));
+  if (run.auto_k) {
+    nlohmann::ordered_json curve = nlohmann::ordered_json::array();
+    for (const nrsfm::NumBasesCandidate& c : run.selection.curve) {
+      curve.push_back({{"K", c.num_bases},
+                       {"ok", c.ok},
+                       {"message", c.message},
+                       {"reprojection_rms", c.reprojection_rms},
+                       {"expected_rms", c.expected_rms},
+                       {"seconds", c.seconds}});
+    }
+    summary["K_selection"] = {{"noise_stddev", run.selection.noise_stddev}, {"curve", curve}};
+  }
+  outcome->warnings = report.warnings;
+  outcome->model =
+      ModelStruct(run.result.model, run.result.dropped_points, run.result.dropped_frames);
+  outcome->summary_json = mxCreateString(summary.dump().c_str());
+  return Status::OK();
+}
+
+}  // namespace
+
+void mexFunction(int nlhs, mxArray* plhs[], int nrhs, const mxArray* prhs[]) {
+  // Kept across calls, so that no C++ object of this call is alive when
+  // mexErrMsgIdAndTxt leaves it.
+  static Outcome outcome;
+  outcome = Outcome();
+  try {
+    const Status status = Run(nlhs, nrhs, prhs, &outcome);
+    if (!status.ok()) outcome.error = status.message();
+  } catch (const std::exception& e) {
+    outcome.error = std::string("internal error: ") + e.what();
+  }
+  if (!outcome.error.empty()) {
+    mexErrMsgIdAndTxt("nrsfm:error", "%s", outcome.error.c_str());
+  }
+  for (const std::string& warning : outcome.warnings) {
+    mexWarnMsgIdAndTxt("nrsfm:warning", "%s", warning.c_str());
+  }
+  plhs[0] = outcome.model;
+  if (nlhs > 1) {
+    mexCallMATLAB(1, &plhs[1], 1, &outcome.summary_json, "jsondecode");
+  }
+  mxDestroyArray(outcome.summary_json);
+}
