@@ -134,7 +134,9 @@ inline constexpr int kMaxObservationsForTwoAtOnce = 1000000;
 // K bases refined with exactly the given terms, one stage.
 // result->start.method says which start was kept.
 // Points and frames with too few observations for the model with K bases
-// are first left out (solvers/drop_unobserved.h): the rest is reconstructed as above and
+// are first left out (solvers/drop_unobserved.h; observation_weights and
+// smoothness_edges.reference_frame follow the kept ones, a left-out
+// reference frame becomes the default choice): the rest is reconstructed as above and
 // the left-out ones are NaN in result->model, listed in
 // result->dropped_points / dropped_frames and named in a warning.
 // Units: everything above runs on the tracks divided by their spread

@@ -268,6 +268,34 @@ TEST(Reconstruct, LeavesOutAPointSeenOnceAndAFrameThatSeesNothing) {
   EXPECT_LT(result.refine.reprojection_rms, 1e-6);
 }
 
+// Options that index the input's observations and frames follow what is
+// kept: observation weights of the input's size (the reduced problem
+// refused them as the wrong size before) and a smoothness reference frame
+// after the left-out frame (input frame 59 is kept frame 58; before, the
+// reduced problem had no frame 59).
+TEST(Reconstruct, ObservationWeightsAndReferenceFrameFollowTheKeptFrames) {
+  SyntheticSequence s = Sequence(60, 20, 2, 0.1);
+  Measurements& m = s.measurements;
+  for (int p = 0; p < 20; ++p) Hide(&m, 17, p);  // frame 17: nothing, left out
+  ReconstructOptions options;
+  options.start.num_bases = 2;
+  options.priors = PriorMode::kManual;
+  options.problem.term_weights = {{"smoothness", 1e-6}};
+  options.problem.smoothness_edges.reference_frame = 59;
+  options.problem.observation_weights = Eigen::ArrayXXd::Ones(60, 20);
+  ReconstructResult weighted;
+  ASSERT_TRUE(Reconstruct(options, m, &weighted).ok());
+  ASSERT_TRUE(weighted.refine.usable) << weighted.refine.message;
+  EXPECT_EQ(weighted.dropped_frames, (std::vector<int>{17}));
+  ReconstructResult plain;
+  options.problem.observation_weights = Eigen::ArrayXXd();
+  ASSERT_TRUE(Reconstruct(options, m, &plain).ok());
+  // Unit weights are no weights: the same refinement.
+  EXPECT_NEAR(weighted.refine.final_cost, plain.refine.final_cost,
+              1e-9 * plain.refine.initial_cost);
+  EXPECT_LT(weighted.refine.reprojection_rms, 1e-4);
+}
+
 // A point seen in too few views for K bases is left out rather than lowering
 // the whole start to fewer bases: K = 3 needs 5 views per point; point 5 is
 // seen in 4. The start keeps all 3 bases (no "fewer bases" warning) and the

@@ -286,11 +286,58 @@ TEST_F(CliTest, YogaWithDefaultOptions) {
   EXPECT_EQ(result["metrics"]["e3d"].get<double>(), e["e3d"].get<double>());
   std::cout << "yoga e3D " << e["e3d"] << " (object frame), camera frame "
             << e["e3d_camera"] << ", rotation error " << e["rotation_error"] << "\n";
-  // Measured 0.0224 / 0.0201 / 0.0058.
+  // Measured 0.0238 / 0.0200 / 0.0096 (2026-11-27); bounds about 5 % above.
   EXPECT_LT(e["e3d"].get<double>(), 0.025);
-  EXPECT_LT(e["e3d_camera"].get<double>(), 0.022);
-  EXPECT_LT(e["rotation_error"].get<double>(), 0.01);
+  EXPECT_LT(e["e3d_camera"].get<double>(), 0.021);
+  EXPECT_LT(e["rotation_error"].get<double>(), 0.0101);
 }
+
+// The other real sequences of the README's table at their published K with
+// no other flag, scored as the field scores them: drink and pickup (truth S
+// + Rs) in the object frame against the world S, face (truth P3_gt) in the
+// camera frame. Bounds about 5 % above what was measured (2026-11-27, in
+// brackets), so that a change that costs accuracy fails here.
+struct RealSequence {
+  const char* name;
+  int num_bases;
+  const char* frame;
+  double e3d;             // bound [measured]
+  double e3d_camera;      // bound
+  double rotation_error;  // bound; 0 when the truth has no rotations
+};
+
+class RealSequenceTest : public CliTest, public ::testing::WithParamInterface<RealSequence> {};
+
+TEST_P(RealSequenceTest, DefaultOptionsAtThePublishedK) {
+  NRSFM_SKIP_WITHOUT_SHARED_DATA(dir);
+  if (testing_util::kSanitizedBuild) GTEST_SKIP() << "accuracy run: release build only";
+  const RealSequence& c = GetParam();
+  const std::string file = dir + "/" + c.name + ".mat";
+  const RunResult r = Run("reconstruct --input " + file + " --K " + std::to_string(c.num_bases) +
+                          " --output o --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  const nlohmann::json e = Evaluate(file, "o");
+  std::cout << c.name << " K = " << c.num_bases << ": e3D " << e["e3d"] << " (" << e["e3d_frame"]
+            << " frame), camera frame " << e["e3d_camera"] << ", rotation error "
+            << e.value("rotation_error", -1.0) << ", rank-K floor " << e.value("rank_floor", -1.0)
+            << "\n";
+  EXPECT_EQ(e["e3d_frame"], c.frame);
+  EXPECT_LT(e["e3d"].get<double>(), c.e3d);
+  EXPECT_LT(e["e3d_camera"].get<double>(), c.e3d_camera);
+  if (c.rotation_error > 0) {
+    EXPECT_LT(e["rotation_error"].get<double>(), c.rotation_error);
+    EXPECT_EQ(e["K"].get<int>(), c.num_bases);  // evaluate read it from result.json
+    // Never below the rank-K floor: the floor and e3D are the same measure.
+    EXPECT_GT(e["e3d"].get<double>(), e["rank_floor"].get<double>());
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Published, RealSequenceTest,
+    ::testing::Values(RealSequence{"drink", 12, "object", 0.0134, 0.0111, 0.0062},    // [.01276 .01057 .00589]
+                      RealSequence{"pickup", 12, "object", 0.0263, 0.0254, 0.0050},   // [.02505 .02416 .00469]
+                      RealSequence{"face", 7, "camera", 0.0488, 0.0488, 0.0}),        // [.04642]
+    [](const ::testing::TestParamInfo<RealSequence>& info) { return std::string(info.param.name); });
 
 // A term weight on the command line means manual priors: exactly that term.
 TEST_F(CliTest, TermFlagMeansManualPriors) {
