@@ -1,4 +1,4 @@
-// Detector keypoints as measurements (README.md "Input formats",
+// Detector keypoints as measurements (docs/guide.md, "Input formats",
 // docs/inputs.md): the 2D keypoints of one tracked person (or animal, face,
 // hand) over the frames of a video, with the detector's score of each.
 //

@@ -1,4 +1,4 @@
-// Measurements from an input file (README.md, "Input formats"): a MATLAB .mat file, a text
+// Measurements from an input file (docs/guide.md, "Input formats"): a MATLAB .mat file, a text
 // matrix W, an observation list, or detector keypoints.
 //
 // Format (options.format = kAuto decides by the extension, any case, or

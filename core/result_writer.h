@@ -1,4 +1,4 @@
-// Writes a reconstruction into one directory (README.md, "Outputs").
+// Writes a reconstruction into one directory (docs/guide.md, "Outputs").
 //
 // Files (indices 0-based; numbers with %.17g so they read back exactly):
 //   points_camera.csv  frame,camera,point,x,y,z   X_tc = s_tc R_tc S_t, for

@@ -1,4 +1,4 @@
-// The layouts in which datasets store per-frame 3-D points (README.md,
+// The layouts in which datasets store per-frame 3-D points (docs/guide.md,
 // "Input formats"), converted to one 3 × P matrix per frame.
 //
 //   interleaved  3F × P   rows x_t, y_t, z_t of frame t at 3t, 3t+1, 3t+2

@@ -1,5 +1,5 @@
 // Plain-text inputs: a measurement matrix W as text/CSV, a sparse observation
-// list, and the CSV tables nrsfm writes (README.md, "Outputs").
+// list, and the CSV tables nrsfm writes (docs/guide.md, "Outputs").
 //
 // Common text rules: fields are separated by whitespace and/or single commas;
 // `#` starts a comment that runs to the end of the line; blank and

@@ -3,7 +3,7 @@
 // (tools/flag_options.h; the keywords are the tool's flags, from
 // NRSFM_COMMAND_FLAGS and the extra-term table).
 //
-// Conventions (README.md, "Python"):
+// Conventions (docs/guide.md, "Python"):
 //   W        (2FM, P), rows u, v of frame t, camera c at 2(tM + c) and
 //            2(tM + c) + 1 (core/measurements.h); NaN = missing.
 //   mask     (FM, P) or (2FM, P), nonzero = visible.
@@ -1198,7 +1198,7 @@ PYBIND11_MODULE(nrsfm, m) {
   // The library logs through glog: to stderr, never into files.
   FLAGS_logtostderr = true;
   m.doc() = Keep(std::string(
-      "nrsfm: non-rigid structure from motion (README.md, \"Python\").\n\n"
+      "nrsfm: non-rigid structure from motion (docs/guide.md, \"Python\").\n\n"
       "reconstruct, refine, read, evaluate and synth, with the nrsfm tool's options\n"
       "as keywords (same names and defaults; OPTIONS lists them) and its messages.\n") +
       kConventions);

@@ -28,7 +28,7 @@ bool IsHdf5MatFile(const std::uint8_t* data, std::size_t size) {
 
 // v7.3 inputs are skipped unless NRSFM_FUZZ_HDF5=1: corrupt HDF5 files make
 // the system HDF5 (1.10.8) itself read out of bounds, which nrsfm cannot
-// fix (README, Reliability); the CI run must fail on nrsfm's findings only.
+// fix (docs/reliability.md); the CI run must fail on nrsfm's findings only.
 bool FuzzHdf5() {
   static const bool enabled = [] {
     const char* value = std::getenv("NRSFM_FUZZ_HDF5");

@@ -1,4 +1,4 @@
-// The rows of the README's bad-input table that tests/tools/cli_test.cc does not
+// The rows of the bad-input table (docs/reliability.md) that tests/tools/cli_test.cc does not
 // already cover, driven through the real `nrsfm` binary: every bad input gives
 // a non-zero exit, one error line naming what is wrong, no crash (no "Check
 // failed", no sanitizer report) and no output directory; numerical trouble in

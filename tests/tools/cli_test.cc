@@ -38,7 +38,7 @@ class CliTest : public ToolTest {
     return nlohmann::json::parse(r.out);
   }
 
-  // Expects the failure of a bad input (README, "Bad input and failure
+  // Expects the failure of a bad input (docs/reliability.md, "Bad input and failure
   // behaviour"): exit code `exit_code` (1; 2 for a command line that names
   // no command), exactly one line on stderr that contains `needle` (the
   // message's own text), no crash report, and no output `out` left behind.
