@@ -2,6 +2,7 @@
 #include "solvers/reconstruct.h"
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <thread>
 #include <utility>
@@ -157,6 +158,35 @@ TEST(Reconstruct, AutoKeepsTheLowerRefinedCostOfTwoStarts) {
   EXPECT_LT(E3D(s.truth, automatic.model), 1e-6);
 }
 
+// `count` random modes of P points (standard normal coordinates).
+std::vector<Eigen::Matrix3Xd> RandomModes(int count, int num_points, std::uint64_t seed) {
+  Random random(seed, /*stream=*/1);
+  std::vector<Eigen::Matrix3Xd> modes(count, Eigen::Matrix3Xd(3, num_points));
+  for (Eigen::Matrix3Xd& mode : modes) {
+    for (int p = 0; p < num_points; ++p) {
+      for (int i = 0; i < 3; ++i) mode(i, p) = random.NormalUnpaired();
+    }
+  }
+  return modes;
+}
+
+// The object-frame shapes `shapes` (one per frame) seen under an orbit of
+// `degrees` at constant speed, written as the Akhter et al. files are (S +
+// Rs), so that the truth is scored in its object frame.
+void OrbitVideo(const std::vector<Eigen::Matrix3Xd>& shapes, double degrees,
+                ReprojectedSequence* video) {
+  GroundTruth source;
+  source.source = "S+Rs";
+  for (const Eigen::Matrix3Xd& shape : shapes) {
+    source.points_in_object.push_back(shape);
+    source.points_in_camera.push_back(shape);
+    source.rotations.push_back(Eigen::Matrix3d::Identity());
+  }
+  ReprojectOptions camera_path;
+  camera_path.total_rotation_deg = degrees;
+  ASSERT_TRUE(GenerateReprojection(source, camera_path, video).ok());
+}
+
 // A video whose basis can absorb rotation (3K ≥ P/2), though the K-basis
 // model explains its tracks exactly, gets the triple start alone, the
 // temporal shape term and, for a camera at constant angular velocity, the
@@ -168,28 +198,15 @@ TEST(Reconstruct, AutoKeepsTheLowerRefinedCostOfTwoStarts) {
 // sequences.
 TEST(Reconstruct, VideoWithLargeBasisTakesTheTripleStartAndTemporalTerms) {
   constexpr int kVideoFrames = 120, kVideoPoints = 16;
-  Random random(7, /*stream=*/1);
-  Eigen::Matrix3Xd modes[3];
-  for (Eigen::Matrix3Xd& mode : modes) {
-    mode.resize(3, kVideoPoints);
-    for (int p = 0; p < kVideoPoints; ++p) {
-      for (int i = 0; i < 3; ++i) mode(i, p) = random.NormalUnpaired();
-    }
-  }
-  GroundTruth source;
-  source.source = "S+Rs";
+  const std::vector<Eigen::Matrix3Xd> modes = RandomModes(3, kVideoPoints, 7);
+  std::vector<Eigen::Matrix3Xd> shapes;
   for (int t = 0; t < kVideoFrames; ++t) {
     const double phase = 2.0 * M_PI * t / kVideoFrames;
-    const Eigen::Matrix3Xd shape =
-        modes[0] + 0.4 * std::sin(1.5 * phase) * modes[1] + 0.3 * std::cos(2.5 * phase) * modes[2];
-    source.points_in_object.push_back(shape);
-    source.points_in_camera.push_back(shape);
-    source.rotations.push_back(Eigen::Matrix3d::Identity());
+    shapes.push_back(modes[0] + 0.4 * std::sin(1.5 * phase) * modes[1] +
+                     0.3 * std::cos(2.5 * phase) * modes[2]);
   }
-  ReprojectOptions camera_path;
-  camera_path.total_rotation_deg = 150.0;
   ReprojectedSequence video;
-  ASSERT_TRUE(GenerateReprojection(source, camera_path, &video).ok());
+  ASSERT_NO_FATAL_FAILURE(OrbitVideo(shapes, 150.0, &video));
 
   ReconstructOptions options;
   options.start.num_bases = 3;
@@ -230,29 +247,18 @@ TEST(Reconstruct, VideoWithLargeBasisTakesTheTripleStartAndTemporalTerms) {
 // bends the camera to absorb what two bases cannot fit.
 TEST(Reconstruct, TooFewBasesEstimateTheCameraWithMore) {
   constexpr int kVideoFrames = 150, kVideoPoints = 30, kModes = 6;
-  Random random(11, /*stream=*/1);
-  std::vector<Eigen::Matrix3Xd> modes(kModes, Eigen::Matrix3Xd(3, kVideoPoints));
-  for (Eigen::Matrix3Xd& mode : modes) {
-    for (int p = 0; p < kVideoPoints; ++p) {
-      for (int i = 0; i < 3; ++i) mode(i, p) = random.NormalUnpaired();
-    }
-  }
-  GroundTruth source;
-  source.source = "S+Rs";
+  const std::vector<Eigen::Matrix3Xd> modes = RandomModes(kModes, kVideoPoints, 11);
+  std::vector<Eigen::Matrix3Xd> shapes;
   for (int t = 0; t < kVideoFrames; ++t) {
     const double phase = 2.0 * M_PI * t / kVideoFrames;
     Eigen::Matrix3Xd shape = modes[0];
     for (int k = 1; k < kModes; ++k) {
       shape += 0.3 / k * std::sin((0.5 + 0.7 * k) * phase + k) * modes[k];
     }
-    source.points_in_object.push_back(shape);
-    source.points_in_camera.push_back(shape);
-    source.rotations.push_back(Eigen::Matrix3d::Identity());
+    shapes.push_back(shape);
   }
-  ReprojectOptions camera_path;
-  camera_path.total_rotation_deg = 120.0;
   ReprojectedSequence video;
-  ASSERT_TRUE(GenerateReprojection(source, camera_path, &video).ok());
+  ASSERT_NO_FATAL_FAILURE(OrbitVideo(shapes, 120.0, &video));
 
   ReconstructOptions options;
   options.start.num_bases = 2;
