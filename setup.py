@@ -8,6 +8,10 @@ set-up command installs (CMake, a C++ compiler, Ceres, Eigen, glog, gflags,
 matio, nlohmann-json, qhull, pybind11, python3-dev, numpy, libjs-three) and
 downloads nothing. CMAKE_BUILD_PARALLEL_LEVEL sets the compile jobs (default:
 one per CPU); NRSFM_CMAKE_ARGS adds CMake options (space-separated).
+NRSFM_PIP_CMAKE_BUILD_DIR names an existing, configured CMake build tree of
+this source (e.g. build/ of the README's commands, made for the same
+interpreter) to build the target in instead of a new one, so that nothing is
+compiled twice; .ci/run uses it (docs/python.md).
 """
 import glob
 import os
@@ -35,14 +39,20 @@ class CMakeBuild(build_ext):
     """Builds the module with CMake instead of compiling sources itself."""
 
     def build_extension(self, ext):
-        build = os.path.join(os.path.abspath(self.build_temp), "cmake")
+        reuse = os.environ.get("NRSFM_PIP_CMAKE_BUILD_DIR", "")
+        build = (os.path.abspath(reuse) if reuse
+                 else os.path.join(os.path.abspath(self.build_temp), "cmake"))
+        if reuse and not os.path.isfile(os.path.join(build, "CMakeCache.txt")):
+            raise RuntimeError("NRSFM_PIP_CMAKE_BUILD_DIR=%s is not a configured CMake build tree"
+                               % reuse)
         configure = [
             "cmake", "-S", SOURCE, "-B", build, "-DCMAKE_BUILD_TYPE=Release",
             "-DPython3_EXECUTABLE=" + sys.executable, "-DNRSFM_BUILD_PYTHON=ON",
             "-DNRSFM_BUILD_TESTS=OFF", "-DNRSFM_BUILD_BENCH=OFF", "-DNRSFM_BUILD_MATLAB=OFF",
         ] + os.environ.get("NRSFM_CMAKE_ARGS", "").split()
         jobs = os.environ.get("CMAKE_BUILD_PARALLEL_LEVEL") or str(os.cpu_count() or 1)
-        subprocess.check_call(configure)
+        if not reuse:
+            subprocess.check_call(configure)
         subprocess.check_call(["cmake", "--build", build, "--target", "nrsfm_python",
                                "-j", jobs])
         built = glob.glob(os.path.join(build, "python", "nrsfm*.so"))
