@@ -38,11 +38,9 @@ namespace nrsfm {
 //          then its nearest orthogonal matrix (reflection allowed; see
 //          AlignLeastSquaresThenOrthogonal in core/procrustes.h);
 //   e3D  = (1 / F) Σ_t (1 / P) Σ_p ||X_tp − Y X̂_tp|| / s.
-// Verified on the shared data: e3D(S · scale, Shat) gives PTA's published
-// drink 0.0250, pickup 0.2369, yoga 0.1625 (tests/core/
-// metrics_real_data_test.cc). Orthogonal Procrustes for Y (SVD of C alone)
-// does NOT reproduce them (pickup 0.2222, yoga 0.1483), nor does the sample
-// standard deviation.
+// This reproduces PTA's published numbers on the shared data
+// (tests/core/metrics_real_data_test.cc); orthogonal Procrustes for Y (SVD
+// of C alone) and the sample standard deviation do not (docs/metrics.md).
 // Invariant to a global rotation or reflection of the estimate, not to its
 // scale. Dimensionless.
 double ComputeE3D(const std::vector<Eigen::Matrix3Xd>& truth,

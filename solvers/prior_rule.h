@@ -153,8 +153,8 @@ int LargestSupportedBases(const Measurements& measurements);
 // The most bases the camera is estimated with (fact 4): the largest K' with
 // 3K' ≤ camera_rank_fraction · min(P, 2FM), K' ≤ kMaxCameraBases and
 // K' ≤ LargestSupportedBases, ≥ 1. Fact 3 is measured on a start with at
-// most this many bases (with more the start's path is not reliable: yoga's
-// triple start at K = 11 reads 0.138 °/frame², at K = 10 0.009).
+// most this many bases (with more the start's path is not reliable:
+// docs/priors.md).
 int CameraBasesCap(const PriorRuleOptions& options, const Measurements& measurements);
 
 // Fact 4 alone (fills the three fact-4 fields of `decision`); `video` (fact

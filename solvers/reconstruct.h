@@ -80,9 +80,9 @@ inline constexpr double kLittleRotationDeg = 60.0;
 // coordinate (per coordinate) of camera 0's centred shapes X_t over every
 // frame and point; NaN (left-out) points are skipped, 0 when nothing is
 // left. A rigid object seen from a turning camera has about 0.3-1 (the
-// four motion-capture sequences and frgc: 0.37-0.64); the refinements of
-// the data term alone that stretched yoga's shapes along the view direction
-// (object-frame e3D 5.5 and 9.9 at K = 6 and 4) had 8.0 and 13.9.
+// four motion-capture sequences and frgc); shapes stretched along the view
+// direction (a depth the data do not determine) read far more (values in
+// docs/priors.md).
 double DepthRatio(const Model& model);
 // Above this depth ratio Reconstruct() warns that the depth may not be
 // determined by the data.
@@ -143,10 +143,10 @@ inline constexpr int kMaxObservationsForTwoAtOnce = 1000000;
 // (Measurements::ImageSpreadRms), with robust_scale and the λ of terms
 // whose weight is in (input units)² divided likewise, and the result is
 // scaled back: shapes, translations, RMS values, costs, noise_rms and those
-// λ are in input units (a λ that was given is returned as given). Ceres'
-// damping floor and gradient tolerance are absolute, so without this the
-// same tracks in millimetres and in metres refine differently (pickup at
-// K = 4: object-frame e3D .0704 at × 0.001 against .0664). Only the
+// λ are in input units (a λ that was given is returned as given). The
+// solvers' damping floor and gradient tolerance are absolute, so without
+// this the same tracks in millimetres and in metres would refine
+// differently (docs/priors.md, units). Only the
 // progress callback's cost is in input units too; the solver's own reports
 // (result->refine.ceres_report) describe the normalised problem.
 // Errors on invalid options or measurements and when the start fails (see

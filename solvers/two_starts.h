@@ -17,9 +17,7 @@
 // that it is abandoned (its summary says stopped). The starts' own costs do
 // not tell which ends lower (docs/factorization.md, section 7); the rule
 // only ends a refinement that has had twice the other's iterations and
-// still not reached its cost (measured in docs/performance.md: the
-// factorization start of F 60, P 10 000 crawled for 500 iterations at 30×
-// the rigid start's converged cost).
+// still not reached its cost (why: docs/performance.md).
 #ifndef NRSFM_SOLVERS_TWO_STARTS_H_
 #define NRSFM_SOLVERS_TWO_STARTS_H_
 
