@@ -150,7 +150,9 @@ double MaxDifference(const GroundTruth& a, const GroundTruth& b) {
   return largest;
 }
 
-// pickup (F = 357, P = 41; its first 60 frames under the sanitizers) seen
+// pickup (F = 357, P = 41; its first 60 frames under the sanitizers, where
+// the reconstruction stops after 5 iterations and is not scored: its
+// accuracy is a release-build check, its code paths run there too) seen
 // as 500-pixel keypoints with 0.5 px noise and scores in [0.3, 1], 3 % of the
 // keypoints at 0.05 (below --min_confidence 0.1), three frames with no
 // person. The COCO file and the OpenPose folder
@@ -208,7 +210,8 @@ TEST_F(KeypointTest, PickupAsCocoResultsAndOpenPoseFolder) {
   }
 
   RunResult r = Run("reconstruct --input keypoints.json --K 12 --min_confidence 0.1 --output o "
-                    "--truth truth.mat --quiet");
+                    "--truth truth.mat --quiet" +
+                    std::string(testing_util::kSanitizedBuild ? " --max_iterations 5" : ""));
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const std::string no_person_warning =
       "3 of " + std::to_string(frames) + " frames have no person, their points are missing (";
@@ -222,8 +225,9 @@ TEST_F(KeypointTest, PickupAsCocoResultsAndOpenPoseFolder) {
   std::cout << "pickup as keypoints, K = 12: camera-frame e3D " << e3d << ", reprojection RMS "
             << result["reprojection_rms"] << " px\n";
   EXPECT_EQ(result["metrics"]["e3d_frame"], "camera");
-  // Measured 0.0274 (the first 60 frames: 0.0469).
-  EXPECT_LT(e3d, testing_util::kSanitizedBuild ? 0.06 : 0.035);
+  if (testing_util::kSanitizedBuild) return;
+  // Measured 0.0273 (2026-11-27).
+  EXPECT_LT(e3d, 0.035);
   // About the noise (0.5 px per coordinate, 0.71 px per point) and what the
   // default pipeline's temporal prior leaves of noise-free pixels (0.55 px,
   // measured): 0.92 px (the first 60 frames: 0.90 px).
