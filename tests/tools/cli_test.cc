@@ -296,8 +296,9 @@ TEST_F(CliTest, YogaWithDefaultOptions) {
   EXPECT_LT(e["rotation_error"].get<double>(), 0.0101);
 }
 
-// The other real sequences of the README's table at their published K with
-// no other flag, scored as the field scores them: drink and pickup (truth S
+// The other real sequences of the README's table at their published K, and
+// smaller K of yoga and pickup (docs/priors.md, K sweep), with no other
+// flag, scored as the field scores them: drink and pickup (truth S
 // + Rs) in the object frame against the world S, face (truth P3_gt) in the
 // camera frame. Bounds about 5 % above what was measured (2026-11-27, in
 // brackets), so that a change that costs accuracy fails here.
@@ -312,7 +313,7 @@ struct RealSequence {
 
 class RealSequenceTest : public CliTest, public ::testing::WithParamInterface<RealSequence> {};
 
-TEST_P(RealSequenceTest, DefaultOptionsAtThePublishedK) {
+TEST_P(RealSequenceTest, DefaultOptions) {
   NRSFM_SKIP_WITHOUT_SHARED_DATA(dir);
   if (testing_util::kSanitizedBuild) GTEST_SKIP() << "accuracy run: release build only";
   const RealSequence& c = GetParam();
@@ -340,8 +341,15 @@ INSTANTIATE_TEST_SUITE_P(
     Published, RealSequenceTest,
     ::testing::Values(RealSequence{"drink", 12, "object", 0.0134, 0.0111, 0.0062},    // [.01276 .01057 .00589]
                       RealSequence{"pickup", 12, "object", 0.0263, 0.0254, 0.0050},   // [.02505 .02416 .00469]
-                      RealSequence{"face", 7, "camera", 0.0488, 0.0488, 0.0}),        // [.04642]
-    [](const ::testing::TestParamInfo<RealSequence>& info) { return std::string(info.param.name); });
+                      RealSequence{"face", 7, "camera", 0.0488, 0.0488, 0.0},         // [.04642]
+                      // K below the published one, where the data term alone stretched
+                      // the shapes (main 657e239: yoga K 4 18.5, K 6 5.49; pickup K 6 .492).
+                      RealSequence{"yoga", 4, "object", 0.0720, 0.0689, 0.0101},      // [.06856 .06555 .00957]
+                      RealSequence{"yoga", 6, "object", 0.0515, 0.0478, 0.0101},      // [.04902 .04552 .00957]
+                      RealSequence{"pickup", 6, "object", 0.0503, 0.0483, 0.0088}),   // [.04790 .04594 .00838]
+    [](const ::testing::TestParamInfo<RealSequence>& info) {
+      return std::string(info.param.name) + "_K" + std::to_string(info.param.num_bases);
+    });
 
 // A term weight on the command line means manual priors: exactly that term.
 TEST_F(CliTest, TermFlagMeansManualPriors) {
