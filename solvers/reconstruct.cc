@@ -194,14 +194,11 @@ namespace {
 // Reconstruct() on measurements in any units: every step below is invariant
 // to them but Levenberg-Marquardt's damping floor and gradient tolerance,
 // which are absolute; Reconstruct() therefore calls it on tracks of unit
-// spread.
+// spread. Reconstruct() has checked the options and the measurements.
 Status ReconstructInUnits(const ReconstructOptions& options,
                           const Measurements& measurements, ReconstructResult* result) {
-  CHECK(result != nullptr);
   const auto start = std::chrono::steady_clock::now();
   *result = ReconstructResult();
-  NRSFM_RETURN_IF_ERROR(options.Check());
-  NRSFM_RETURN_IF_ERROR(measurements.Validate());
   Unobserved unobserved;
   NRSFM_RETURN_IF_ERROR(
       FindUnobserved(measurements, options.start.num_bases, &unobserved));
@@ -326,8 +323,9 @@ Status ReconstructInUnits(const ReconstructOptions& options,
 
 // Multiplies everything in input units of `result` (reconstructed from
 // tracks divided by `spread`) by the spread: the shapes and translations,
-// the RMS values and costs, the noise estimate, and the weights in
-// (input units)² of the terms (a weight given in `options` as it was given).
+// the RMS values and costs, the noise estimate; the term weights given in
+// `options` are returned as given (the rule's own weights are
+// dimensionless).
 void ToInputUnits(const ReconstructOptions& options, double spread, ReconstructResult* result) {
   result->model.translations *= spread;
   result->model.basis *= spread;
@@ -341,12 +339,9 @@ void ToInputUnits(const ReconstructOptions& options, double spread, ReconstructR
     summary->reprojection_rms *= spread;
   }
   if (result->priors.noise_rms > 0) result->priors.noise_rms *= spread;
-  for (const ExtraTerm& term : ExtraTerms()) {
-    const auto it = result->priors.term_weights.find(term.name);
-    if (!term.weight_in_squared_input_units || it == result->priors.term_weights.end()) continue;
-    const auto given = options.problem.term_weights.find(term.name);
-    it->second = given != options.problem.term_weights.end() ? given->second
-                                                             : it->second * spread * spread;
+  for (auto& [name, weight] : result->priors.term_weights) {
+    const auto given = options.problem.term_weights.find(name);
+    if (given != options.problem.term_weights.end()) weight = given->second;
   }
 }
 
