@@ -57,7 +57,8 @@
 #include "core/result_writer.h"
 #include "core/rotation.h"
 #include "tools/command_flags.h"
-#include "tools/flag_options.h"
+#include "tools/flag_table.h"
+#include "tools/reconstruction_steps.h"
 
 #include "mex.h"
 
@@ -144,18 +145,12 @@ Status ValueText(const mxArray* a, const std::string& name, std::string* text) {
 // The options nrsfm_reconstruct takes by name (the tool's flags that apply
 // to arrays), lower-case name -> flag name.
 std::vector<std::pair<std::string, std::string>> OptionNames() {
-  const std::set<std::string> left_out = nrsfm::tools::NotArrayReconstructFlags();
   std::vector<std::pair<std::string, std::string>> names;
-  const auto add = [&](const std::string& name, const std::string& help) {
-    if (left_out.count(name) == 0 && !nrsfm::tools::FlagHelpFor(help, "reconstruct").empty()) {
-      names.emplace_back(Lower(name), name);
+  for (const nrsfm::tools::FlagInfo& flag : nrsfm::tools::CommandFlagTable()) {
+    if (flag.role == nrsfm::tools::FlagRole::kStart ||
+        flag.role == nrsfm::tools::FlagRole::kOption) {
+      names.emplace_back(Lower(flag.name), flag.name);
     }
-  };
-#define NRSFM_MEX_OPTION(type, name, value, help) add(#name, help);
-  NRSFM_COMMAND_FLAGS(NRSFM_MEX_OPTION)
-#undef NRSFM_MEX_OPTION
-  for (const nrsfm::ExtraTerm& term : nrsfm::ExtraTerms()) {
-    add(term.name, nrsfm::tools::TermFlagHelp(term));
   }
   return names;
 }
@@ -232,9 +227,8 @@ Status Run(int nlhs, int nrhs, const mxArray* prhs[], Outcome* outcome) {
   CommandFlags flags;
   if (mxIsLogical(prhs[1])) return Status::Error("K must be a positive integer or 'auto'");
   NRSFM_RETURN_IF_ERROR(ValueText(prhs[1], "K", &flags.K));
-  bool auto_k = false;
-  int num_bases = 0;
-  NRSFM_RETURN_IF_ERROR(nrsfm::tools::ParseNumBasesFlag(flags.K, &auto_k, &num_bases));
+  nrsfm::tools::NumBasesFlag num_bases;
+  NRSFM_RETURN_IF_ERROR(nrsfm::tools::ParseNumBasesFlag(flags.K, &num_bases));
 
   Eigen::MatrixXd w, mask, observation_weights;
   NRSFM_RETURN_IF_ERROR(ToMatrix(prhs[0], "W", &w));
@@ -278,17 +272,16 @@ Status Run(int nlhs, int nrhs, const mxArray* prhs[], Outcome* outcome) {
     NRSFM_RETURN_IF_ERROR(nrsfm::tools::SetFlagFromText(flag, text, &flags));
   }
 
-  nrsfm::ReconstructOptions options;
-  NRSFM_RETURN_IF_ERROR(nrsfm::tools::BuildReconstructOptions(flags, &options));
   flags.cameras = cameras;
+  nrsfm::tools::FlagTargets targets;
+  NRSFM_RETURN_IF_ERROR(nrsfm::tools::ApplyFlags(flags, &targets));
   nrsfm::Measurements measurements;
   NRSFM_RETURN_IF_ERROR(
       nrsfm::tools::MeasurementsFromArrays(w, mask, cameras, &measurements));
   NRSFM_RETURN_IF_ERROR(nrsfm::tools::ArrayReconstructOptions(
-      measurements, observation_weights.array(), &flags, &options));
+      measurements, observation_weights.array(), &flags, &targets));
   nrsfm::tools::ReconstructionRun run;
-  NRSFM_RETURN_IF_ERROR(
-      nrsfm::tools::RunReconstruction(flags, options, measurements, "", &run));
+  NRSFM_RETURN_IF_ERROR(nrsfm::tools::RunReconstruction(targets, measurements, "", &run));
   const nrsfm::ReconstructionReport report = nrsfm::tools::MakeReport(flags, "", run, nullptr);
   if (!run.result.refine.usable) {
     return Status::Error("the refinement did not give a usable solution (" +

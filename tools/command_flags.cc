@@ -3,7 +3,7 @@
 #include <gflags/gflags.h>
 #include <glog/logging.h>
 
-#include "tools/flag_options.h"
+#include "tools/flag_table.h"
 
 namespace nrsfm {
 namespace tools {
@@ -22,20 +22,18 @@ void RegisterCommandFlags(CommandFlags* flags) {
   CHECK(!registered) << "RegisterCommandFlags called twice";
   registered = true;
   static CommandFlags defaults;  // the default values gflags reports
-#define NRSFM_REGISTER_COMMAND_FLAG(type, name, value, help) \
-  Register<type>(#name, help, &flags->name, &defaults.name);
+  // The rows of CommandFlagTable() are in the order of NRSFM_COMMAND_FLAGS,
+  // then the extra terms.
+  const std::vector<FlagInfo>& table = CommandFlagTable();
+  std::size_t row = 0;
+#define NRSFM_REGISTER_COMMAND_FLAG(type, flag, value, role, bind, help)            \
+  CHECK_EQ(table[row].name, #flag);                                                 \
+  Register<type>(#flag, table[row++].full_help.c_str(), &flags->flag, &defaults.flag);
   NRSFM_COMMAND_FLAGS(NRSFM_REGISTER_COMMAND_FLAG)
 #undef NRSFM_REGISTER_COMMAND_FLAG
-
-  static const std::vector<std::string> term_help = [] {
-    std::vector<std::string> help;
-    for (const ExtraTerm& term : ExtraTerms()) help.push_back(TermFlagHelp(term));
-    return help;
-  }();
-  const std::vector<ExtraTerm>& terms = ExtraTerms();
-  for (std::size_t i = 0; i < terms.size(); ++i) {
-    Register<double>(terms[i].name, term_help[i].c_str(), &flags->term_weights[i],
-                     &defaults.term_weights[i]);
+  for (std::size_t i = 0; i < ExtraTerms().size(); ++i, ++row) {
+    Register<double>(table[row].name.c_str(), table[row].full_help.c_str(),
+                     &flags->term_weights[i], &defaults.term_weights[i]);
   }
 }
 

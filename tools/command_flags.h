@@ -1,10 +1,13 @@
 // The flags of the nrsfm tool, each declared once: NRSFM_COMMAND_FLAGS lists
-// type, name, default and help of every flag, and from that one list come
-// the members of CommandFlags (what the commands read) and the gflags flags
-// that parse into them (RegisterCommandFlags). A flag that sets a library
-// option takes that option's default. The extra terms' weights are not in
-// the list: one flag per row of the table in problems/extra_terms.h, named
-// by its `flag` column, parsed into CommandFlags::term_weights.
+// type, name, default, role, the option it sets and its help per command of
+// every flag. From that one list come the members of CommandFlags (what the
+// commands read), the gflags flags that parse into them
+// (RegisterCommandFlags), the options they set (ApplyFlags), result.json's
+// "options" and the Python module's and MATLAB function's keywords
+// (tools/flag_table.h). A flag that sets a library option takes that
+// option's default. The extra terms' weights are not in the list: one flag
+// per row of the table in problems/extra_terms.h, named by its `name`,
+// parsed into CommandFlags::term_weights (tools/flag_table.h adds them).
 #ifndef NRSFM_TOOLS_COMMAND_FLAGS_H_
 #define NRSFM_TOOLS_COMMAND_FLAGS_H_
 
@@ -14,7 +17,9 @@
 
 #include "core/keypoint_io.h"
 #include "core/read_measurements.h"
+#include "core/status.h"
 #include "core/synthetic.h"
+#include "problems/delaunay_edges.h"
 #include "problems/extra_terms.h"
 #include "problems/problem_options.h"
 #include "solvers/initialize.h"
@@ -22,129 +27,292 @@
 #include "solvers/select_num_bases.h"
 #include "solvers/solver_options.h"
 
-// X(type, name, default, help)
+namespace nrsfm {
+namespace tools {
+
+// The commands of the tool, as bits: a flag's help names the commands it
+// serves.
+enum Command : unsigned { kReconstruct = 1u, kEvaluate = 2u, kSynth = 4u, kView = 8u };
+
+// What a flag is for, which decides where it appears:
+//   kInput     how --input is read (InputOptions): reconstruct and view, the
+//              Python read() keywords, result.json's options;
+//   kWeights   the keypoint scores as observation weights: result.json's
+//              options (a caller of the Python or MATLAB function gives the
+//              weights as an array instead);
+//   kNumBases  --K (an argument of the Python and MATLAB functions);
+//   kStart     an option of the start, of the prior rule or of the choice
+//              of K (not of a refinement of a given model): result.json,
+//              the keywords of reconstruct() but not of refine();
+//   kOption    an option of the problem or the solver: result.json, the
+//              keywords of reconstruct() and refine();
+//   kSynthesis the synthetic data (synth only);
+//   kTool      the tool's own files and printing: none of the above.
+enum class FlagRole { kInput, kWeights, kNumBases, kStart, kOption, kSynthesis, kTool };
+
+// One part of a flag's help: the commands it is for and what it says there.
+struct CommandHelp {
+  unsigned commands = 0;  // Command bits
+  const char* text = "";
+};
+
+// --K of reconstruct: an integer >= 1 or "auto"; given = false when empty.
+struct NumBasesFlag {
+  bool given = false;
+  bool automatic = false;
+  int value = 0;
+};
+
+// Parses --K ("" = not given): an integer >= 1 or "auto"; the error quotes
+// the value.
+Status ParseNumBasesFlag(const std::string& value, NumBasesFlag* num_bases);
+
+// Sets ProblemOptions::constant_* from --hold's comma list of block kinds
+// (rotations, translations, weights, basis, scales, rig); an unknown name is
+// an error naming it.
+Status ParseHeldBlocks(const std::string& list, ProblemOptions* options);
+
+// What the flags set: the options of reading the input, of the
+// reconstruction and of the choice of K, and --K itself.
+struct FlagTargets {
+  InputOptions input;
+  ReconstructOptions reconstruct;
+  SelectNumBasesOptions select;
+  NumBasesFlag num_bases;
+
+  // The Check() of each options struct on its own (keypoints, input, start,
+  // problem, solver, prior rule, K selection): the rules of single values.
+  Status CheckParts() const;
+  // Check() of the input, the reconstruction (with the rules that join
+  // values) and the K selection options.
+  Status Check() const;
+};
+
+// The `bind` column: how a flag's value sets its field of FlagTargets.
+// NRSFM_SETS(target, field) assigns it; NRSFM_PARSES(target, field, parse)
+// calls parse(value, &field) (a name parsed into an enum, …);
+// NRSFM_PARSES_INTO(target, parse) parses into the target itself;
+// NRSFM_SETS_NOTHING: a flag the commands read themselves.
+#define NRSFM_SETS(target, field)                                        \
+  ([](const auto& value, ::nrsfm::tools::FlagTargets* t) {               \
+    t->target.field = value;                                             \
+    return ::nrsfm::Status::OK();                                        \
+  })
+#define NRSFM_PARSES(target, field, parse)                               \
+  ([](const auto& value, ::nrsfm::tools::FlagTargets* t) {               \
+    return parse(value, &t->target.field);                               \
+  })
+#define NRSFM_PARSES_INTO(target, parse)                                 \
+  ([](const auto& value, ::nrsfm::tools::FlagTargets* t) {               \
+    return parse(value, &t->target);                                     \
+  })
+#define NRSFM_SETS_NOTHING (::nrsfm::tools::SetsNothing())
+#define NRSFM_HELP(...) (std::vector<::nrsfm::tools::CommandHelp>{__VA_ARGS__})
+
+// The bind of a flag that sets no option.
+struct SetsNothing {};
+
+}  // namespace tools
+}  // namespace nrsfm
+
+// X(type, name, default, role, bind, help): the member's type, the flag's
+// name, its default (a library option's own default where it sets one), its
+// FlagRole, how it sets its option (NRSFM_SETS / NRSFM_PARSES, or
+// NRSFM_SETS_NOTHING for the flags a command reads itself) and its help per
+// command (NRSFM_HELP({commands, text}, ...)). The help says what the flag
+// does; which commands it serves comes from the commands of its help, not
+// from its words.
 #define NRSFM_COMMAND_FLAGS(X)                                                   \
-  X(std::string, input, "",                                                      \
-    "reconstruct, view: input file (.mat v4/v5/v7.3, text/CSV W, an "            \
-    "observation list .obs/.list 'frame camera point u v', COCO keypoint "       \
-    "results .json, or a folder of OpenPose .json frames); synth --dataset "    \
-    "reproject: the source truth (.mat with S+Rs, P3_gt or X).")                 \
-  X(std::string, var, ::nrsfm::InputOptions().variable,                          \
-    "reconstruct, view: variable of a .mat input (default: W, then P3_gt, "      \
-    "then X).")                                                                  \
-  X(std::string, mask_var, ::nrsfm::InputOptions().mask_variable,                \
-    "reconstruct, view: optional visibility-mask variable of a .mat input "      \
-    "(nonzero = visible).")                                                      \
-  X(std::string, format,                                                         \
-    ::nrsfm::InputFormatName(::nrsfm::InputOptions().format),                    \
-    "reconstruct, view: input format auto|mat|text|list|coco|openpose (auto: "   \
-    "by the extension, .json = coco; a folder = openpose).")                     \
-  X(std::string, frame_key, ::nrsfm::KeypointOptions().frame_key,                \
-    "reconstruct, view: COCO keypoint input: the field of each entry that "      \
-    "orders the frames (integers: every number from the smallest to the "       \
-    "largest is a frame, one without an entry has no person).")                  \
-  X(std::string, part,                                                           \
-    ::nrsfm::KeypointPartName(::nrsfm::KeypointOptions().part),                  \
-    "reconstruct, view: OpenPose input: the keypoints of people[0] that are "    \
-    "the points, pose|face|hand_left|hand_right.")                               \
-  X(double, min_confidence, ::nrsfm::KeypointOptions().min_confidence,           \
-    "reconstruct, view: keypoint input: a keypoint whose detector score is "     \
-    "below this is missing (a score of 0 always is).")                           \
-  X(int, cameras, ::nrsfm::InputOptions().num_cameras,                           \
-    "reconstruct: number of synchronised cameras M of a W input with 2FM rows; " \
-    "0 = what the file records (a .mat file's 'cameras' variable, an "          \
-    "observation list's camera indices), else 1; a count that disagrees with "  \
-    "the file is an error. synth: cameras of the shoe (1 or 2; 0 = 1).")         \
-  X(std::string, K, "",                                                          \
-    "reconstruct: number of basis shapes, an integer >= 1 or 'auto'; evaluate: " \
-    "the result's K, for the rank-K floor printed beside an object-frame e3D "  \
-    "(default: the result directory's result.json); synth: basis shapes of the " \
-    "random generator (default: the generator's).")                             \
-  X(int, K_max, ::nrsfm::SelectNumBasesOptions().max_num_bases,                  \
-    "reconstruct --K auto: largest K tried.")                                    \
-  X(double, K_threshold, ::nrsfm::SelectNumBasesOptions().threshold,             \
-    "reconstruct --K auto: keep the smallest K whose reprojection RMS is "       \
-    "within this factor of the noise level estimated from the data.")            \
-  X(std::string, output, "",                                                     \
-    "reconstruct: output directory; synth: output .mat file; view: output "      \
-    ".html file.")                                                               \
-  X(bool, overwrite, false,                                                      \
-    "reconstruct: replace an earlier result directory; view: replace the page.") \
-  X(bool, ply, false, "reconstruct: also write one PLY file per frame.")         \
+  X(std::string, input, "", kTool, NRSFM_SETS_NOTHING,                           \
+    NRSFM_HELP({kReconstruct | kView,                                            \
+                "input file (.mat v4/v5/v7.3, text/CSV W, an observation list "  \
+                ".obs/.list 'frame camera point u v', COCO keypoint results "    \
+                ".json, or a folder of OpenPose .json frames)."},                \
+               {kSynth, "(--dataset reproject) the source truth (.mat with "     \
+                        "S+Rs, P3_gt or X)."}))                                  \
+  X(std::string, var, ::nrsfm::InputOptions().variable, kInput,                 \
+    NRSFM_SETS(input, variable),                                                 \
+    NRSFM_HELP({kReconstruct | kView, "variable of a .mat input (default: W, "   \
+                                      "then P3_gt, then X)."}))                  \
+  X(std::string, mask_var, ::nrsfm::InputOptions().mask_variable, kInput,       \
+    NRSFM_SETS(input, mask_variable),                                            \
+    NRSFM_HELP({kReconstruct | kView, "optional visibility-mask variable of a "  \
+                                      ".mat input (nonzero = visible)."}))       \
+  X(std::string, format, ::nrsfm::InputFormatName(::nrsfm::InputOptions().format), \
+    kInput, NRSFM_PARSES(input, format, ::nrsfm::ParseInputFormat),             \
+    NRSFM_HELP({kReconstruct | kView,                                            \
+                "input format auto|mat|text|list|coco|openpose (auto: by the "   \
+                "extension, .json = coco; a folder = openpose)."}))              \
+  X(std::string, frame_key, ::nrsfm::KeypointOptions().frame_key, kInput,       \
+    NRSFM_SETS(input, keypoints.frame_key),                                      \
+    NRSFM_HELP({kReconstruct | kView,                                            \
+                "COCO keypoint input: the field of each entry that orders the "  \
+                "frames (integers: every number from the smallest to the "       \
+                "largest is a frame, one without an entry has no person)."}))    \
+  X(std::string, part, ::nrsfm::KeypointPartName(::nrsfm::KeypointOptions().part), \
+    kInput, NRSFM_PARSES(input, keypoints.part, ::nrsfm::ParseKeypointPart),     \
+    NRSFM_HELP({kReconstruct | kView,                                            \
+                "OpenPose input: the keypoints of people[0] that are the "       \
+                "points, pose|face|hand_left|hand_right."}))                     \
+  X(double, min_confidence, ::nrsfm::KeypointOptions().min_confidence, kInput,  \
+    NRSFM_SETS(input, keypoints.min_confidence),                                 \
+    NRSFM_HELP({kReconstruct | kView,                                            \
+                "keypoint input: a keypoint whose detector score is below this " \
+                "is missing (a score of 0 always is)."}))                        \
+  X(int, cameras, ::nrsfm::InputOptions().num_cameras, kInput,                  \
+    NRSFM_SETS(input, num_cameras),                                              \
+    NRSFM_HELP({kReconstruct,                                                    \
+                "number of synchronised cameras M of a W input with 2FM rows; "  \
+                "0 = what the file records (a .mat file's 'cameras' variable, "  \
+                "an observation list's camera indices), else 1; a count that "   \
+                "disagrees with the file is an error."},                         \
+               {kSynth, "cameras of the shoe (1 or 2; 0 = 1)."}))                \
+  X(std::string, K, "", kNumBases, NRSFM_PARSES_INTO(num_bases, ParseNumBasesFlag), \
+    NRSFM_HELP({kReconstruct, "number of basis shapes, an integer >= 1 or "      \
+                              "'auto'."},                                        \
+               {kEvaluate, "the result's K, for the rank-K floor printed "       \
+                           "beside an object-frame e3D (default: the result "    \
+                           "directory's result.json)."},                         \
+               {kSynth, "basis shapes of the random generator (default: the "    \
+                        "generator's)."}))                                       \
+  X(int, K_max, ::nrsfm::SelectNumBasesOptions().max_num_bases, kStart,         \
+    NRSFM_SETS(select, max_num_bases),                                           \
+    NRSFM_HELP({kReconstruct, "(--K auto) largest K tried."}))                   \
+  X(double, K_threshold, ::nrsfm::SelectNumBasesOptions().threshold, kStart,    \
+    NRSFM_SETS(select, threshold),                                               \
+    NRSFM_HELP({kReconstruct, "(--K auto) keep the smallest K whose "            \
+                              "reprojection RMS is within this factor of the "   \
+                              "noise level estimated from the data."}))          \
+  X(std::string, output, "", kTool, NRSFM_SETS_NOTHING,                          \
+    NRSFM_HELP({kReconstruct, "output directory."},                              \
+               {kSynth, "output .mat file."}, {kView, "output .html file."}))    \
+  X(bool, overwrite, false, kTool, NRSFM_SETS_NOTHING,                           \
+    NRSFM_HELP({kReconstruct, "replace an earlier result directory."},           \
+               {kView, "replace the page."}))                                    \
+  X(bool, ply, false, kTool, NRSFM_SETS_NOTHING,                                 \
+    NRSFM_HELP({kReconstruct, "also write one PLY file per frame."}))            \
   X(std::string, init, ::nrsfm::StartMethodName(::nrsfm::StartOptions().method), \
-    "reconstruct: start auto|factorization|rigid|triple (auto: the triple "     \
-    "start for a video given the temporal prior; otherwise the factorization "  \
-    "and rigid starts both refined, the lower cost kept; docs/priors.md).")     \
-  X(std::string, priors,                                                         \
-    ::nrsfm::PriorModeName(::nrsfm::ReconstructOptions().priors),                \
-    "reconstruct: auto|manual. auto chooses the temporal terms from the data "   \
-    "(docs/priors.md); giving any term weight (--temporal_shape, ...) means "    \
-    "manual: exactly the weights given.")                                        \
+    kStart, NRSFM_PARSES(reconstruct, start.method, ::nrsfm::ParseStartMethod), \
+    NRSFM_HELP({kReconstruct,                                                    \
+                "start auto|factorization|rigid|triple (auto: the triple start " \
+                "for a video given the temporal prior; otherwise the "           \
+                "factorization and rigid starts both refined, the lower cost "   \
+                "kept; docs/priors.md)."}))                                      \
+  X(std::string, priors, ::nrsfm::PriorModeName(::nrsfm::ReconstructOptions().priors), \
+    kStart, NRSFM_PARSES(reconstruct, priors, ::nrsfm::ParsePriorMode),         \
+    NRSFM_HELP({kReconstruct,                                                    \
+                "auto|manual. auto chooses the temporal terms from the data "    \
+                "(docs/priors.md); giving any term weight (--temporal_shape, "   \
+                "...) means manual: exactly the weights given."}))               \
   X(std::string, robust,                                                         \
-    ::nrsfm::RobustLossName(::nrsfm::ProblemOptions().robust_loss),              \
-    "reconstruct: robust loss none|huber|cauchy on the reprojection terms.")     \
-  X(double, robust_scale, ::nrsfm::ProblemOptions().robust_scale,                \
-    "reconstruct: robust loss scale, in input units.")                           \
-  X(std::string, hold, "",                                                       \
-    "reconstruct: blocks held at their start values during the refinement, a "  \
-    "comma list of rotations,translations,weights,basis,scales,rig (e.g. "      \
-    "your own cameras with --init and refine, or refine in Python).")           \
-  X(bool, confidence_weights, false,                                             \
-    "reconstruct: keypoint input: weight each observation's residual by its "    \
-    "detector score (the scores scaled to average 1 over the visible points).")  \
-  X(int, max_iterations, ::nrsfm::SolverOptions().max_iterations,                \
-    "reconstruct: Levenberg-Marquardt iterations.")                              \
-  X(int, threads, ::nrsfm::SolverOptions().num_threads,                          \
-    "reconstruct: solver threads (default: every core; the default solver "    \
-    "gives the same bits for any count).")                                     \
+    ::nrsfm::RobustLossName(::nrsfm::ProblemOptions().robust_loss), kOption,     \
+    NRSFM_PARSES(reconstruct, problem.robust_loss, ::nrsfm::ParseRobustLoss),    \
+    NRSFM_HELP({kReconstruct, "robust loss none|huber|cauchy on the "            \
+                              "reprojection terms."}))                           \
+  X(double, robust_scale, ::nrsfm::ProblemOptions().robust_scale, kOption,      \
+    NRSFM_SETS(reconstruct, problem.robust_scale),                               \
+    NRSFM_HELP({kReconstruct, "robust loss scale, in input units."}))            \
+  X(std::string, hold, "", kOption,                                              \
+    NRSFM_PARSES(reconstruct, problem, ParseHeldBlocks),                         \
+    NRSFM_HELP({kReconstruct,                                                    \
+                "blocks held at their start values during the refinement, a "    \
+                "comma list of rotations,translations,weights,basis,scales,rig " \
+                "(e.g. your own cameras with --init and refine, or refine in "   \
+                "Python)."}))                                                    \
+  X(bool, confidence_weights, false, kWeights, NRSFM_SETS_NOTHING,               \
+    NRSFM_HELP({kReconstruct,                                                    \
+                "keypoint input: weight each observation's residual by its "     \
+                "detector score (the scores scaled to average 1 over the "       \
+                "visible points)."}))                                            \
+  X(int, max_iterations, ::nrsfm::SolverOptions().max_iterations, kOption,      \
+    NRSFM_SETS(reconstruct, solver.max_iterations),                              \
+    NRSFM_HELP({kReconstruct, "Levenberg-Marquardt iterations."}))               \
+  X(double, function_tolerance, ::nrsfm::SolverOptions().function_tolerance,    \
+    kOption, NRSFM_SETS(reconstruct, solver.function_tolerance),                 \
+    NRSFM_HELP({kReconstruct, "stop when an accepted step lowers the cost by "   \
+                              "less than this fraction of itself."}))            \
+  X(double, max_seconds, ::nrsfm::SolverOptions().max_seconds, kOption,         \
+    NRSFM_SETS(reconstruct, solver.max_seconds),                                 \
+    NRSFM_HELP({kReconstruct, "wall-time limit of each refinement, seconds; "    \
+                              "0 = none."}))                                     \
+  X(int, threads, ::nrsfm::SolverOptions().num_threads, kOption,                \
+    NRSFM_SETS(reconstruct, solver.num_threads),                                 \
+    NRSFM_HELP({kReconstruct, "solver threads (default: every core; the "        \
+                              "default solver gives the same bits for any "      \
+                              "count)."}))                                       \
   X(std::string, linear_solver,                                                  \
-    ::nrsfm::LinearSolverName(::nrsfm::SolverOptions().linear_solver),           \
-    "reconstruct: auto|structured|dense_schur|sparse_schur|iterative_schur|"     \
-    "sparse_normal_cholesky|cgnr|dense_qr.")                                     \
-  X(std::uint64_t, seed, ::nrsfm::StartOptions().seed,                           \
-    "reconstruct: seed of the rigid and triple starts; synth: seed.")            \
-  X(std::string, truth, "",                                                      \
-    "reconstruct, evaluate, view: ground truth (.mat with S+Rs, P3_gt or X, "    \
-    "or a result directory).")                                                   \
-  X(std::string, truth_var, "",                                                  \
-    "reconstruct, evaluate, view: variable of the truth .mat (default: S+Rs, "   \
-    "then P3_gt, then X); synth --dataset reproject: variable of the source "  \
-    "--input.")                                                                  \
-  X(std::string, result, "",                                                     \
-    "evaluate, view: result directory of a reconstruction.")                     \
-  X(std::string, dataset, "random",                                              \
-    "synth: random|superquadric|shoe|reproject (reproject: the 3-D truth of "     \
-    "--input re-projected under the camera path of --rotation, --axis, "         \
-    "--profile).")                                                               \
-  X(int, frames, -1, "synth: frames F (default: the generator's).")              \
-  X(int, points, -1, "synth: points P (default: the generator's).")              \
-  X(double, noise, 0.0, "synth: Gaussian noise std on W, input units.")          \
-  X(double, missing, 0.0,                                                        \
-    "synth: fraction of entries removed at random (random, superquadric, "       \
-    "reproject).")                                                               \
+    ::nrsfm::LinearSolverName(::nrsfm::SolverOptions().linear_solver), kOption,  \
+    NRSFM_PARSES(reconstruct, solver.linear_solver, ::nrsfm::ParseLinearSolver), \
+    NRSFM_HELP({kReconstruct, "auto|structured|dense_schur|sparse_schur|"        \
+                              "iterative_schur|sparse_normal_cholesky|cgnr|"     \
+                              "dense_qr."}))                                     \
+  X(std::uint64_t, seed, ::nrsfm::StartOptions().seed, kStart,                  \
+    NRSFM_SETS(reconstruct, start.seed),                                         \
+    NRSFM_HELP({kReconstruct, "seed of the rigid and triple starts."},           \
+               {kSynth, "seed."}))                                               \
+  X(int, smoothness_reference_frame,                                             \
+    ::nrsfm::DelaunayEdgesOptions().reference_frame, kOption,                    \
+    NRSFM_SETS(reconstruct, problem.smoothness_edges.reference_frame),           \
+    NRSFM_HELP({kReconstruct, "--smoothness: the frame whose camera-0 view is "  \
+                              "triangulated for the neighbour edges; -1 = the "  \
+                              "frame that sees the most points."}))              \
+  X(std::string, truth, "", kTool, NRSFM_SETS_NOTHING,                           \
+    NRSFM_HELP({kReconstruct | kEvaluate | kView,                                \
+                "ground truth (.mat with S+Rs, P3_gt or X, or a result "         \
+                "directory)."}))                                                 \
+  X(std::string, truth_var, "", kTool, NRSFM_SETS_NOTHING,                       \
+    NRSFM_HELP({kReconstruct | kEvaluate | kView,                                \
+                "variable of the truth .mat (default: S+Rs, then P3_gt, then "   \
+                "X)."},                                                          \
+               {kSynth, "(--dataset reproject) variable of the source "          \
+                        "--input."}))                                            \
+  X(std::string, result, "", kTool, NRSFM_SETS_NOTHING,                          \
+    NRSFM_HELP({kEvaluate | kView, "result directory of a reconstruction."}))    \
+  X(std::string, dataset, "random", kSynthesis, NRSFM_SETS_NOTHING,              \
+    NRSFM_HELP({kSynth, "random|superquadric|shoe|reproject (reproject: the "    \
+                        "3-D truth of --input re-projected under the camera "    \
+                        "path of --rotation, --axis, --profile)."}))             \
+  X(int, frames, -1, kSynthesis, NRSFM_SETS_NOTHING,                             \
+    NRSFM_HELP({kSynth, "frames F (default: the generator's)."}))                \
+  X(int, points, -1, kSynthesis, NRSFM_SETS_NOTHING,                             \
+    NRSFM_HELP({kSynth, "points P (default: the generator's)."}))                \
+  X(double, noise, 0.0, kSynthesis, NRSFM_SETS_NOTHING,                          \
+    NRSFM_HELP({kSynth, "Gaussian noise std on W, input units."}))               \
+  X(double, missing, 0.0, kSynthesis, NRSFM_SETS_NOTHING,                        \
+    NRSFM_HELP({kSynth, "fraction of entries removed at random (random, "        \
+                        "superquadric, reproject)."}))                           \
   X(double, rotation, ::nrsfm::ReprojectOptions().total_rotation_deg,            \
-    "synth --dataset reproject: total camera rotation over the sequence, "       \
-    "degrees.")                                                                  \
-  X(std::string, axis, "0,1,0",                                                  \
-    "synth --dataset reproject: rotation axis x,y,z in the first camera's "      \
-    "frame (0,1,0: orbit about the image's vertical).")                          \
+    kSynthesis, NRSFM_SETS_NOTHING,                                              \
+    NRSFM_HELP({kSynth, "(--dataset reproject) total camera rotation over the "  \
+                        "sequence, degrees."}))                                  \
+  X(std::string, axis, "0,1,0", kSynthesis, NRSFM_SETS_NOTHING,                  \
+    NRSFM_HELP({kSynth, "(--dataset reproject) rotation axis x,y,z in the "      \
+                        "first camera's frame (0,1,0: orbit about the image's "  \
+                        "vertical)."}))                                          \
   X(std::string, profile,                                                        \
-    ::nrsfm::SpeedProfileName(::nrsfm::ReprojectOptions().profile),              \
-    "synth --dataset reproject: speed profile constant|ramp|stopgo.")            \
+    ::nrsfm::SpeedProfileName(::nrsfm::ReprojectOptions().profile), kSynthesis,  \
+    NRSFM_SETS_NOTHING,                                                          \
+    NRSFM_HELP({kSynth, "(--dataset reproject) speed profile "                   \
+                        "constant|ramp|stopgo."}))                               \
   X(double, noise_fraction, ::nrsfm::ReprojectOptions().noise_fraction,          \
-    "synth --dataset reproject: Gaussian noise std as a fraction of the image "  \
-    "size (the largest side of a frame's bounding box of the tracks).")          \
+    kSynthesis, NRSFM_SETS_NOTHING,                                              \
+    NRSFM_HELP({kSynth, "(--dataset reproject) Gaussian noise std as a "         \
+                        "fraction of the image size (the largest side of a "     \
+                        "frame's bounding box of the tracks)."}))                \
   X(double, occlusion, ::nrsfm::ReprojectOptions().occlusion_radius,             \
-    "synth --dataset reproject: self-occlusion radius as a fraction of the "     \
-    "image size (a point is hidden by a nearer one within it); 0 = none.")       \
-  X(bool, quiet, false, "reconstruct: no progress lines on stderr.")
+    kSynthesis, NRSFM_SETS_NOTHING,                                              \
+    NRSFM_HELP({kSynth, "(--dataset reproject) self-occlusion radius as a "      \
+                        "fraction of the image size (a point is hidden by a "    \
+                        "nearer one within it); 0 = none."}))                    \
+  X(bool, quiet, false, kTool, NRSFM_SETS_NOTHING,                               \
+    NRSFM_HELP({kReconstruct, "no progress lines on stderr."}))
 
 namespace nrsfm {
 namespace tools {
 
 // The parsed command line; --help describes each member.
 struct CommandFlags {
-#define NRSFM_COMMAND_FLAG_MEMBER(type, name, value, help) type name = value;
+#define NRSFM_COMMAND_FLAG_MEMBER(type, name, value, role, bind, help) type name = value;
   NRSFM_COMMAND_FLAGS(NRSFM_COMMAND_FLAG_MEMBER)
 #undef NRSFM_COMMAND_FLAG_MEMBER
   // λ of every extra term, aligned with ExtraTerms() (0 = off).

@@ -17,7 +17,9 @@
 #include "core/result_reader.h"
 #include "core/result_writer.h"
 #include "core/synthetic.h"
-#include "tools/flag_options.h"
+#include "tools/flag_table.h"
+#include "tools/reconstruction_steps.h"
+#include "tools/synth_steps.h"
 
 namespace nrsfm {
 namespace tools {
@@ -44,15 +46,9 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
   if (flags.input.empty()) return Status::Error("--input is required");
   if (flags.output.empty()) return Status::Error("--output is required");
   if (flags.K.empty()) return Status::Error("--K is required (an integer >= 1 or 'auto')");
-  bool auto_k = false;
-  int num_bases = 0;
-  NRSFM_RETURN_IF_ERROR(ParseNumBasesFlag(flags.K, &auto_k, &num_bases));
-  if (flags.cameras < 0) {
-    return Status::Error("--cameras must be >= 1 (or 0: from the file), got " +
-                         std::to_string(flags.cameras));
-  }
-  ReconstructOptions options;
-  NRSFM_RETURN_IF_ERROR(BuildReconstructOptions(flags, &options));
+  FlagTargets targets;
+  NRSFM_RETURN_IF_ERROR(ApplyFlags(flags, &targets));
+  ReconstructOptions& options = targets.reconstruct;
 
   // Refuse an output that cannot be written before spending time solving.
   if (!flags.overwrite) {
@@ -66,11 +62,9 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
     }
   }
 
-  InputOptions input_options;
-  NRSFM_RETURN_IF_ERROR(BuildInputOptions(flags, &input_options));
   Measurements measurements;
   InputDetails details;
-  NRSFM_RETURN_IF_ERROR(ReadMeasurements(flags.input, input_options, &measurements, &details));
+  NRSFM_RETURN_IF_ERROR(ReadMeasurements(flags.input, targets.input, &measurements, &details));
   NRSFM_RETURN_IF_ERROR(CheckTermCameras(flags, flags.input, measurements.num_cameras));
   if (flags.confidence_weights) {
     if (details.confidence.size() == 0) {
@@ -114,7 +108,7 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
   }
 
   ReconstructionRun run;
-  const Status solved = RunReconstruction(flags, options, measurements, flags.input, &run);
+  const Status solved = RunReconstruction(targets, measurements, flags.input, &run);
   if (!solved.ok() && !measurements.frame_ids.empty()) {
     return Status::Error(solved.message() +
                          " (F and P count the frames and points the list mentions; its largest "
@@ -140,7 +134,7 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
       }
     }
   }
-  num_bases = run.num_bases;
+  const int num_bases = run.num_bases;
 
   ShapeErrors errors;
   if (!flags.truth.empty()) {
@@ -233,9 +227,10 @@ Status RunEvaluate(const CommandFlags& flags, std::ostream& out) {
   // result directory's result.json.
   int num_bases = 0;
   if (!flags.K.empty()) {
-    bool auto_k = false;
-    NRSFM_RETURN_IF_ERROR(ParseNumBasesFlag(flags.K, &auto_k, &num_bases).WithContext("--K"));
-    if (auto_k) return Status::Error("--K: evaluate needs the result's K, not 'auto'");
+    NumBasesFlag k;
+    NRSFM_RETURN_IF_ERROR(ParseNumBasesFlag(flags.K, &k));
+    if (k.automatic) return Status::Error("--K: evaluate needs the result's K, not 'auto'");
+    num_bases = k.value;
   } else if (std::filesystem::is_directory(flags.result, ec)) {
     NRSFM_RETURN_IF_ERROR(ReadResultNumBases(flags.result, &num_bases));
   }
@@ -247,7 +242,7 @@ Status RunEvaluate(const CommandFlags& flags, std::ostream& out) {
   return Status::OK();
 }
 
-// synth --dataset reproject (tools/flag_options.h): the file and one line.
+// synth --dataset reproject (tools/synth_steps.h): the file and one line.
 Status RunSynthReproject(const CommandFlags& flags, std::ostream& out) {
   ReprojectedSequence sequence;
   std::vector<MatVariable> variables;

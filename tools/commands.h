@@ -1,7 +1,7 @@
 // The commands of the nrsfm tool. main() parses the flags into CommandFlags
 // (tools/command_flags.h); each command returns a Status whose message is
 // the one line the user sees. The steps they share with the Python module
-// are in tools/flag_options.h.
+// are in tools/reconstruction_steps.h and tools/synth_steps.h.
 #ifndef NRSFM_TOOLS_COMMANDS_H_
 #define NRSFM_TOOLS_COMMANDS_H_
 
@@ -10,7 +10,7 @@
 
 #include "core/status.h"
 #include "tools/command_flags.h"
-#include "tools/flag_options.h"  // VersionString()
+#include "tools/reconstruction_steps.h"  // VersionString()
 
 namespace nrsfm {
 namespace tools {

@@ -3,7 +3,8 @@
 #include <iomanip>
 #include <string>
 
-#include "tools/flag_options.h"
+#include "tools/flag_table.h"
+#include "tools/reconstruction_steps.h"
 #include "tools/view_data.h"
 #include "tools/view_page.h"
 
@@ -18,7 +19,9 @@ Status RunView(const CommandFlags& flags, std::ostream& out) {
   options.truth_path = flags.truth;
   options.truth_variable = flags.truth_var;
   options.input_path = flags.input;
-  NRSFM_RETURN_IF_ERROR(BuildInputOptions(flags, &options.input));
+  FlagTargets targets;
+  NRSFM_RETURN_IF_ERROR(ApplyFlags(flags, &targets));
+  options.input = targets.input;
   ViewData data;
   NRSFM_RETURN_IF_ERROR(GatherViewData(options, &data));
   const std::string html =

@@ -20,7 +20,8 @@
 #include "core/result_reader.h"
 #include "core/text_io.h"
 #include "problems/delaunay_edges.h"
-#include "tools/flag_options.h"
+#include "tools/flag_table.h"
+#include "tools/reconstruction_steps.h"
 
 namespace nrsfm {
 namespace tools {
