@@ -108,30 +108,9 @@ void SchurElimination::ApplyReduced(const Eigen::VectorXd& v, double mu,
   // in the caches, so reading them is the cost): rows = J_f v and J_pᵀ rows;
   // then J_fᵀ (rows − J_p C̃⁻¹ J_pᵀ rows).
   Eigen::VectorXd rows(blocks_.num_rows), projected, solved;
-  jacobian_.SumOverResiduals(blocks_.num_eliminated, [&](int i, double* sum) {
-    const Residual& r = blocks_.residuals[i];
-    double* y = rows.data() + r.row;
-    std::fill(y, y + r.m, 0.0);
-    jacobian_.AddResidualJx(r, v.data(), nullptr, y);
-    if (r.eliminated >= 0) jacobian_.AddResidualJty(r, y, nullptr, sum);
-  }, &projected);
+  jacobian_.MultiplyJReducedAndJtEliminated(v, &rows, &projected);
   SolveEliminated(projected, &solved);
-  jacobian_.SumOverResiduals(blocks_.num_reduced, [&](int i, double* sum) {
-    const Residual& r = blocks_.residuals[i];
-    double* y = rows.data() + r.row;  // each residual's own rows: no race
-    if (r.eliminated >= 0) {
-      double correction[8] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-      std::vector<double> heap;
-      double* c = correction;
-      if (r.m > 8) {
-        heap.assign(r.m, 0.0);
-        c = heap.data();
-      }
-      jacobian_.AddResidualJx(r, nullptr, solved.data(), c);
-      for (int a = 0; a < r.m; ++a) y[a] -= c[a];
-    }
-    jacobian_.AddResidualJty(r, y, sum, nullptr);
-  }, out);
+  jacobian_.SubtractJEliminatedAndMultiplyJtReduced(solved, &rows, out);
   out->array() += mu * d_reduced.array() * v.array();
 }
 

@@ -260,6 +260,39 @@ void StructuredJacobian::MultiplyJtEliminated(const Eigen::VectorXd& rows,
   }, out);
 }
 
+void StructuredJacobian::MultiplyJReducedAndJtEliminated(const Eigen::VectorXd& reduced,
+                                                         Eigen::VectorXd* rows,
+                                                         Eigen::VectorXd* projected) const {
+  rows->resize(blocks_.num_rows);
+  SumOverResiduals(blocks_.num_eliminated, [&](int i, double* sum) {
+    const Residual& r = blocks_.residuals[i];
+    double* y = rows->data() + r.row;
+    std::fill(y, y + r.m, 0.0);
+    AddResidualJx(r, reduced.data(), nullptr, y);
+    if (r.eliminated >= 0) AddResidualJty(r, y, nullptr, sum);
+  }, projected);
+}
+
+void StructuredJacobian::SubtractJEliminatedAndMultiplyJtReduced(
+    const Eigen::VectorXd& eliminated, Eigen::VectorXd* rows, Eigen::VectorXd* out) const {
+  SumOverResiduals(blocks_.num_reduced, [&](int i, double* sum) {
+    const Residual& r = blocks_.residuals[i];
+    double* y = rows->data() + r.row;  // each residual's own rows: no race
+    if (r.eliminated >= 0) {
+      double correction[8] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+      std::vector<double> heap;
+      double* c = correction;
+      if (r.m > 8) {
+        heap.assign(r.m, 0.0);
+        c = heap.data();
+      }
+      AddResidualJx(r, nullptr, eliminated.data(), c);
+      for (int a = 0; a < r.m; ++a) y[a] -= c[a];
+    }
+    AddResidualJty(r, y, sum, nullptr);
+  }, out);
+}
+
 void StructuredJacobian::ColumnSquaredNorms(Eigen::VectorXd* reduced,
                                             Eigen::VectorXd* eliminated) const {
   reduced->setZero(blocks_.num_reduced);

@@ -70,6 +70,15 @@ class StructuredJacobian {
   // out = J_fᵀ rows, J_pᵀ rows.
   void MultiplyJtReduced(const Eigen::VectorXd& rows, Eigen::VectorXd* out) const;
   void MultiplyJtEliminated(const Eigen::VectorXd& rows, Eigen::VectorXd* out) const;
+  // The two passes of a product with the Schur complement
+  // (solvers/schur_elimination.h), each one pass over the residual blocks in
+  // storage order: rows = J_f reduced and projected = J_pᵀ rows; then
+  // rows −= J_p eliminated and out = J_fᵀ rows.
+  void MultiplyJReducedAndJtEliminated(const Eigen::VectorXd& reduced, Eigen::VectorXd* rows,
+                                       Eigen::VectorXd* projected) const;
+  void SubtractJEliminatedAndMultiplyJtReduced(const Eigen::VectorXd& eliminated,
+                                               Eigen::VectorXd* rows,
+                                               Eigen::VectorXd* out) const;
   // diag(JᵀJ), the columns' sums of squares, unclamped.
   void ColumnSquaredNorms(Eigen::VectorXd* reduced, Eigen::VectorXd* eliminated) const;
 
