@@ -12,8 +12,9 @@
 //   free point blocks, no residual coupling two points  → structured (points
 //   eliminated, conjugate gradients over the frames with a block-band
 //   preconditioner that is exact for every coupling the temporal terms
-//   make; solvers/structured_solver.h). Without temporal terms it does what
-//   ITERATIVE_SCHUR with JACOBI does, in less time per step
+//   make; solvers/structured_solver.h, a minimiser of its own:
+//   solvers/minimizer_choice.h). Without temporal terms it does what
+//   ITERATIVE_SCHUR with JACOBI does, with cheaper products
 //   (docs/performance.md); a problem whose blocks it cannot lay out (a free
 //   block of an unknown kind) falls back to ITERATIVE_SCHUR
 //   no free point block (poses / weights only; JᵀJ is then block-diagonal
@@ -43,7 +44,8 @@ enum class LinearSolverChoice {
   kCgnr,                  // CG on the normal equations, JACOBI
   kDenseQr,               // dense QR of J (tiny problems only)
   kStructured,            // points eliminated, CG over the frame chain with a
-                          // block-band preconditioner (not Ceres' own solver)
+                          // block-band preconditioner: not a Ceres linear
+                          // solver but a minimiser (solvers/minimizer_choice.h)
 };
 // "auto", "dense_schur", "sparse_schur", "iterative_schur",
 // "sparse_normal_cholesky", "cgnr", "dense_qr", "structured"; an error lists
@@ -78,12 +80,12 @@ LinearSolverChoice ChooseLinearSolver(const ProblemStructure& structure);
 // instead of exhausting the memory, when DENSE_QR, DENSE_SCHUR or the
 // reduced matrix of SPARSE_SCHUR would need more than kMaxDenseBytes.
 // `*used` is the resolved choice. kStructured is not a Ceres linear solver:
-// an error (SolveProblem in solvers/refine.h runs it).
+// an error (solvers/minimizer_choice.h sends it to its own minimiser).
 // Determinism: every solver gets an explicit ordering by block kind (Ceres
 // would otherwise order blocks by address, so the rounding would depend on
 // the heap layout), and DENSE_SCHUR / SPARSE_SCHUR are set to one thread:
 // Ceres 2.1's parallel Schur elimination adds into the reduced matrix in
-// thread-scheduling order, so two runs differed in the last bits.
+// thread-scheduling order, so its rounding would depend on the scheduling.
 inline constexpr double kMaxDenseBytes = 2.0e9;
 Status ConfigureLinearSolver(LinearSolverChoice choice, ProblemBuilder* builder,
                              ceres::Solver::Options* options,

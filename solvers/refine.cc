@@ -13,6 +13,7 @@
 
 #include "core/metrics.h"
 #include "problems/extra_terms.h"
+#include "solvers/minimizer_choice.h"
 #include "solvers/structured_solver.h"
 
 namespace nrsfm {
@@ -136,6 +137,46 @@ bool SolveWithStructuredSolver(const SolverOptions& options,
   return true;
 }
 
+// Runs Ceres' own minimiser with `linear_solver` (not kAuto or kStructured);
+// build_seconds is the time since `start` when the solver is configured.
+Status SolveWithCeres(const SolverOptions& options, LinearSolverChoice linear_solver,
+                      Clock::time_point start, ProblemBuilder* builder,
+                      RefineSummary* summary) {
+  ProgressCallback callback(options);
+  ceres::Solver::Summary ceres_summary;
+  NRSFM_RETURN_IF_ERROR(
+      SolveCeres(options,
+                 [&](ceres::Solver::Options* solver_options) {
+                   solver_options->callbacks.push_back(&callback);
+                   LinearSolverChoice used = LinearSolverChoice::kAuto;
+                   NRSFM_RETURN_IF_ERROR(
+                       ConfigureLinearSolver(linear_solver, builder, solver_options, &used));
+                   summary->linear_solver = LinearSolverName(used);
+                   summary->build_seconds = SecondsSince(start);
+                   return Status::OK();
+                 },
+                 builder->problem(), &ceres_summary)
+          .WithContext("refine"));
+  callback.ReportRemaining(ceres_summary);
+
+  summary->stopped = callback.stopped();
+  summary->message =
+      summary->stopped ? std::string("stopped on request") : ceres_summary.message;
+  summary->converged = ceres_summary.termination_type == ceres::CONVERGENCE;
+  summary->initial_cost = ceres_summary.initial_cost;
+  summary->final_cost = ceres_summary.final_cost;
+  summary->iterations =
+      std::max(0, static_cast<int>(ceres_summary.iterations.size()) - 1);
+  summary->preprocessor_seconds = ceres_summary.preprocessor_time_in_seconds;
+  summary->residual_seconds = ceres_summary.residual_evaluation_time_in_seconds;
+  summary->jacobian_seconds = ceres_summary.jacobian_evaluation_time_in_seconds;
+  summary->linear_solver_seconds = ceres_summary.linear_solver_time_in_seconds;
+  summary->minimizer_seconds = ceres_summary.minimizer_time_in_seconds;
+  summary->ceres_report = ceres_summary.FullReport();
+  summary->usable = ceres_summary.IsSolutionUsable();
+  return Status::OK();
+}
+
 }  // namespace
 
 Status Refine(const ProblemOptions& problem, const SolverOptions& solver,
@@ -187,56 +228,22 @@ Status SolveProblem(const SolverOptions& caller, ProblemBuilder* builder,
   summary->num_residual_blocks = builder->num_reprojection_terms();
   summary->initial_reprojection_rms = ReprojectionRms(measurements, *model);
 
-  LinearSolverChoice choice = options.linear_solver;
-  if (choice == LinearSolverChoice::kAuto) {
-    choice = ChooseLinearSolver(DescribeProblem(builder));
-  }
+  const MinimizerChoice choice = ChooseMinimizer(options.linear_solver, builder);
   bool solved = false;
-  if (choice == LinearSolverChoice::kStructured) {
+  if (choice.minimizer == Minimizer::kStructured) {
     std::string error;
-    summary->linear_solver = LinearSolverName(choice);
+    summary->linear_solver = LinearSolverName(LinearSolverChoice::kStructured);
     summary->build_seconds = SecondsSince(start);
     solved = SolveWithStructuredSolver(options, builder, summary, &error);
-    if (!solved && options.linear_solver == LinearSolverChoice::kStructured) {
+    if (!solved && !choice.fallback) {
       return Status::Error("refine: linear solver structured: " + error);
     }
-    // Chosen by auto for a problem it does not fit (a term the caller added
-    // that couples two points): Ceres' own solver runs instead.
-    if (!solved) choice = LinearSolverChoice::kIterativeSchur;
+    // Otherwise chosen by auto for a problem it does not fit (a term the
+    // caller added that couples two points): Ceres' own solver runs instead.
   }
   if (!solved) {
-    ProgressCallback callback(options);
-    ceres::Solver::Summary ceres_summary;
     NRSFM_RETURN_IF_ERROR(
-        SolveCeres(options,
-                   [&](ceres::Solver::Options* solver_options) {
-                     solver_options->callbacks.push_back(&callback);
-                     LinearSolverChoice used = LinearSolverChoice::kAuto;
-                     NRSFM_RETURN_IF_ERROR(
-                         ConfigureLinearSolver(choice, builder, solver_options, &used));
-                     summary->linear_solver = LinearSolverName(used);
-                     summary->build_seconds = SecondsSince(start);
-                     return Status::OK();
-                   },
-                   builder->problem(), &ceres_summary)
-            .WithContext("refine"));
-    callback.ReportRemaining(ceres_summary);
-
-    summary->stopped = callback.stopped();
-    summary->message =
-        summary->stopped ? std::string("stopped on request") : ceres_summary.message;
-    summary->converged = ceres_summary.termination_type == ceres::CONVERGENCE;
-    summary->initial_cost = ceres_summary.initial_cost;
-    summary->final_cost = ceres_summary.final_cost;
-    summary->iterations =
-        std::max(0, static_cast<int>(ceres_summary.iterations.size()) - 1);
-    summary->preprocessor_seconds = ceres_summary.preprocessor_time_in_seconds;
-    summary->residual_seconds = ceres_summary.residual_evaluation_time_in_seconds;
-    summary->jacobian_seconds = ceres_summary.jacobian_evaluation_time_in_seconds;
-    summary->linear_solver_seconds = ceres_summary.linear_solver_time_in_seconds;
-    summary->minimizer_seconds = ceres_summary.minimizer_time_in_seconds;
-    summary->ceres_report = ceres_summary.FullReport();
-    summary->usable = ceres_summary.IsSolutionUsable();
+        SolveWithCeres(options, choice.ceres_linear_solver, start, builder, summary));
   }
   if (summary->usable && !model->Validate().ok()) {
     summary->usable = false;

@@ -13,14 +13,20 @@
 // preconditioner is the frame blocks' part of JᵀJ + μD — every coupling that
 // residual blocks make between frames up to `band` apart (temporal terms) —
 // factorised as a block band; the coupling between frames through shared
-// points (dense: every frame sees every point) is left to CG. Adding each
-// frame's own Schur-complement block (− J_fᵀ J_p C̃⁻¹ J_pᵀ J_f) to the band
-// was measured to need more CG iterations, not fewer (docs/performance.md).
-// Shared blocks that touch many frames (rig rotations, …) form a dense
-// border of the preconditioner. Ceres 2.1's own iterative Schur solver
-// cannot use such a preconditioner (its JACOBI and SCHUR_JACOBI ignore the
-// chain, and strong temporal terms then need hundreds of CG iterations per
-// step).
+// points (dense: every frame sees every point) is left to CG, and so is each
+// frame's own Schur-complement block (− J_fᵀ J_p C̃⁻¹ J_pᵀ J_f), which is not
+// added to the band (docs/performance.md). Shared blocks that touch many
+// frames (rig rotations, …) form a dense border of the preconditioner.
+// Ceres 2.1's own iterative Schur solver cannot use such a preconditioner
+// (its JACOBI and SCHUR_JACOBI ignore the chain).
+//
+// The parts, one file each (namespace nrsfm::structured):
+//   solvers/structured_layout.h     the blocks as columns, residual blocks as rows
+//   solvers/structured_jacobian.h   evaluation, the stored Jacobian, products with it
+//   solvers/schur_elimination.h     the points' elimination, products with S
+//   solvers/band_preconditioner.h   the block-band preconditioner
+//   solvers/conjugate_gradients.h   preconditioned conjugate gradients
+//   this file's .cc                 the LM loop and the trust-region update
 //
 // Products with the Jacobian read the stored Jacobian in storage order, or,
 // for cost functions that provide them (problems/jacobian_product.h), are
@@ -29,9 +35,10 @@
 // (problems/reprojection_cost_function.h), not the 2 × 3K block, and form
 // its products, J_pᵀ J_p and diag from A and the weights; a cost function
 // that also provides its Gram blocks (JacobianProduct::ProvidesGram, the
-// temporal shape term) has no stored Jacobian at all. Each thread sums
-// into its own vector and the vectors are added in thread order, so results
-// are bit-identical for a given thread count.
+// temporal shape term) has no stored Jacobian at all. Sums over residual
+// blocks are added in pieces fixed by the problem, not by the thread count
+// (core/parallel_for.h, ParallelForPieces), so results are the same bits for
+// any thread count.
 #ifndef NRSFM_SOLVERS_STRUCTURED_SOLVER_H_
 #define NRSFM_SOLVERS_STRUCTURED_SOLVER_H_
 
@@ -57,7 +64,7 @@ struct StructuredLayout {
 
 struct StructuredSolverOptions {
   // Iterations, tolerances, time limit, first radius, threads (results are
-  // identical for a given count), progress (iteration 0 = the start) and
+  // identical for any count), progress (iteration 0 = the start) and
   // stop_requested (asked before every step; true ends the solve,
   // summary.stopped), as for Ceres; linear_solver and verbosity are not
   // read.

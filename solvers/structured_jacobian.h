@@ -1,0 +1,123 @@
+// The residuals and the Jacobian of the problem laid out as
+// solvers/structured_layout.h says, and the products with the Jacobian.
+//
+// Evaluate() stores r and J at the blocks' current values; for a residual
+// block with a robust loss both are corrected as Ceres does (Triggs et al.),
+// so that JᵀJ and Jᵀr are the loss's Gauss–Newton model, while the cost is
+// ½ Σ ρ(||r_i||²) of the uncorrected residuals. J is in tangent space (the
+// ambient Jacobian times the manifold's PlusJacobian). Not stored: the
+// columns of a reprojection residual's basis block (only its 2 × 3 factor
+// A, Residual::basis_factor) and every column of a residual that provides
+// its Gram blocks (Residual::gram). Products with a residual that provides
+// them (Residual::product) are formed from its parameters, so products and
+// sums read the blocks' values: these must be those of the last
+// Evaluate(true).
+//
+// Determinism: sums over residual blocks are added in kReductionPieces
+// pieces fixed by the problem (core/parallel_for.h, ParallelForPieces), and
+// every other loop writes only its own rows, so the results are the same
+// bits for any thread count.
+#ifndef NRSFM_SOLVERS_STRUCTURED_JACOBIAN_H_
+#define NRSFM_SOLVERS_STRUCTURED_JACOBIAN_H_
+
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/parallel_for.h"
+#include "solvers/structured_layout.h"
+
+namespace nrsfm {
+namespace structured {
+
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using ConstRowMap = Eigen::Map<const RowMatrix, 0, Eigen::OuterStride<>>;
+
+// Loops are split over threads in pieces of at least this many items
+// (core/parallel_for.h): residual blocks are cheap.
+constexpr int kGrain = 64;
+// Sums over residuals (the cost, Jᵀr and Jᵀ products) are added in this many
+// fixed pieces, whatever the thread count, so that the result does not
+// depend on it (core/parallel_for.h); at most this many threads share them.
+constexpr int kReductionPieces = 16;
+
+class StructuredJacobian {
+ public:
+  // `blocks` must outlive this.
+  StructuredJacobian(const StructuredBlocks& blocks, int num_threads);
+
+  // r (and J when with_jacobian) at the blocks' current values; *cost =
+  // ½ Σ ρ(||r_i||²). False when a cost function fails or the cost is not
+  // finite (r and J are then partly written).
+  bool Evaluate(bool with_jacobian, double* cost);
+  const Eigen::VectorXd& residuals() const { return r_; }
+  void set_residuals(const Eigen::VectorXd& r) { r_ = r; }
+
+  // y (r.m values) += J_r x for the reduced and eliminated parts given
+  // (null = zero), and the transposed products into the parts wanted.
+  void AddResidualJx(const Residual& r, const double* reduced, const double* eliminated,
+                     double* y) const;
+  void AddResidualJty(const Residual& r, const double* y, double* reduced,
+                      double* eliminated) const;
+  // *out (size values) = Σ_i body(i, sum) over the residual blocks in storage
+  // order, the pieces' sums added in piece order.
+  template <typename Body>
+  void SumOverResiduals(int size, const Body& body, Eigen::VectorXd* out) const;
+  // rows = J [reduced; eliminated] (null = zero).
+  void MultiplyJ(const Eigen::VectorXd* reduced, const Eigen::VectorXd* eliminated,
+                 Eigen::VectorXd* rows) const;
+  // out = J_fᵀ rows, J_pᵀ rows.
+  void MultiplyJtReduced(const Eigen::VectorXd& rows, Eigen::VectorXd* out) const;
+  void MultiplyJtEliminated(const Eigen::VectorXd& rows, Eigen::VectorXd* out) const;
+  // The two passes of a product with the Schur complement
+  // (solvers/schur_elimination.h), each one pass over the residual blocks in
+  // storage order: rows = J_f reduced and projected = J_pᵀ rows; then
+  // rows −= J_p eliminated and out = J_fᵀ rows.
+  void MultiplyJReducedAndJtEliminated(const Eigen::VectorXd& reduced, Eigen::VectorXd* rows,
+                                       Eigen::VectorXd* projected) const;
+  void SubtractJEliminatedAndMultiplyJtReduced(const Eigen::VectorXd& eliminated,
+                                               Eigen::VectorXd* rows,
+                                               Eigen::VectorXd* out) const;
+  // diag(JᵀJ), the columns' sums of squares, unclamped.
+  void ColumnSquaredNorms(Eigen::VectorXd* reduced, Eigen::VectorXd* eliminated) const;
+
+  // The stored Jacobian of `r`, and its columns [jcol, jcol + width).
+  const double* J(const Residual& r) const { return jacobian_.data() + r.jac; }
+  ConstRowMap Cols(const Residual& r, int jcol, int width) const {
+    return ConstRowMap(J(r) + jcol, r.m, width, Eigen::OuterStride<>(r.width));
+  }
+  // The 2 × 3 factor A (row-major) of a residual with a basis_factor.
+  const double* Factor(const Residual& r) const { return factors_.data() + r.factor; }
+
+ private:
+  double* MutableJ(const Residual& r) { return jacobian_.data() + r.jac; }
+
+  const StructuredBlocks& blocks_;
+  const int num_threads_;
+  std::vector<double> jacobian_;
+  std::vector<double> factors_;  // A of the residuals with a basis_factor, 6 each
+  Eigen::VectorXd r_;
+};
+
+template <typename Body>
+void StructuredJacobian::SumOverResiduals(int size, const Body& body,
+                                          Eigen::VectorXd* out) const {
+  std::vector<Eigen::VectorXd> sums(kReductionPieces);
+  const int pieces = ParallelForPieces(
+      static_cast<int>(blocks_.residuals.size()), kReductionPieces, num_threads_, kGrain,
+      [&](int begin, int end, int piece) {
+        Eigen::VectorXd& sum = sums[piece];
+        sum.setZero(size);
+        for (int i = begin; i < end; ++i) body(i, sum.data());
+      });
+  *out = std::move(sums[0]);
+  for (int w = 1; w < pieces; ++w) {
+    if (sums[w].size() == size) *out += sums[w];
+  }
+}
+
+}  // namespace structured
+}  // namespace nrsfm
+
+#endif  // NRSFM_SOLVERS_STRUCTURED_JACOBIAN_H_
