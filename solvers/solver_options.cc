@@ -25,6 +25,10 @@ Status SolverOptions::Check() const {
   check.AtLeast("num_threads", num_threads, 1);
   check.FinitePositive("initial_trust_region_radius", initial_trust_region_radius);
   check.AtLeast("verbosity", verbosity, 0);
+  check.Require(cg_relative_tolerance > 0.0 && cg_relative_tolerance < 1.0,
+                "cg_relative_tolerance must be in (0, 1), got " +
+                    std::to_string(cg_relative_tolerance));
+  check.AtLeast("max_cg_iterations", max_cg_iterations, 1);
   return check.status();
 }
 

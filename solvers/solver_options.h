@@ -49,6 +49,12 @@ struct SolverOptions {
   // refinements start at 1e2 (docs/performance.md).
   double initial_trust_region_radius = 1e2;
   int verbosity = 0;  // 0 silent, ≥ 1 one VLOG(1) line per iteration
+  // The structured solver's conjugate gradients (solvers/structured_solver.h)
+  // on each LM step's reduced system: stop when ‖residual‖ ≤ this · ‖rhs‖,
+  // in (0, 1), or after max_cg_iterations (≥ 1) iterations. Ceres' own
+  // solvers do not read them.
+  double cg_relative_tolerance = 0.1;
+  int max_cg_iterations = 500;
   std::function<void(const IterationReport&)> progress;  // optional, per iteration
   // Optional: asked after every LM iteration (after `progress`; also after
   // iteration 0, before the first step). Returning true ends the solve

@@ -85,8 +85,8 @@ int Solver::SolveStep(double mu, Eigen::VectorXd* step_reduced,
   Eigen::VectorXd rhs;
   schur_.ReducedRightHandSide(gradient_reduced_, gradient_eliminated_, &rhs);
   structured::ConjugateGradientsOptions cg;
-  cg.relative_tolerance = options_.cg_relative_tolerance;
-  cg.max_iterations = options_.max_cg_iterations;
+  cg.relative_tolerance = options_.solver.cg_relative_tolerance;
+  cg.max_iterations = options_.solver.max_cg_iterations;
   const int iterations = structured::ConjugateGradients(
       cg,
       [&](const Eigen::VectorXd& v, Eigen::VectorXd* out) {

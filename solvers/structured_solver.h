@@ -66,11 +66,10 @@ struct StructuredSolverOptions {
   // Iterations, tolerances, time limit, first radius, threads (results are
   // identical for any count), progress (iteration 0 = the start) and
   // stop_requested (asked before every step; true ends the solve,
-  // summary.stopped), as for Ceres; linear_solver and verbosity are not
-  // read.
+  // summary.stopped), as for Ceres, and the conjugate gradients'
+  // cg_relative_tolerance and max_cg_iterations; linear_solver and
+  // verbosity are not read.
   SolverOptions solver;
-  double cg_relative_tolerance = 0.1;  // ||residual|| ≤ this · ||rhs||
-  int max_cg_iterations = 500;
 };
 
 struct StructuredSolverSummary {

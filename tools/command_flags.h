@@ -22,7 +22,10 @@
 #include "problems/delaunay_edges.h"
 #include "problems/extra_terms.h"
 #include "problems/problem_options.h"
+#include "solvers/alternation.h"
 #include "solvers/initialize.h"
+#include "solvers/low_rank_completion.h"
+#include "solvers/prior_rule.h"
 #include "solvers/reconstruct.h"
 #include "solvers/select_num_bases.h"
 #include "solvers/solver_options.h"
@@ -246,6 +249,69 @@ struct SetsNothing {};
     NRSFM_HELP({kReconstruct, "auto|structured|dense_schur|sparse_schur|"        \
                               "iterative_schur|sparse_normal_cholesky|cgnr|"     \
                               "dense_qr."}))                                     \
+  X(double, gradient_tolerance, ::nrsfm::SolverOptions().gradient_tolerance, kOption, \
+    NRSFM_SETS(reconstruct, solver.gradient_tolerance), \
+    NRSFM_HELP({kReconstruct, "stop when the largest projected gradient entry is below this."})) \
+  X(double, parameter_tolerance, ::nrsfm::SolverOptions().parameter_tolerance, kOption, \
+    NRSFM_SETS(reconstruct, solver.parameter_tolerance), \
+    NRSFM_HELP({kReconstruct, "stop when a step is below this times (|x| + this)."})) \
+  X(double, initial_radius, ::nrsfm::SolverOptions().initial_trust_region_radius, kOption, \
+    NRSFM_SETS(reconstruct, solver.initial_trust_region_radius), \
+    NRSFM_HELP({kReconstruct, "Levenberg-Marquardt's first trust-region radius (1/damping)."})) \
+  X(double, cg_tolerance, ::nrsfm::SolverOptions().cg_relative_tolerance, kOption, \
+    NRSFM_SETS(reconstruct, solver.cg_relative_tolerance), \
+    NRSFM_HELP({kReconstruct, "structured solver: conjugate gradients stop at this relative residual, in (0, 1)."})) \
+  X(int, max_cg_iterations, ::nrsfm::SolverOptions().max_cg_iterations, kOption, \
+    NRSFM_SETS(reconstruct, solver.max_cg_iterations), \
+    NRSFM_HELP({kReconstruct, "structured solver: conjugate-gradient iterations per step, at most."})) \
+  X(int, verbosity, ::nrsfm::SolverOptions().verbosity, kOption, \
+    NRSFM_SETS(reconstruct, solver.verbosity), \
+    NRSFM_HELP({kReconstruct, "1 = one log line per iteration on stderr (with --v=1)."})) \
+  X(bool, autodiff, ::nrsfm::ProblemOptions().autodiff, kOption, \
+    NRSFM_SETS(reconstruct, problem.autodiff), \
+    NRSFM_HELP({kReconstruct, "differentiate the reprojection error automatically (slower; a cross-check)."})) \
+  X(int, smoothness_hidden_neighbours, ::nrsfm::DelaunayEdgesOptions().num_hidden_neighbours, kOption, \
+    NRSFM_SETS(reconstruct, problem.smoothness_edges.num_hidden_neighbours), \
+    NRSFM_HELP({kReconstruct, "--smoothness: the triangulated points each point outside the triangulation is joined to."})) \
+  X(int, completion_iterations, ::nrsfm::LowRankCompletionOptions().max_iterations, kStart, \
+    NRSFM_SETS(reconstruct, start.completion.max_iterations), \
+    NRSFM_HELP({kReconstruct, "missing entries: rounds of the start's rank-3K completion, at most."})) \
+  X(double, completion_ridge_floor, ::nrsfm::LowRankCompletionOptions().ridge_floor, kStart, \
+    NRSFM_SETS(reconstruct, start.completion.ridge_floor), \
+    NRSFM_HELP({kReconstruct, "missing entries: the completion's ridge floor, relative to the data RMS."})) \
+  X(int, alternation_rounds, ::nrsfm::AlternationOptions().rounds, kStart, \
+    NRSFM_SETS(reconstruct, start.alternation.rounds), \
+    NRSFM_HELP({kReconstruct, "rounds of the rigid and triple starts' basis/weights alternation."})) \
+  X(double, alternation_initial_deformation, ::nrsfm::AlternationOptions().initial_deformation, kStart, \
+    NRSFM_SETS(reconstruct, start.alternation.initial_deformation), \
+    NRSFM_HELP({kReconstruct, "std of the random initial weights of bases 2..K of the rigid and triple starts."})) \
+  X(double, rule_min_track_order, ::nrsfm::PriorRuleOptions().min_track_order, kStart, \
+    NRSFM_SETS(reconstruct, prior_rule.min_track_order), \
+    NRSFM_HELP({kReconstruct, "(--priors auto) the track order from which the tracks are a video (docs/priors.md)."})) \
+  X(double, rule_min_basis_fraction, ::nrsfm::PriorRuleOptions().min_basis_fraction, kStart, \
+    NRSFM_SETS(reconstruct, prior_rule.min_basis_fraction), \
+    NRSFM_HELP({kReconstruct, "(--priors auto) 3K/P from which the basis absorbs rotation (docs/priors.md)."})) \
+  X(double, rule_temporal_shape_weight, ::nrsfm::PriorRuleOptions().temporal_shape_weight, kStart, \
+    NRSFM_SETS(reconstruct, prior_rule.temporal_shape_weight), \
+    NRSFM_HELP({kReconstruct, "(--priors auto) the temporal shape prior's weight for a video."})) \
+  X(double, rule_deformation_weight, ::nrsfm::PriorRuleOptions().deformation_weight, kStart, \
+    NRSFM_SETS(reconstruct, prior_rule.deformation_weight), \
+    NRSFM_HELP({kReconstruct, "(--priors auto) the deformation prior's weight when the tracks are not a video."})) \
+  X(double, rule_max_path_acceleration_deg, ::nrsfm::PriorRuleOptions().max_path_acceleration_deg, kStart, \
+    NRSFM_SETS(reconstruct, prior_rule.max_path_acceleration_deg), \
+    NRSFM_HELP({kReconstruct, "(--priors auto) the start's camera-path acceleration, deg/frame^2, below which the rotation prior is on; 0 = never."})) \
+  X(double, rule_rotation_acceleration_weight, ::nrsfm::PriorRuleOptions().rotation_acceleration_weight, kStart, \
+    NRSFM_SETS(reconstruct, prior_rule.rotation_acceleration_weight), \
+    NRSFM_HELP({kReconstruct, "(--priors auto) the rotation prior's weight."})) \
+  X(double, rule_camera_rank_fraction, ::nrsfm::PriorRuleOptions().camera_rank_fraction, kStart, \
+    NRSFM_SETS(reconstruct, prior_rule.camera_rank_fraction), \
+    NRSFM_HELP({kReconstruct, "(--priors auto) the camera stage's 3K_cam at most this times min(P, 2FM)."})) \
+  X(double, rule_camera_fit_threshold, ::nrsfm::PriorRuleOptions().camera_fit_threshold, kStart, \
+    NRSFM_SETS(reconstruct, prior_rule.camera_fit_threshold), \
+    NRSFM_HELP({kReconstruct, "(--priors auto) K_cam explains the tracks within this factor of the noise."})) \
+  X(double, rule_camera_function_tolerance, ::nrsfm::PriorRuleOptions().camera_function_tolerance, kStart, \
+    NRSFM_SETS(reconstruct, prior_rule.camera_function_tolerance), \
+    NRSFM_HELP({kReconstruct, "(--priors auto) the camera stage's function tolerance."})) \
   X(std::uint64_t, seed, ::nrsfm::StartOptions().seed, kStart,                  \
     NRSFM_SETS(reconstruct, start.seed),                                         \
     NRSFM_HELP({kReconstruct, "seed of the rigid and triple starts."},           \

@@ -239,7 +239,9 @@ TEST(PriorRule, TrackRankFindsTheBasesThatExplainTheTracks) {
       ASSERT_TRUE(AnalyseTrackRank(PriorRuleOptions(), s.measurements, 2, video, &two).ok());
       EXPECT_EQ(two.model_explains_tracks, video);
       EXPECT_EQ(two.camera_num_bases, video ? 2 : 3);
-      if (noise > 0.0 && !video) EXPECT_NEAR(two.noise_rms, noise, 0.2 * noise);
+      if (noise > 0.0 && !video) {
+        EXPECT_NEAR(two.noise_rms, noise, 0.2 * noise);
+      }
     }
   }
 }

@@ -28,7 +28,9 @@ TEST(CommandFlagTable, OneRowPerFlagAndTermWithItsCommands) {
                 flag.Serves(kView))
         << flag.name;
     // A flag that sets an option serves reconstruct or view (ApplyFlags).
-    if (flag.sets_option) EXPECT_TRUE(flag.Serves(kReconstruct) || flag.Serves(kView)) << flag.name;
+    if (flag.sets_option) {
+      EXPECT_TRUE(flag.Serves(kReconstruct) || flag.Serves(kView)) << flag.name;
+    }
   }
   // The help of one command, and the --help text with the commands named.
   const FlagInfo* cameras = FindFlag("cameras");
@@ -60,6 +62,11 @@ TEST(ApplyFlags, SetsTheOptionFieldOfEachFlag) {
   flags.max_seconds = 30.0;
   flags.seed = 11;
   flags.smoothness_reference_frame = 4;
+  flags.cg_tolerance = 0.05;
+  flags.autodiff = true;
+  flags.completion_iterations = 9;
+  flags.alternation_rounds = 3;
+  flags.rule_min_track_order = 2.0;
   flags.term_weights[0] = 2.5;
   ASSERT_TRUE(ApplyFlags(flags, &targets).ok()) << ApplyFlags(flags, &targets).message();
   EXPECT_EQ(targets.input.variable, "W2");
@@ -77,6 +84,11 @@ TEST(ApplyFlags, SetsTheOptionFieldOfEachFlag) {
   EXPECT_EQ(targets.reconstruct.solver.max_seconds, 30.0);
   EXPECT_EQ(targets.reconstruct.start.seed, 11u);
   EXPECT_EQ(targets.reconstruct.problem.smoothness_edges.reference_frame, 4);
+  EXPECT_EQ(targets.reconstruct.solver.cg_relative_tolerance, 0.05);
+  EXPECT_TRUE(targets.reconstruct.problem.autodiff);
+  EXPECT_EQ(targets.reconstruct.start.completion.max_iterations, 9);
+  EXPECT_EQ(targets.reconstruct.start.alternation.rounds, 3);
+  EXPECT_EQ(targets.reconstruct.prior_rule.min_track_order, 2.0);
   EXPECT_EQ(targets.reconstruct.problem.TermWeight(ExtraTerms()[0].name), 2.5);
   // A weight given is a manual choice of the terms.
   EXPECT_EQ(targets.reconstruct.priors, PriorMode::kManual);
@@ -116,6 +128,11 @@ TEST(ApplyFlags, NamesTheFlagAndTheValue) {
   flags.cameras = -1;
   EXPECT_EQ(ApplyFlags(flags, &targets).message().rfind("--cameras: ", 0), 0u)
       << ApplyFlags(flags, &targets).message();
+  flags = CommandFlags();
+  flags.cg_tolerance = 1.5;
+  EXPECT_EQ(ApplyFlags(flags, &targets).message(),
+            "--cg_tolerance: solver options: cg_relative_tolerance must be in (0, 1), got "
+            "1.500000");
   flags = CommandFlags();
   flags.threads = 0;
   EXPECT_EQ(ApplyFlags(flags, &targets).message().rfind("--threads: ", 0), 0u)
