@@ -7,7 +7,7 @@
 //   monocular   camera 0's tracks alone;
 //   two cameras both views, shared weights, with the rigidity term
 //               (weight in EnableTwoCameraRigidity(),
-//               bench_common.h).
+//               bench_config.h).
 // Median over R runs (default 1 as in the paper's Table 1, --full 5).
 #include <algorithm>
 #include <iostream>
