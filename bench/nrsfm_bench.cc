@@ -30,7 +30,10 @@
 #include <gflags/gflags.h>
 #include <glog/logging.h>
 
-#include "bench/bench_common.h"
+#include "bench/bench_config.h"
+#include "bench/context.h"
+#include "bench/measure.h"
+#include "bench/report.h"
 #include "bench/suites.h"
 
 DEFINE_string(suite, "default",

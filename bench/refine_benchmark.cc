@@ -10,8 +10,8 @@
 //                 drink.mat) when given;
 //   --mode=all    both.
 // Prints plain-text tables to stdout. Not part of the test run. With every
-// solver, (300, 5000, 5) takes about an hour (one direct-solver iteration
-// there is ~10 minutes; --max_seconds is checked between iterations).
+// solver, large sizes such as (300, 5000, 5) take long (how long:
+// docs/performance.md; --max_seconds is checked between iterations).
 //   nrsfm_solver_timing --mode=table --sizes=1102x41x12,300x110x5
 //   nrsfm_solver_timing --mode=drink --drink=../shared/datasets/drink.mat
 #include <algorithm>

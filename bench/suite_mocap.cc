@@ -15,8 +15,13 @@
 #include <string>
 #include <vector>
 
-#include "bench/bench_common.h"
+#include "bench/bench_config.h"
+#include "bench/mocap_data.h"
+#include "bench/plot.h"
+#include "bench/report.h"
+#include "bench/run_evaluate.h"
 #include "bench/suites.h"
+#include "core/parallel_for.h"
 #include "core/ground_truth.h"
 #include "core/read_measurements.h"
 #include "solvers/prior_rule.h"
@@ -115,12 +120,15 @@ Status RunMocapSuite(const BenchConfig& config, Json* out) {
   // Every (sequence, strategy) run, --jobs at a time, reported in order.
   const std::vector<std::string> strategies = Strategies(config);
   std::vector<RunOutcome> outcomes(sequences.size() * strategies.size());
-  ParallelFor(static_cast<int>(outcomes.size()), config.jobs, [&](int index) {
-    const Sequence& sequence = sequences[index / strategies.size()];
-    outcomes[index] = RunStrategy(strategies[index % strategies.size()],
-                                  PublishedNumBases(sequence.name), config, sequence);
-    outcomes[index].model = Model();
-  });
+  ParallelFor(static_cast<int>(outcomes.size()), config.jobs, /*grain=*/1,
+              [&](int begin, int end) {
+                for (int i = begin; i < end; ++i) {
+                  const Sequence& sequence = sequences[i / strategies.size()];
+                  outcomes[i] = RunStrategy(strategies[i % strategies.size()],
+                                            PublishedNumBases(sequence.name), config, sequence);
+                  outcomes[i].model = Model();
+                }
+              });
   int index = 0;
   for (const Sequence& sequence : sequences) {
     const auto published = Published().find(sequence.name);

@@ -16,8 +16,12 @@
 #include <string>
 #include <vector>
 
-#include "bench/bench_common.h"
+#include "bench/bench_config.h"
+#include "bench/mocap_data.h"
+#include "bench/report.h"
+#include "bench/run_evaluate.h"
 #include "bench/suites.h"
+#include "core/parallel_for.h"
 #include "core/metrics.h"
 #include "core/synthetic.h"
 
@@ -123,17 +127,19 @@ Status RunRobustnessSuite(const BenchConfig& config, Json* out) {
       runs.push_back(std::move(run));
     }
   }
-  ParallelFor(static_cast<int>(runs.size()), config.jobs, [&](int i) {
-    Run& run = runs[i];
-    run.made = GenerateReprojection(run.source->truth, run.test->options, &run.sequence);
-    if (!run.made.ok()) return;
-    run.flat = FlatFrobenius(run.sequence.truth);
-    ReconstructOptions options =
-        DefaultReconstructOptions(PublishedNumBases(run.source->name), config.threads);
-    options.solver.max_seconds = config.max_seconds;
-    run.outcome =
-        ReconstructAndEvaluate(options, run.sequence.measurements, run.sequence.truth);
-    run.outcome.model = Model();
+  ParallelFor(static_cast<int>(runs.size()), config.jobs, /*grain=*/1, [&](int begin, int end) {
+    for (int i = begin; i < end; ++i) {
+      Run& run = runs[i];
+      run.made = GenerateReprojection(run.source->truth, run.test->options, &run.sequence);
+      if (!run.made.ok()) continue;
+      run.flat = FlatFrobenius(run.sequence.truth);
+      ReconstructOptions options =
+          DefaultReconstructOptions(PublishedNumBases(run.source->name), config.threads);
+      options.solver.max_seconds = config.max_seconds;
+      run.outcome =
+          ReconstructAndEvaluate(options, run.sequence.measurements, run.sequence.truth);
+      run.outcome.model = Model();
+    }
   });
 
   Table table({"sequence", "K", "case", "frob_z", "flat", "Lee et al.", "e3D (object)",

@@ -13,15 +13,19 @@
 // Default sizes: F·P up to 60 × 10 000 (the reduced form of the P = 10 000
 // target); --full: up to 300 × 10 000 (target <= 60 s, <= 4 GiB). In the
 // default run each refinement is capped by --max_seconds like the other
-// suites' (at P = 10 000 the start `auto` refines and then drops crawls for
-// ~1000 s); --suite=scale alone runs uncapped.
+// suites' (at P = 10 000 the start `auto` refines and then drops crawls
+// uncapped: docs/benchmark.md); --suite=scale alone runs uncapped.
 #include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <string>
 #include <vector>
 
-#include "bench/bench_common.h"
+#include "bench/bench_config.h"
+#include "bench/measure.h"
+#include "bench/plot.h"
+#include "bench/report.h"
+#include "bench/run_evaluate.h"
 #include "bench/suites.h"
 #include "core/synthetic.h"
 

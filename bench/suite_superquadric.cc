@@ -7,7 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "bench/bench_common.h"
+#include "bench/bench_config.h"
+#include "bench/k_sweep.h"
+#include "bench/plot.h"
+#include "bench/report.h"
 #include "bench/suites.h"
 #include "core/synthetic.h"
 

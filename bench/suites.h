@@ -6,7 +6,7 @@
 #ifndef NRSFM_BENCH_SUITES_H_
 #define NRSFM_BENCH_SUITES_H_
 
-#include "bench/bench_common.h"
+#include "bench/bench_config.h"
 #include "core/status.h"
 
 namespace nrsfm {

@@ -80,7 +80,7 @@ double ComputeFrobeniusZSign(const std::vector<Eigen::Matrix3Xd>& truth,
 // over frames of the truth's diameter, the largest distance between two of
 // its points (rotation and translation invariant); points with a non-finite
 // coordinate (left out) are not counted. Exact; pairs that cannot be the
-// longest are skipped, so a frame of 10 000 points takes milliseconds.
+// longest are skipped (its time: docs/performance.md).
 double ShapeSize(const std::vector<Eigen::Matrix3Xd>& truth);
 
 // 3D error in % of shape size (Torresani et al. 2001): with Y the e3D alignment above,

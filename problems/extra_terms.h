@@ -5,8 +5,8 @@
 // result.json, and a weight λ ≥ 0 in ProblemOptions::term_weights (0, the
 // default, leaves it out); λ multiplies the term's cost, so its functor
 // applies √λ. The terms, their equations and their units are in
-// docs/problem.md, which also says how to add one (a functor header and one
-// row of the table).
+// docs/problem.md, which also shows how to add one (a functor header, one
+// row of the table and the term's own test; nothing else).
 #ifndef NRSFM_PROBLEMS_EXTRA_TERMS_H_
 #define NRSFM_PROBLEMS_EXTRA_TERMS_H_
 

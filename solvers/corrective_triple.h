@@ -15,8 +15,8 @@
 // iterations each on at most kTripleScreenFrames frames spread over the
 // sequence, runs the kTripleKept lowest of them to convergence on at most
 // kTriplePolishFrames frames, and the lowest of those on every frame. Costs
-// within kTripleEqualCost per frame of the lowest count as equal (on
-// noise-free data every exact triple has cost ~1e-20): of those the triple
+// within kTripleEqualCost per frame of the lowest count as equal (every
+// exact triple of noise-free data does, docs/factorization.md): of those the triple
 // whose scale c_t stays furthest from zero is kept (a triple whose weight
 // passes near zero in some frame gives a poorly determined rotation there).
 // The screening relies on a start bound for the global minimum converging in

@@ -21,9 +21,9 @@
 // 3K' + 1 points and every point to be seen in ⌈3K' / 2⌉ views; it uses the
 // largest K' ≤ K the kept data allow (the refinement then fits all K
 // bases). So a point seen in too few views to be determined is left out
-// rather than lowering K' for the whole start (one point seen in 5 views
-// of the shoe at K = 4 made a K' = 3 start that refined to a 215 % error),
-// while data that are sparse everywhere (30 % of a 41-point sequence
+// rather than lowering K' for the whole start (what a K' lowered by one
+// rarely seen point once cost on the shoe is in docs/factorization.md,
+// section 1), while data that are sparse everywhere (30 % of a 41-point sequence
 // missing at K = 12: each view sees ~29 < 37 points) still start with
 // K' < K.
 // Leaving out a frame takes views away from the points and leaving out a

@@ -20,8 +20,8 @@
 //       below: the rank-3K affine fit leaves more than camera_fit_threshold
 //       times what noise alone would leave). Real tracks are never exactly
 //       of rank 3K; fitted alone, the misfit bends the depth and the camera
-//       (the shapes stretch along the view direction: e3D 5-18 on motion
-//       capture at K = 4-6, docs/priors.md).
+//       (the shapes stretch along the view direction; how far is measured in
+//       docs/priors.md).
 //    b. the basis can absorb a rotation error: 3K ≥ min_basis_fraction · P,
 //       the shape space spans most of what P points can do, so a slow drift
 //       of the rotations is fitted as well by the basis.

@@ -79,10 +79,10 @@ inline constexpr double kLittleRotationDeg = 60.0;
 // The depth ratio of a model: the RMS depth over the RMS image-plane
 // coordinate (per coordinate) of camera 0's centred shapes X_t over every
 // frame and point; NaN (left-out) points are skipped, 0 when nothing is
-// left. A rigid object seen from a turning camera has about 0.3-1 (the
-// four motion-capture sequences and frgc); shapes stretched along the view
-// direction (a depth the data do not determine) read far more (values in
-// docs/priors.md).
+// left. A rigid object seen from a turning camera reads about 1 or less,
+// shapes stretched along the view direction (a depth the data do not
+// determine) far more: the values measured on real sequences are in
+// docs/priors.md.
 double DepthRatio(const Model& model);
 // Above this depth ratio Reconstruct() warns that the depth may not be
 // determined by the data.
@@ -90,9 +90,9 @@ inline constexpr double kLargeDepthRatio = 3.0;
 
 // When two starts are refined (the rule below), their refinements run side
 // by side in lockstep (solvers/two_starts.h) when the measurements have at
-// most this many visible observations: a refinement takes about 1 KB per
-// observation (docs/performance.md), so the two problems stay below ~2 GB
-// together. Larger inputs refine one after the other on every thread.
+// most this many visible observations, so that the two problems fit in
+// memory together (a refinement's memory per observation: measured in
+// docs/performance.md). Larger inputs refine one after the other.
 inline constexpr int kMaxObservationsForTwoAtOnce = 1000000;
 
 // The pipeline. With priors = auto the rule of solvers/prior_rule.h decides
@@ -104,9 +104,9 @@ inline constexpr int kMaxObservationsForTwoAtOnce = 1000000;
 //    - a video with the temporal_shape prior: the triple start alone. Its
 //      rotations come from an exact corrective triple of the rank-3K
 //      factorisation, the ones the temporal terms then hold in place; the
-//      factorisation and rigid starts' rotations are several degrees
-//      (rigid) to tens of degrees (factorisation) off on motion capture,
-//      and the refinement does not leave their basin.
+//      factorisation and rigid starts' rotations are further off on motion
+//      capture, and the refinement does not leave their basin (measured in
+//      docs/priors.md).
 //    - otherwise both the factorization and the rigid starts are refined and
 //      the lower refined cost is kept (a usable solution before an unusable
 //      one). A start's own reprojection error does not tell which basin it
@@ -122,9 +122,9 @@ inline constexpr int kMaxObservationsForTwoAtOnce = 1000000;
 //      first.
 //    With a shape prior the camera stage stops at
 //    prior_rule.camera_function_tolerance: its rotations settle first, and
-//    the slow decrease after them (hundreds of steps on drink at K = 10) is
-//    the basis absorbing rotation, which moves the camera away from the
-//    truth (docs/priors.md); result->camera_refine is its summary.
+//    the slow decrease after them is the basis absorbing rotation, which
+//    moves the camera away from the truth (how long it runs on drink:
+//    docs/priors.md); result->camera_refine is its summary.
 // 2. Shape stage, with a shape prior: the camera stage's shapes (reduced to
 //    K bases by ReduceNumBases in core/model.h when K_cam > K), refined with
 //    the camera stage's rotations held and the same shape prior

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/problems/functor_test_util.h"
+#include "tests/problems/term_test_util.h"
 
 namespace nrsfm {
 namespace {
@@ -61,6 +62,12 @@ TEST(DeformationError, ZeroForAnyMultipleOfTheFirstShapeAndKeepsTheScaleGauge) {
   const double* scaled[2] = {scaled_weights, scaled_basis};
   ASSERT_TRUE(cost.Evaluate(scaled, r, nullptr));
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(r[i], reference[i], 1e-15);
+}
+
+// Its row of problems/extra_terms.cc: one block per frame and point.
+TEST(DeformationTerm, OneBlockPerFrameAndPoint) {
+  EXPECT_EQ(testing_util::TermBlockCount(kDeformationTerm, testing_util::TermTestShoe(1)),
+            testing_util::kTermFrames * testing_util::kTermPoints);
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 
 #include "core/rotation.h"
 #include "tests/problems/functor_test_util.h"
+#include "tests/problems/term_test_util.h"
 
 namespace nrsfm {
 namespace {
@@ -79,6 +80,22 @@ TEST(RigidityError, GradientChecker) {
   const double rig_scale = 0.91;
   ExpectGradientCheckPasses(*cost, {omega_c.data(), omega_0.data(), rig.data(),
                                     &scale_c, &rig_scale});
+}
+
+// Its row of problems/extra_terms.cc: one block per frame t and camera
+// c ≥ 1, and the rig blocks of the cameras c ≥ 1 are free by default.
+TEST(RigidityTerm, OneBlockPerFrameAndCameraAfterTheFirst) {
+  SyntheticSequence s = testing_util::TermTestShoe(2);  // the shoe has M ≤ 2
+  EXPECT_EQ(testing_util::TermBlockCount(kRigidityTerm, s), testing_util::kTermFrames * (2 - 1));
+  ProblemOptions options;
+  options.term_weights[kRigidityTerm] = 1.0;
+  Model model = s.truth;
+  ProblemBuilder builder(&s.measurements, &model);
+  ASSERT_TRUE(builder.AddReprojectionTerms(options).ok());
+  ASSERT_TRUE(AddExtraTerms(options, &builder).ok());
+  EXPECT_TRUE(builder.problem()->HasParameterBlock(builder.RigRotationBlock(1)));
+  EXPECT_TRUE(builder.problem()->HasParameterBlock(builder.RigScaleBlock(1)));
+  EXPECT_FALSE(builder.problem()->IsParameterBlockConstant(builder.RigScaleBlock(1)));
 }
 
 }  // namespace

@@ -9,7 +9,9 @@
 #include <ceres/numeric_diff_options.h>
 #include <gtest/gtest.h>
 
+#include "problems/delaunay_edges.h"
 #include "tests/problems/functor_test_util.h"
+#include "tests/problems/term_test_util.h"
 
 namespace nrsfm {
 namespace {
@@ -40,6 +42,15 @@ TEST(SmoothnessError, GradientChecker) {
     const std::vector<double> b_j = Random(3 * k, &rng);
     ExpectGradientCheckPasses(*cost, {b_i.data(), b_j.data()});
   }
+}
+
+// Its row of problems/extra_terms.cc: one block per Delaunay neighbour edge.
+TEST(SmoothnessTerm, OneBlockPerNeighbourEdge) {
+  const SyntheticSequence s = testing_util::TermTestShoe(1);
+  std::vector<NeighbourEdge> edges;
+  ASSERT_TRUE(ComputeDelaunayEdges(s.measurements, DelaunayEdgesOptions(), &edges).ok());
+  EXPECT_GT(static_cast<int>(edges.size()), testing_util::kTermPoints);  // a triangulation
+  EXPECT_EQ(testing_util::TermBlockCount(kSmoothnessTerm, s), static_cast<int>(edges.size()));
 }
 
 }  // namespace

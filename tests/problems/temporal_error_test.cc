@@ -13,6 +13,7 @@
 
 #include "core/rotation.h"
 #include "tests/problems/functor_test_util.h"
+#include "tests/problems/term_test_util.h"
 
 namespace nrsfm {
 namespace {
@@ -262,6 +263,22 @@ TEST(ShapeTemporalError, GramBlocksEqualTheEvaluatedJacobian) {
         EXPECT_NEAR(diagonal[i], expected, 1e-13) << "K = " << k << ", block " << a << ", " << i;
       }
     }
+  }
+}
+
+// Their rows of problems/extra_terms.cc, on F frames, P points, M cameras.
+TEST(TemporalTerms, BlocksPerFramePairPointAndCamera) {
+  using testing_util::kTermFrames;
+  using testing_util::kTermPoints;
+  using testing_util::TermBlockCount;
+  for (int cameras : {1, 2}) {
+    SCOPED_TRACE(cameras);
+    const SyntheticSequence s = testing_util::TermTestShoe(cameras);
+    EXPECT_EQ(TermBlockCount(kTemporalTerm, s), kTermFrames - 1);  // t ≥ 1
+    EXPECT_EQ(TermBlockCount(kTemporalRotationsTerm, s), (kTermFrames - 1) * cameras);
+    EXPECT_EQ(TermBlockCount(kTemporalShapeTerm, s), (kTermFrames - 1) * kTermPoints);
+    // 1 ≤ t ≤ F − 2, per camera.
+    EXPECT_EQ(TermBlockCount(kRotationAccelerationTerm, s), (kTermFrames - 2) * cameras);
   }
 }
 

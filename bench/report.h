@@ -1,0 +1,45 @@
+// How the nrsfm_bench suites report: statistics and numbers for the stdout
+// tables, the tables themselves, the metrics of a run as JSON fields, and
+// the JSON file.
+#ifndef NRSFM_BENCH_REPORT_H_
+#define NRSFM_BENCH_REPORT_H_
+
+#include <string>
+#include <vector>
+
+#include "bench/bench_config.h"
+#include "core/metrics.h"
+
+namespace nrsfm {
+namespace bench {
+
+double Median(std::vector<double> values);  // NaN when empty
+
+// Fixed-precision number ("nan" for NaN).
+std::string Fmt(double value, int precision = 3);
+
+// A plain-text table with right-aligned columns.
+class Table {
+ public:
+  explicit Table(std::vector<std::string> headers);
+  void AddRow(std::vector<std::string> cells);
+  std::string ToString() const;
+
+ private:
+  std::vector<std::string> headers_;
+  std::vector<std::vector<std::string>> rows_;
+};
+
+// Sets (*j)[name] = value for every metric of `errors` (MetricList,
+// core/metrics.h: the names result.json and `nrsfm evaluate` use).
+void AddMetrics(const ShapeErrors& errors, Json* j);
+
+// Writes `json` to <output_dir>/<file>; returns the path or "" on failure
+// (with a note on stderr).
+std::string WriteJson(const BenchConfig& config, const std::string& file,
+                      const Json& json);
+
+}  // namespace bench
+}  // namespace nrsfm
+
+#endif  // NRSFM_BENCH_REPORT_H_
