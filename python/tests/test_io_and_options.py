@@ -129,9 +129,15 @@ def test_keywords_are_the_tools_flags_with_its_defaults():
     # Every reconstruct flag that is not about the tool's files is a keyword.
     reconstruct = set(nrsfm.OPTIONS["reconstruct"])
     for name in ("init", "priors", "robust", "robust_scale", "max_iterations", "threads",
-                 "linear_solver", "seed", "K_max", "K_threshold", "smoothness", "rigidity",
-                 "temporal", "temporal_rotations", "temporal_shape", "rotation_acceleration"):
+                 "linear_solver", "seed", "K_max", "K_threshold", "function_tolerance",
+                 "cg_tolerance", "rule_min_track_order", "completion_iterations"):
         assert name in reconstruct
+    # One weight per extra term (the flags --help lists after the others).
+    terms = [name for name, (kind, _) in flags.items()
+             if "weight of the" in nrsfm.OPTIONS["reconstruct"].get(name, {}).get("help", "")]
+    assert len(terms) >= 7 and {"smoothness", "deformation", "temporal_shape"} <= set(terms)
+    for name in terms:
+        assert name in set(nrsfm.OPTIONS["refine"])
     assert set(nrsfm.OPTIONS["refine"]) < reconstruct
     assert set(nrsfm.OPTIONS["read"]) == {"cameras", "var", "mask_var", "format", "frame_key",
                                           "part", "min_confidence"}

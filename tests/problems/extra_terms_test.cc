@@ -76,7 +76,9 @@ TEST(ExtraTerms, EachTermAddsBlocksAndAllTogetherAddTheirOwnCounts) {
     // Alone, no other row adds anything.
     const std::vector<int> counts = TermBlockCounts({{name, 2.0}}, s);
     for (std::size_t j = 0; j < counts.size(); ++j) {
-      if (j != i) EXPECT_EQ(counts[j], 0) << name << " then " << ExtraTerms()[j].name;
+      if (j != i) {
+        EXPECT_EQ(counts[j], 0) << name << " then " << ExtraTerms()[j].name;
+      }
     }
   }
   ProblemOptions options;
