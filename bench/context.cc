@@ -1,15 +1,14 @@
 #include "bench/context.h"
 
+#include <ceres/version.h>
 #include <unistd.h>
 
+#include <Eigen/Core>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
 #include <string>
 #include <thread>
-
-#include <ceres/version.h>
-#include <Eigen/Core>
 
 namespace nrsfm {
 namespace bench {
@@ -71,7 +70,8 @@ Json ContextBlock(int threads) {
   context["lapack"] =
       ReadLink("/etc/alternatives/liblapack.so.3-x86_64-linux-gnu");
   context["ceres_sparse"] = CommandOutput(
-      "grep -E '^#define CERES_(USE_EIGEN_SPARSE|NO_SUITESPARSE|USE_CXX_THREADS|"
+      "grep -E '^#define "
+      "CERES_(USE_EIGEN_SPARSE|NO_SUITESPARSE|USE_CXX_THREADS|"
       "USE_OPENMP)' /usr/include/ceres/internal/config.h 2>/dev/null | "
       "awk '{print $2}' | tr '\\n' ' '");
   return context;

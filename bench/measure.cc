@@ -53,8 +53,8 @@ ChildResult RunInChild(const std::function<Json()>& work) {
     const std::string text = out.dump();
     size_t written = 0;
     while (written < text.size()) {
-      const ssize_t n = write(fds[1], text.data() + written,
-                              text.size() - written);
+      const ssize_t n =
+          write(fds[1], text.data() + written, text.size() - written);
       if (n <= 0) break;
       written += static_cast<size_t>(n);
     }

@@ -10,18 +10,22 @@
 namespace nrsfm {
 namespace bench {
 
-bool LoadMocapSequences(const BenchConfig& config, std::vector<MocapSequence>* sequences,
+bool LoadMocapSequences(const BenchConfig& config,
+                        std::vector<MocapSequence>* sequences,
                         std::string* why) {
   namespace fs = std::filesystem;
   sequences->clear();
   std::error_code error;
-  if (config.datasets_dir.empty() || !fs::is_directory(config.datasets_dir, error)) {
-    *why = "no datasets directory '" + config.datasets_dir + "' (set --datasets_dir)";
+  if (config.datasets_dir.empty() ||
+      !fs::is_directory(config.datasets_dir, error)) {
+    *why = "no datasets directory '" + config.datasets_dir +
+           "' (set --datasets_dir)";
     return false;
   }
   std::vector<std::string> files;
   for (const auto& entry : fs::directory_iterator(config.datasets_dir, error)) {
-    if (entry.path().extension() == ".mat") files.push_back(entry.path().string());
+    if (entry.path().extension() == ".mat")
+      files.push_back(entry.path().string());
   }
   std::sort(files.begin(), files.end());
   for (const std::string& file : files) {
@@ -32,7 +36,8 @@ bool LoadMocapSequences(const BenchConfig& config, std::vector<MocapSequence>* s
             std::string::npos) {
       continue;
     }
-    Status status = ReadMeasurements(file, InputOptions(), &sequence.measurements);
+    Status status =
+        ReadMeasurements(file, InputOptions(), &sequence.measurements);
     if (status.ok()) status = ReadGroundTruth(file, "", &sequence.truth);
     if (!status.ok()) {
       std::cout << "skip " << file << ": " << status.message() << "\n";

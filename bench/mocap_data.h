@@ -23,7 +23,8 @@ struct MocapSequence {
 // sorted by name, restricted to config.mocap_sequences when given. Files
 // that cannot be read are skipped with a line on stdout. Returns false with
 // `why` when there is no such folder or no such file.
-bool LoadMocapSequences(const BenchConfig& config, std::vector<MocapSequence>* sequences,
+bool LoadMocapSequences(const BenchConfig& config,
+                        std::vector<MocapSequence>* sequences,
                         std::string* why);
 // K of the published numbers for a sequence (drink 12, pickup 12, yoga 10,
 // face 7; 8 for any other).

@@ -1,8 +1,8 @@
-// nrsfm_bench: the benchmark suites (docs/benchmark.md). With no flags it runs the
-// reduced default (a few minutes on 2 cores, --jobs=2): paper-random with R = 1,
-// superquadric, shoe at K = 4 (monocular and two cameras), mocap at the published K
-// and robustness on yoga and face (four cases) when ../shared/datasets exists,
-// and a small scale sweep.
+// nrsfm_bench: the benchmark suites (docs/benchmark.md). With no flags it runs
+// the reduced default (a few minutes on 2 cores, --jobs=2): paper-random with R
+// = 1, superquadric, shoe at K = 4 (monocular and two cameras), mocap at the
+// published K and robustness on yoga and face (four cases) when
+// ../shared/datasets exists, and a small scale sweep.
 //
 //   --suite=default|paper-random|superquadric|shoe|mocap|robustness|scale|all
 //   --full            paper-sized runs (R = 30, full K ranges, K sweeps)
@@ -12,7 +12,8 @@
 //   --threads         Ceres threads
 //   --plots           write plots (gnuplot, SVG); skipped with a note if absent
 //   --mocap_sequences comma-separated .mat stems (default: every file)
-//   --max_seconds     wall-time cap of each shoe, mocap, robustness and scale refinement
+//   --max_seconds     wall-time cap of each shoe, mocap, robustness and scale
+//   refinement
 //                     (default run: 30; one suite alone or --full: none)
 //   --jobs            reconstructions run at once (default 2)
 //   --max_iterations  LM iterations per refinement (default: the library's)
@@ -20,15 +21,15 @@
 //
 // Output: tables on stdout; <output_dir>/results.json with a "context" block
 // (date, machine, threads, versions, BLAS) and one object per suite.
+#include <gflags/gflags.h>
+#include <glog/logging.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <gflags/gflags.h>
-#include <glog/logging.h>
 
 #include "bench/bench_config.h"
 #include "bench/context.h"
@@ -37,7 +38,8 @@
 #include "bench/suites.h"
 
 DEFINE_string(suite, "default",
-              "default | paper-random | superquadric | shoe | mocap | robustness | scale | all");
+              "default | paper-random | superquadric | shoe | mocap | "
+              "robustness | scale | all");
 DEFINE_bool(full, false, "paper-sized runs (R = 30, full K ranges, K sweeps)");
 DEFINE_int32(runs, 0, "random runs per setting (0 = the suite's default)");
 DEFINE_string(datasets_dir, "../shared/datasets",
@@ -113,10 +115,14 @@ int main(int argc, char** argv) {
   nrsfm::bench::SetDefaultMaxIterations(FLAGS_max_iterations);
   {
     std::ostringstream bad;
-    if (FLAGS_runs < 0) bad << "--runs must be >= 0, got " << FLAGS_runs;
-    else if (FLAGS_threads < 1) bad << "--threads must be >= 1, got " << FLAGS_threads;
-    else if (FLAGS_jobs < 1) bad << "--jobs must be >= 1, got " << FLAGS_jobs;
-    else if (!(FLAGS_max_seconds >= 0)) bad << "--max_seconds must be >= 0, got " << FLAGS_max_seconds;
+    if (FLAGS_runs < 0)
+      bad << "--runs must be >= 0, got " << FLAGS_runs;
+    else if (FLAGS_threads < 1)
+      bad << "--threads must be >= 1, got " << FLAGS_threads;
+    else if (FLAGS_jobs < 1)
+      bad << "--jobs must be >= 1, got " << FLAGS_jobs;
+    else if (!(FLAGS_max_seconds >= 0))
+      bad << "--max_seconds must be >= 0, got " << FLAGS_max_seconds;
     if (!bad.str().empty()) {
       std::cerr << "error: " << bad.str() << "\n";
       return 2;
@@ -177,7 +183,8 @@ int main(int argc, char** argv) {
     const Status status = suite.run(config, &out);
     out["seconds"] = nrsfm::bench::NowSeconds() - suite_start;
     if (!status.ok()) {
-      std::cout << "suite " << suite.name << " FAILED: " << status.message() << "\n";
+      std::cout << "suite " << suite.name << " FAILED: " << status.message()
+                << "\n";
       out["error"] = status.message();
       ++failures;
     }
@@ -187,7 +194,8 @@ int main(int argc, char** argv) {
     nrsfm::bench::WriteJson(config, "results.json", results);
   }
   results["context"]["total_seconds"] = nrsfm::bench::NowSeconds() - start;
-  const std::string path = nrsfm::bench::WriteJson(config, "results.json", results);
+  const std::string path =
+      nrsfm::bench::WriteJson(config, "results.json", results);
   std::cout << "\nresults: " << (path.empty() ? "(not written)" : path) << " ("
             << nrsfm::bench::Fmt(nrsfm::bench::NowSeconds() - start, 1)
             << " s)\n";

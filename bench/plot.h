@@ -18,7 +18,7 @@ struct PlotSeries {
   std::vector<double> x, y;
 };
 struct PlotSpec {
-  std::string name;   // file stem
+  std::string name;  // file stem
   std::string title;
   std::string xlabel, ylabel;
   bool logx = false, logy = false;

@@ -14,16 +14,16 @@
 // docs/performance.md; --max_seconds is checked between iterations).
 //   nrsfm_solver_timing --mode=table --sizes=1102x41x12,300x110x5
 //   nrsfm_solver_timing --mode=drink --drink=../shared/datasets/drink.mat
+#include <ceres/solver.h>
+#include <gflags/gflags.h>
+#include <glog/logging.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <ceres/solver.h>
-#include <gflags/gflags.h>
-#include <glog/logging.h>
 
 #include "core/ground_truth.h"
 #include "core/metrics.h"
@@ -45,7 +45,8 @@ DEFINE_double(max_seconds, 60.0, "time limit of one solve in the table");
 DEFINE_double(noise, 0.01, "std of the Gaussian noise on W (unit-cube shapes)");
 DEFINE_int32(threads, 1, "Ceres threads");
 DEFINE_int32(seed, 1, "seed of the synthetic data");
-DEFINE_string(drink, "", "path of drink.mat for the real-data timing ('' = skip)");
+DEFINE_string(drink, "",
+              "path of drink.mat for the real-data timing ('' = skip)");
 DEFINE_int32(drink_bases, 12, "K for the drink-sized runs");
 
 namespace nrsfm {
@@ -67,9 +68,7 @@ std::vector<std::string> Split(const std::string& s, char separator) {
   return parts;
 }
 
-void Die(const Status& status) {
-  LOG(FATAL) << status.message();
-}
+void Die(const Status& status) { LOG(FATAL) << status.message(); }
 
 SyntheticSequence MakeSequence(int frames, int points, int bases) {
   RandomBasisOptions options;
@@ -85,7 +84,8 @@ SyntheticSequence MakeSequence(int frames, int points, int bases) {
 }
 
 double E3D(const SyntheticSequence& sequence, const Model& model) {
-  return ComputeE3D(CameraFrameShapes(sequence.truth), CameraFrameShapes(model));
+  return ComputeE3D(CameraFrameShapes(sequence.truth),
+                    CameraFrameShapes(model));
 }
 
 // One Refine() with `choice` from `start`; prints one table row.
@@ -98,13 +98,15 @@ void SolveOnce(const SyntheticSequence& sequence, const Model& start,
   options.max_seconds = FLAGS_max_seconds;
   options.num_threads = FLAGS_threads;
   RefineSummary summary;
-  const Status status = Refine(ProblemOptions(), options, sequence.measurements, &model, &summary);
+  const Status status = Refine(ProblemOptions(), options, sequence.measurements,
+                               &model, &summary);
   const std::string name =
-      LinearSolverName(choice) +
-      (choice == LinearSolverChoice::kAuto ? "->" + summary.linear_solver
-                                           : std::string());
+      LinearSolverName(choice) + (choice == LinearSolverChoice::kAuto
+                                      ? "->" + summary.linear_solver
+                                      : std::string());
   if (!status.ok()) {
-    std::printf("  %-32s refused: %s\n", name.c_str(), status.message().c_str());
+    std::printf("  %-32s refused: %s\n", name.c_str(),
+                status.message().c_str());
     std::fflush(stdout);
     return;
   }
@@ -155,7 +157,8 @@ void SolverTable() {
         SecondsSince(init_start), ReprojectionRms(sequence.measurements, start),
         E3D(sequence, start));
     std::fflush(stdout);
-    for (LinearSolverChoice choice : solvers) SolveOnce(sequence, start, choice);
+    for (LinearSolverChoice choice : solvers)
+      SolveOnce(sequence, start, choice);
   }
 }
 
@@ -182,7 +185,8 @@ double JacobianSeconds(const Measurements& measurements, const Model& start,
          summary.num_jacobian_evaluations;
 }
 
-void PrintReconstruct(const std::string& label, const Measurements& measurements,
+void PrintReconstruct(const std::string& label,
+                      const Measurements& measurements,
                       const ReconstructResult& result) {
   const RefineSummary& r = result.refine;
   std::printf(
@@ -232,10 +236,11 @@ void DrinkTiming() {
   GroundTruth truth;
   if (ReadGroundTruth(FLAGS_drink, "", &truth).ok()) {
     const Model start = StartKeptByAuto(bases, drink);
-    std::printf("  e3D vs the file's truth (%s): start %.4f, refined %.4f\n",
-                truth.source.c_str(),
-                ComputeE3D(truth.points_in_camera, CameraFrameShapes(start)),
-                ComputeE3D(truth.points_in_camera, CameraFrameShapes(result.model)));
+    std::printf(
+        "  e3D vs the file's truth (%s): start %.4f, refined %.4f\n",
+        truth.source.c_str(),
+        ComputeE3D(truth.points_in_camera, CameraFrameShapes(start)),
+        ComputeE3D(truth.points_in_camera, CameraFrameShapes(result.model)));
   }
   std::fflush(stdout);
 }

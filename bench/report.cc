@@ -37,7 +37,8 @@ std::string Table::ToString() const {
   std::vector<size_t> widths(headers_.size());
   for (size_t c = 0; c < headers_.size(); ++c) {
     widths[c] = headers_[c].size();
-    for (const auto& row : rows_) widths[c] = std::max(widths[c], row[c].size());
+    for (const auto& row : rows_)
+      widths[c] = std::max(widths[c], row[c].size());
   }
   std::ostringstream out;
   auto line = [&](const std::vector<std::string>& cells) {

@@ -7,12 +7,12 @@
 //   AutoDiff/K     ReprojectionError<K> (compile-time K, reference)
 //   DynAutoDiff/K  DynamicReprojectionError (run-time K)
 // Run: ./build/bench/nrsfm_residual_benchmark [--benchmark_filter=...]
+#include <benchmark/benchmark.h>
+#include <ceres/cost_function.h>
+
 #include <memory>
 #include <random>
 #include <vector>
-
-#include <benchmark/benchmark.h>
-#include <ceres/cost_function.h>
 
 #include "problems/reprojection_cost_function.h"
 #include "problems/reprojection_error.h"
@@ -23,11 +23,14 @@ namespace {
 // Parameters and Jacobian storage of one observation with K bases.
 struct Block {
   explicit Block(int k)
-      : rotation{0.1, -0.2, 0.3}, translation{0.5, -0.5}, weights(k), basis(3 * k),
-        residuals(2), jacobian_storage{std::vector<double>(6),
-                                       std::vector<double>(4),
-                                       std::vector<double>(2 * k),
-                                       std::vector<double>(6 * k)} {
+      : rotation{0.1, -0.2, 0.3},
+        translation{0.5, -0.5},
+        weights(k),
+        basis(3 * k),
+        residuals(2),
+        jacobian_storage{std::vector<double>(6), std::vector<double>(4),
+                         std::vector<double>(2 * k),
+                         std::vector<double>(6 * k)} {
     std::mt19937_64 engine(1);
     std::uniform_real_distribution<double> uniform(-1.0, 1.0);
     for (double& w : weights) w = uniform(engine);
@@ -47,8 +50,9 @@ void Run(benchmark::State& state, const ceres::CostFunction& cost, int k,
          bool with_jacobians) {
   Block block(k);
   for (auto _ : state) {
-    const bool ok = cost.Evaluate(block.parameters.data(), block.residuals.data(),
-                                  with_jacobians ? block.jacobians.data() : nullptr);
+    const bool ok =
+        cost.Evaluate(block.parameters.data(), block.residuals.data(),
+                      with_jacobians ? block.jacobians.data() : nullptr);
     benchmark::DoNotOptimize(ok);
     benchmark::DoNotOptimize(block.residuals.data());
     benchmark::ClobberMemory();
@@ -85,8 +89,8 @@ void BM_DynAutoDiff(benchmark::State& state) {
 }
 
 // Arg 0: 0 = residuals only, 1 = residuals + Jacobians.
-#define NRSFM_PER_K(K)                                                      \
-  BENCHMARK_TEMPLATE(BM_Hand, K)->ArgName("jac")->Arg(0)->Arg(1);          \
+#define NRSFM_PER_K(K)                                            \
+  BENCHMARK_TEMPLATE(BM_Hand, K)->ArgName("jac")->Arg(0)->Arg(1); \
   BENCHMARK_TEMPLATE(BM_AutoDiff, K)->ArgName("jac")->Arg(0)->Arg(1);
 NRSFM_PER_K(1)
 NRSFM_PER_K(2)

@@ -5,7 +5,8 @@
 namespace nrsfm {
 namespace bench {
 
-Status Evaluate(const Model& model, const GroundTruth& truth, ShapeErrors* errors) {
+Status Evaluate(const Model& model, const GroundTruth& truth,
+                ShapeErrors* errors) {
   return EvaluateShapes(truth, ShapesOfModel(model, 0), errors);
 }
 

@@ -19,27 +19,28 @@ namespace bench {
 
 // One reconstruction scored against camera-0 ground truth.
 struct RunOutcome {
-  bool ok = false;              // Reconstruct() succeeded and the refinement is usable
-  std::string message;          // why not
-  ShapeErrors errors;           // core/metrics.h
-  std::string start;            // StartMethodName of the start kept
+  bool ok = false;      // Reconstruct() succeeded and the refinement is usable
+  std::string message;  // why not
+  ShapeErrors errors;   // core/metrics.h
+  std::string start;    // StartMethodName of the start kept
   double init_seconds = 0;
   double refine_seconds = 0;
   double total_seconds = 0;
-  int iterations = 0;           // LM iterations
+  int iterations = 0;  // LM iterations
   // The solver's own minimizer time / iterations: without the time in the
   // callbacks, where auto's two starts wait for each other.
   double seconds_per_iteration = 0;
   double reprojection_rms = 0;  // refined, input units
   std::string linear_solver;
-  bool converged = false;       // the refinement ended by a tolerance
+  bool converged = false;             // the refinement ended by a tolerance
   std::vector<std::string> warnings;  // the start's and the result's
-  Model model;                  // the reconstruction
+  Model model;                        // the reconstruction
 };
 
 // Scores `model` (camera 0) against `truth` (core/metrics.h EvaluateShapes:
 // the object frame when the truth has one).
-Status Evaluate(const Model& model, const GroundTruth& truth, ShapeErrors* errors);
+Status Evaluate(const Model& model, const GroundTruth& truth,
+                ShapeErrors* errors);
 
 // Reconstruct() + Evaluate(). Never fails: problems go into outcome.message.
 RunOutcome ReconstructAndEvaluate(const ReconstructOptions& options,

@@ -21,11 +21,11 @@
 #include "bench/report.h"
 #include "bench/run_evaluate.h"
 #include "bench/suites.h"
-#include "core/parallel_for.h"
 #include "core/ground_truth.h"
+#include "core/parallel_for.h"
 #include "core/read_measurements.h"
-#include "solvers/prior_rule.h"
 #include "problems/extra_terms.h"
+#include "solvers/prior_rule.h"
 
 namespace nrsfm {
 namespace bench {
@@ -79,7 +79,8 @@ RunOutcome RunStrategy(const std::string& strategy, int num_bases,
   options.solver.max_seconds = config.max_seconds;
   if (strategy != "default") options.priors = PriorMode::kManual;
   if (HasPart(strategy, "triple")) options.start.method = StartMethod::kTriple;
-  if (HasPart(strategy, "ts")) options.problem.term_weights[kTemporalShapeTerm] = kTemporalShapeWeight;
+  if (HasPart(strategy, "ts"))
+    options.problem.term_weights[kTemporalShapeTerm] = kTemporalShapeWeight;
   return ReconstructAndEvaluate(options, sequence.measurements, sequence.truth);
 }
 
@@ -112,10 +113,10 @@ Status RunMocapSuite(const BenchConfig& config, Json* out) {
     return Status::OK();
   }
 
-  Table table({"sequence", "F", "P", "K", "strategy", "e3D", "frame",
-               "PTA", "BMM", "R-BMM", "best pub.", "e3D cam", "rot err",
-               "frob_z", "rms", "start", "iters", "init s", "refine s",
-               "total s"});
+  Table table({"sequence",  "F",       "P",       "K",        "strategy",
+               "e3D",       "frame",   "PTA",     "BMM",      "R-BMM",
+               "best pub.", "e3D cam", "rot err", "frob_z",   "rms",
+               "start",     "iters",   "init s",  "refine s", "total s"});
   Json runs = Json::array();
   // Every (sequence, strategy) run, --jobs at a time, reported in order.
   const std::vector<std::string> strategies = Strategies(config);
@@ -125,7 +126,8 @@ Status RunMocapSuite(const BenchConfig& config, Json* out) {
                 for (int i = begin; i < end; ++i) {
                   const Sequence& sequence = sequences[i / strategies.size()];
                   outcomes[i] = RunStrategy(strategies[i % strategies.size()],
-                                            PublishedNumBases(sequence.name), config, sequence);
+                                            PublishedNumBases(sequence.name),
+                                            config, sequence);
                   outcomes[i].model = Model();
                 }
               });
@@ -140,19 +142,28 @@ Status RunMocapSuite(const BenchConfig& config, Json* out) {
         const double value = published->second.*field;
         return value < 0 ? "-" : Fmt(value, 4);
       };
-      table.AddRow({sequence.name, std::to_string(sequence.measurements.num_frames),
+      table.AddRow({sequence.name,
+                    std::to_string(sequence.measurements.num_frames),
                     std::to_string(sequence.measurements.num_points),
-                    std::to_string(num_bases), strategy,
+                    std::to_string(num_bases),
+                    strategy,
                     o.ok ? Fmt(o.errors.e3d, 4) : "FAIL",
                     EvaluationFrameName(o.errors.e3d_frame),
-                    pub(&PublishedNumbers::pta), pub(&PublishedNumbers::bmm),
-                    pub(&PublishedNumbers::rbmm), pub(&PublishedNumbers::best),
+                    pub(&PublishedNumbers::pta),
+                    pub(&PublishedNumbers::bmm),
+                    pub(&PublishedNumbers::rbmm),
+                    pub(&PublishedNumbers::best),
                     Fmt(o.errors.e3d_camera, 4),
-                    std::isnan(o.errors.rotation_error) ? "-"
-                                                        : Fmt(o.errors.rotation_error, 4),
-                    Fmt(o.errors.frob_zsign, 4), Fmt(o.reprojection_rms, 4),
-                    o.start, std::to_string(o.iterations), Fmt(o.init_seconds, 2),
-                    Fmt(o.refine_seconds, 2), Fmt(o.total_seconds, 2)});
+                    std::isnan(o.errors.rotation_error)
+                        ? "-"
+                        : Fmt(o.errors.rotation_error, 4),
+                    Fmt(o.errors.frob_zsign, 4),
+                    Fmt(o.reprojection_rms, 4),
+                    o.start,
+                    std::to_string(o.iterations),
+                    Fmt(o.init_seconds, 2),
+                    Fmt(o.refine_seconds, 2),
+                    Fmt(o.total_seconds, 2)});
       Json j = OutcomeJson(o);
       j["sequence"] = sequence.name;
       j["num_bases"] = num_bases;
@@ -161,9 +172,10 @@ Status RunMocapSuite(const BenchConfig& config, Json* out) {
         j["best_published_e3d"] = published->second.best;
       }
       runs.push_back(j);
-      std::cout << "  " << sequence.name << " K=" << num_bases << " " << strategy
-                << ": e3D " << Fmt(o.errors.e3d, 4) << " (" << Fmt(o.total_seconds, 2)
-                << " s)" << (o.message.empty() ? "" : " " + o.message) << std::endl;
+      std::cout << "  " << sequence.name << " K=" << num_bases << " "
+                << strategy << ": e3D " << Fmt(o.errors.e3d, 4) << " ("
+                << Fmt(o.total_seconds, 2) << " s)"
+                << (o.message.empty() ? "" : " " + o.message) << std::endl;
     }
   }
   std::cout << table.ToString();
@@ -198,8 +210,8 @@ Status RunMocapSuite(const BenchConfig& config, Json* out) {
           RunStrategy(Strategies(config).front(), k, config, sequence);
       sweep_table.AddRow({sequence.name, std::to_string(k),
                           o.ok ? Fmt(o.errors.e3d, 4) : "FAIL",
-                          Fmt(o.errors.frob_zsign, 4), Fmt(o.reprojection_rms, 4),
-                          Fmt(o.total_seconds, 2)});
+                          Fmt(o.errors.frob_zsign, 4),
+                          Fmt(o.reprojection_rms, 4), Fmt(o.total_seconds, 2)});
       Json j = OutcomeJson(o);
       j["sequence"] = sequence.name;
       j["num_bases"] = k;

@@ -1,6 +1,6 @@
-// paper-random suite (Torresani et al. 2001, Fig. 5 a/b): data from N = 5, 10 and 20
-// random basis shapes (core/synthetic.h GenerateRandomBasis: points in the
-// unit cube, first basis dominant), F = 300, P = 100, rotations spanning up
+// paper-random suite (Torresani et al. 2001, Fig. 5 a/b): data from N = 5, 10
+// and 20 random basis shapes (core/synthetic.h GenerateRandomBasis: points in
+// the unit cube, first basis dominant), F = 300, P = 100, rotations spanning up
 // to 90° about each axis, Gaussian noise 0.01 (unit-cube units); reconstruct
 // with K = 1 … N; median 3D error and z error (% of shape size) over R runs.
 // Default: R = 1 and K in {1, N/2, N}; --full: R = 30 and every K.
@@ -37,15 +37,28 @@ std::vector<int> KValues(int n, bool full) {
 }  // namespace
 
 Status RunPaperRandomSuite(const BenchConfig& config, Json* out) {
-  std::cout << "\n== paper-random: Torresani et al. 2001, Fig. 5 a/b (F = " << kFrames
-            << ", P = " << kPoints << ", 90 deg, noise " << kNoise << ") ==\n";
+  std::cout << "\n== paper-random: Torresani et al. 2001, Fig. 5 a/b (F = "
+            << kFrames << ", P = " << kPoints << ", 90 deg, noise " << kNoise
+            << ") ==\n";
   const int runs = config.runs > 0 ? config.runs : (config.full ? 30 : 1);
   Table table({"N (gen)", "K", "median 3D err %", "median z err %",
                "median e3D", "median s", "failed"});
-  PlotSpec plot_3d{"paper_random_error3d", "random bases: median 3D error (Torresani et al. 2001, Fig. 5a)",
-                   "K", "3D error, % of shape size", false, true, {}};
-  PlotSpec plot_z{"paper_random_zerror", "random bases: median z error (Torresani et al. 2001, Fig. 5b)",
-                  "K", "z error, % of shape size", false, true, {}};
+  PlotSpec plot_3d{
+      "paper_random_error3d",
+      "random bases: median 3D error (Torresani et al. 2001, Fig. 5a)",
+      "K",
+      "3D error, % of shape size",
+      false,
+      true,
+      {}};
+  PlotSpec plot_z{
+      "paper_random_zerror",
+      "random bases: median z error (Torresani et al. 2001, Fig. 5b)",
+      "K",
+      "z error, % of shape size",
+      false,
+      true,
+      {}};
   Json settings = Json::array();
   for (int n : {5, 10, 20}) {
     const auto make = [n](std::uint64_t seed, SyntheticSequence* sequence) {
@@ -61,7 +74,8 @@ Status RunPaperRandomSuite(const BenchConfig& config, Json* out) {
     const auto options = [&config](int k) {
       return DefaultReconstructOptions(k, config.threads);
     };
-    const SweepResult sweep = SweepK(make, KValues(n, config.full), runs, options, config.jobs);
+    const SweepResult sweep =
+        SweepK(make, KValues(n, config.full), runs, options, config.jobs);
     PlotSeries s3d{std::to_string(n) + " bases", {}, {}};
     PlotSeries sz = s3d;
     for (const SweepPoint& p : sweep.points) {

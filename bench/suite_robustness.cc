@@ -21,8 +21,8 @@
 #include "bench/report.h"
 #include "bench/run_evaluate.h"
 #include "bench/suites.h"
-#include "core/parallel_for.h"
 #include "core/metrics.h"
+#include "core/parallel_for.h"
 #include "core/synthetic.h"
 
 namespace nrsfm {
@@ -35,8 +35,8 @@ struct Case {
 };
 
 std::vector<Case> Cases(bool quick) {
-  const auto make = [](const std::string& name, double rotation, SpeedProfile profile,
-                       double noise, double missing) {
+  const auto make = [](const std::string& name, double rotation,
+                       SpeedProfile profile, double noise, double missing) {
     Case c;
     c.name = name;
     c.options.total_rotation_deg = rotation;
@@ -91,7 +91,8 @@ bool HasLittleRotationWarning(const RunOutcome& o) {
 }  // namespace
 
 Status RunRobustnessSuite(const BenchConfig& config, Json* out) {
-  std::cout << "\n== robustness: real truth under other camera paths, noise, missing ==\n";
+  std::cout << "\n== robustness: real truth under other camera paths, noise, "
+               "missing ==\n";
   std::vector<MocapSequence> sources;
   std::string why;
   if (!LoadMocapSequences(config, &sources, &why)) {
@@ -105,7 +106,8 @@ Status RunRobustnessSuite(const BenchConfig& config, Json* out) {
   if (config.quick && config.mocap_sequences.empty()) {
     std::vector<MocapSequence> kept;
     for (MocapSequence& source : sources) {
-      if (source.name == "yoga" || source.name == "face") kept.push_back(std::move(source));
+      if (source.name == "yoga" || source.name == "face")
+        kept.push_back(std::move(source));
     }
     if (!kept.empty()) sources = std::move(kept);
   }
@@ -127,23 +129,26 @@ Status RunRobustnessSuite(const BenchConfig& config, Json* out) {
       runs.push_back(std::move(run));
     }
   }
-  ParallelFor(static_cast<int>(runs.size()), config.jobs, /*grain=*/1, [&](int begin, int end) {
-    for (int i = begin; i < end; ++i) {
-      Run& run = runs[i];
-      run.made = GenerateReprojection(run.source->truth, run.test->options, &run.sequence);
-      if (!run.made.ok()) continue;
-      run.flat = FlatFrobenius(run.sequence.truth);
-      ReconstructOptions options =
-          DefaultReconstructOptions(PublishedNumBases(run.source->name), config.threads);
-      options.solver.max_seconds = config.max_seconds;
-      run.outcome =
-          ReconstructAndEvaluate(options, run.sequence.measurements, run.sequence.truth);
-      run.outcome.model = Model();
-    }
-  });
+  ParallelFor(static_cast<int>(runs.size()), config.jobs, /*grain=*/1,
+              [&](int begin, int end) {
+                for (int i = begin; i < end; ++i) {
+                  Run& run = runs[i];
+                  run.made = GenerateReprojection(
+                      run.source->truth, run.test->options, &run.sequence);
+                  if (!run.made.ok()) continue;
+                  run.flat = FlatFrobenius(run.sequence.truth);
+                  ReconstructOptions options = DefaultReconstructOptions(
+                      PublishedNumBases(run.source->name), config.threads);
+                  options.solver.max_seconds = config.max_seconds;
+                  run.outcome = ReconstructAndEvaluate(
+                      options, run.sequence.measurements, run.sequence.truth);
+                  run.outcome.model = Model();
+                }
+              });
 
-  Table table({"sequence", "K", "case", "frob_z", "flat", "Lee et al.", "e3D (object)",
-               "e3D cam", "rot err", "warn", "start", "iters", "conv", "total s"});
+  Table table({"sequence", "K", "case", "frob_z", "flat", "Lee et al.",
+               "e3D (object)", "e3D cam", "rot err", "warn", "start", "iters",
+               "conv", "total s"});
   Json results = Json::array();
   int above_flat = 0, scored = 0;
   for (const Run& run : runs) {
@@ -165,8 +170,9 @@ Status RunRobustnessSuite(const BenchConfig& config, Json* out) {
                   ok ? Fmt(o.errors.frob_zsign, 4) : "FAIL", Fmt(run.flat, 4),
                   lee < 0 ? "-" : Fmt(lee, 4), ok ? Fmt(o.errors.e3d, 4) : "-",
                   ok ? Fmt(o.errors.e3d_camera, 4) : "-",
-                  ok && !std::isnan(o.errors.rotation_error) ? Fmt(o.errors.rotation_error, 4)
-                                                            : "-",
+                  ok && !std::isnan(o.errors.rotation_error)
+                      ? Fmt(o.errors.rotation_error, 4)
+                      : "-",
                   warned ? "yes" : "no", o.start, std::to_string(o.iterations),
                   o.converged ? "yes" : "no", Fmt(o.total_seconds, 1)});
     Json j;

@@ -55,8 +55,8 @@ Json TimeOne(const Size& size, int threads, double max_seconds) {
   }
   ReconstructOptions options = DefaultReconstructOptions(size.bases, threads);
   options.solver.max_seconds = max_seconds;
-  const RunOutcome o =
-      ReconstructAndEvaluate(options, sequence.measurements, TruthShapes(sequence.truth));
+  const RunOutcome o = ReconstructAndEvaluate(options, sequence.measurements,
+                                              TruthShapes(sequence.truth));
   j["ok"] = o.ok;
   if (!o.message.empty()) j["message"] = o.message;
   j["init_seconds"] = o.init_seconds;
@@ -75,8 +75,8 @@ Json TimeOne(const Size& size, int threads, double max_seconds) {
 Status RunScaleSuite(const BenchConfig& config, Json* out) {
   std::cout << "\n== scale: time and memory vs size (random bases, K = 5; "
                "each size in a forked child) ==\n";
-  std::vector<Size> sizes = {{100, 100, 5, ""}, {300, 100, 5, ""},
-                             {300, 1000, 5, ""}};
+  std::vector<Size> sizes = {
+      {100, 100, 5, ""}, {300, 100, 5, ""}, {300, 1000, 5, ""}};
   if (config.full) {
     sizes.push_back({100, 1000, 5, ""});
     sizes.push_back({300, 3000, 5, ""});
@@ -86,15 +86,14 @@ Status RunScaleSuite(const BenchConfig& config, Json* out) {
     sizes.push_back({60, 10000, 5, ""});
   }
   sizes.push_back({1102, 41, 12, "drink-sized"});
-  Table table({"F", "P", "K", "F*P", "solver", "iters", "conv", "s/iter", "init s",
-               "total s", "peak MB", "+MB", "3D err %", "note"});
+  Table table({"F", "P", "K", "F*P", "solver", "iters", "conv", "s/iter",
+               "init s", "total s", "peak MB", "+MB", "3D err %", "note"});
   PlotSeries per_iter{"s per LM iteration", {}, {}}, total{"total s", {}, {}};
   Json rows = Json::array();
   for (const Size& size : sizes) {
-    const ChildResult child =
-        RunInChild([&size, &config]() {
-          return TimeOne(size, config.threads, config.max_seconds);
-        });
+    const ChildResult child = RunInChild([&size, &config]() {
+      return TimeOne(size, config.threads, config.max_seconds);
+    });
     Json j = child.payload;
     j["frames"] = size.frames;
     j["points"] = size.points;
@@ -108,7 +107,8 @@ Status RunScaleSuite(const BenchConfig& config, Json* out) {
     const bool ok = child.ok && j.value("ok", false);
     std::string note = size.label;
     if (size.label == "drink-sized") {
-      note += j.value("total_seconds", 1e9) <= 1.0 ? " (<= 1 s: met)" : " (> 1 s: NOT met)";
+      note += j.value("total_seconds", 1e9) <= 1.0 ? " (<= 1 s: met)"
+                                                   : " (> 1 s: NOT met)";
     }
     table.AddRow({std::to_string(size.frames), std::to_string(size.points),
                   std::to_string(size.bases), Fmt(fp, 0),
@@ -131,8 +131,9 @@ Status RunScaleSuite(const BenchConfig& config, Json* out) {
   std::cout << table.ToString()
             << "(+MB: peak RSS of the child minus the RSS it inherited)\n";
   if (config.max_seconds > 0) {
-    std::cout << "(each refinement capped at " << config.max_seconds
-              << " s wall time, --max_seconds; --suite=scale alone runs uncapped)\n";
+    std::cout
+        << "(each refinement capped at " << config.max_seconds
+        << " s wall time, --max_seconds; --suite=scale alone runs uncapped)\n";
   }
   (*out)["refine_max_seconds"] = config.max_seconds;
   (*out)["sizes"] = rows;
@@ -151,13 +152,18 @@ Status RunScaleSuite(const BenchConfig& config, Json* out) {
       sxx += dx * dx;
     }
     const double exponent = sxx > 0 ? sxy / sxx : 0.0;
-    std::cout << "time per LM iteration ~ (F*P)^" << Fmt(exponent, 2) << " over "
-              << per_iter.x.size() << " sizes (target 1.0 +- 0.1: "
+    std::cout << "time per LM iteration ~ (F*P)^" << Fmt(exponent, 2)
+              << " over " << per_iter.x.size() << " sizes (target 1.0 +- 0.1: "
               << (std::abs(exponent - 1.0) <= 0.1 ? "met" : "NOT met") << ")\n";
     (*out)["seconds_per_iteration_exponent"] = exponent;
   }
-  PlotSpec plot{"scale_time", "time vs F*P (K = 5, linear solver auto)", "F * P",
-                "seconds", true, true, {per_iter, total}};
+  PlotSpec plot{"scale_time",
+                "time vs F*P (K = 5, linear solver auto)",
+                "F * P",
+                "seconds",
+                true,
+                true,
+                {per_iter, total}};
   const std::string path = WritePlot(config, plot);
   if (!path.empty()) (*out)["plots"].push_back(path);
   return Status::OK();

@@ -35,17 +35,20 @@ constexpr double kShoeSmoothnessWeight = 0.01;
 
 Status RunShoeSuite(const BenchConfig& config, Json* out) {
   constexpr double kNoise = 0.002;
-  std::cout << "\n== shoe: Torresani et al. 2001, Table 1 style (F = 500, P = 110, self-occlusion, "
+  std::cout << "\n== shoe: Torresani et al. 2001, Table 1 style (F = 500, P = "
+               "110, self-occlusion, "
                "noise "
             << kNoise << ", smoothness " << kShoeSmoothnessWeight << ") ==\n";
   const int runs = config.runs > 0 ? config.runs : (config.full ? 5 : 1);
   // Default run: the exact K only (--suite=shoe alone adds K = 2).
   const std::vector<int> ks =
-      config.full ? std::vector<int>{2, 3, 4, 5, 6, 7, 8}
-                  : (config.quick ? std::vector<int>{4} : std::vector<int>{2, 4});
+      config.full
+          ? std::vector<int>{2, 3, 4, 5, 6, 7, 8}
+          : (config.quick ? std::vector<int>{4} : std::vector<int>{2, 4});
   ReconstructOptions probe;
   const bool rigidity = EnableTwoCameraRigidity(&probe);
-  const std::string two_label = rigidity ? "2 cams + rigidity" : "2 cams, NO rigidity";
+  const std::string two_label =
+      rigidity ? "2 cams + rigidity" : "2 cams, NO rigidity";
 
   // The monocular and the two-camera sweeps run side by side (--jobs;
   // core/parallel_for.h runs a sweep's own loop inside this one on its
@@ -53,23 +56,25 @@ Status RunShoeSuite(const BenchConfig& config, Json* out) {
   std::vector<SweepResult> results(2);
   ParallelFor(2, config.jobs, /*grain=*/1, [&](int begin, int end) {
     for (int index = begin; index < end; ++index) {
-    const int cameras = index + 1;
-    const auto make = [cameras](std::uint64_t seed, SyntheticSequence* sequence) {
-      ShoeOptions options;
-      options.num_cameras = cameras;
-      options.noise_stddev = kNoise;
-      options.seed = seed;
-      return GenerateShoe(options, sequence);
-    };
-    const auto options = [&config, cameras](int k) {
-      ReconstructOptions o = DefaultReconstructOptions(k, config.threads);
-      o.priors = PriorMode::kManual;
-      o.problem.term_weights[kSmoothnessTerm] = kShoeSmoothnessWeight;
-      o.solver.max_seconds = config.max_seconds;
-      if (cameras == 2) EnableTwoCameraRigidity(&o);
-      return o;
-    };
-    results[index] = SweepK(make, ks, runs, options, std::max(1, config.jobs / 2));
+      const int cameras = index + 1;
+      const auto make = [cameras](std::uint64_t seed,
+                                  SyntheticSequence* sequence) {
+        ShoeOptions options;
+        options.num_cameras = cameras;
+        options.noise_stddev = kNoise;
+        options.seed = seed;
+        return GenerateShoe(options, sequence);
+      };
+      const auto options = [&config, cameras](int k) {
+        ReconstructOptions o = DefaultReconstructOptions(k, config.threads);
+        o.priors = PriorMode::kManual;
+        o.problem.term_weights[kSmoothnessTerm] = kShoeSmoothnessWeight;
+        o.solver.max_seconds = config.max_seconds;
+        if (cameras == 2) EnableTwoCameraRigidity(&o);
+        return o;
+      };
+      results[index] =
+          SweepK(make, ks, runs, options, std::max(1, config.jobs / 2));
     }
   });
   Json sweeps;
@@ -89,8 +94,13 @@ Status RunShoeSuite(const BenchConfig& config, Json* out) {
 
   Table table({"K", "mono 3D %", "mono z %", two_label + " 3D %",
                two_label + " z %", "mono s", "2-cam s"});
-  PlotSpec plot{"shoe_error", "shoe: 3D error vs K (Table 1 style)", "K",
-                "% of shape size", false, false, {}};
+  PlotSpec plot{"shoe_error",
+                "shoe: 3D error vs K (Table 1 style)",
+                "K",
+                "% of shape size",
+                false,
+                false,
+                {}};
   PlotSeries mono{"monocular 3D", {}, {}}, mono_z{"monocular z", {}, {}},
       two{two_label + " 3D", {}, {}};
   Json medians = Json::array();
@@ -98,11 +108,11 @@ Status RunShoeSuite(const BenchConfig& config, Json* out) {
     const SweepPoint& m = results[0].points[i];
     const SweepPoint& b = results[1].points[i];
     table.AddRow({std::to_string(ks[i]),
-                   m.failures == runs ? "FAIL" : Fmt(m.median_error3d_pct, 2),
-                   Fmt(m.median_zerror_pct, 2),
-                   b.failures == runs ? "FAIL" : Fmt(b.median_error3d_pct, 2),
-                   Fmt(b.median_zerror_pct, 2), Fmt(m.median_seconds, 2),
-                   Fmt(b.median_seconds, 2)});
+                  m.failures == runs ? "FAIL" : Fmt(m.median_error3d_pct, 2),
+                  Fmt(m.median_zerror_pct, 2),
+                  b.failures == runs ? "FAIL" : Fmt(b.median_error3d_pct, 2),
+                  Fmt(b.median_zerror_pct, 2), Fmt(m.median_seconds, 2),
+                  Fmt(b.median_seconds, 2)});
     mono.x.push_back(ks[i]);
     mono.y.push_back(m.median_error3d_pct);
     mono_z.x.push_back(ks[i]);

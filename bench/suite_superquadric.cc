@@ -1,6 +1,6 @@
-// superquadric suite (Torresani et al. 2001, Fig. 5c): the octant-deforming superquadric
-// (core/synthetic.h GenerateSuperquadric, exact model K = 4), F = 300,
-// P = 200 (default run: 100), rotations up to 90°, noise 0.005 (shape ~1
+// superquadric suite (Torresani et al. 2001, Fig. 5c): the octant-deforming
+// superquadric (core/synthetic.h GenerateSuperquadric, exact model K = 4), F =
+// 300, P = 200 (default run: 100), rotations up to 90°, noise 0.005 (shape ~1
 // across); K = 1 … 8 (default run: 1, 4, 6), median 3D and z error (% of
 // shape size) over R runs (default 1, --full 30).
 #include <iostream>
@@ -19,11 +19,13 @@ namespace bench {
 
 Status RunSuperquadricSuite(const BenchConfig& config, Json* out) {
   constexpr double kNoise = 0.005;
-  std::cout << "\n== superquadric: Torresani et al. 2001, Fig. 5c (F = 300, P = "
-            << (config.full ? 200 : 100) << ", 90 deg, noise " << kNoise << ") ==\n";
+  std::cout
+      << "\n== superquadric: Torresani et al. 2001, Fig. 5c (F = 300, P = "
+      << (config.full ? 200 : 100) << ", 90 deg, noise " << kNoise << ") ==\n";
   const int runs = config.runs > 0 ? config.runs : (config.full ? 30 : 1);
-  const std::vector<int> ks = config.full ? std::vector<int>{1, 2, 3, 4, 5, 6, 7, 8}
-                                          : std::vector<int>{1, 4, 6};
+  const std::vector<int> ks = config.full
+                                  ? std::vector<int>{1, 2, 3, 4, 5, 6, 7, 8}
+                                  : std::vector<int>{1, 4, 6};
   const bool full = config.full;
   const auto make = [full](std::uint64_t seed, SyntheticSequence* sequence) {
     SuperquadricOptions options;
@@ -38,8 +40,13 @@ Status RunSuperquadricSuite(const BenchConfig& config, Json* out) {
   const SweepResult sweep = SweepK(make, ks, runs, options, config.jobs);
   Table table({"K", "median 3D err %", "median z err %", "median e3D",
                "median s", "failed"});
-  PlotSpec plot{"superquadric_error", "superquadric: median error (Torresani et al. 2001, Fig. 5c)",
-                "K", "% of shape size", false, false, {}};
+  PlotSpec plot{"superquadric_error",
+                "superquadric: median error (Torresani et al. 2001, Fig. 5c)",
+                "K",
+                "% of shape size",
+                false,
+                false,
+                {}};
   PlotSeries s3d{"3D error", {}, {}}, sz{"z error", {}, {}};
   Json medians = Json::array();
   for (const SweepPoint& p : sweep.points) {

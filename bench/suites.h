@@ -12,7 +12,8 @@
 namespace nrsfm {
 namespace bench {
 
-// Torresani et al. 2001, Fig. 5 a/b: random bases (5, 10, 20), F = 300, K = 1 … N.
+// Torresani et al. 2001, Fig. 5 a/b: random bases (5, 10, 20), F = 300, K = 1 …
+// N.
 Status RunPaperRandomSuite(const BenchConfig& config, Json* out);
 // Torresani et al. 2001, Fig. 5c: the superquadric, K = 1 … 8.
 Status RunSuperquadricSuite(const BenchConfig& config, Json* out);

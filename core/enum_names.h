@@ -5,7 +5,8 @@
 //       {RobustLoss::kNone, "none"}, {RobustLoss::kHuber, "huber"}, …};
 //   NameOf(kRobustLossNames, RobustLoss::kHuber)            → "huber"
 //   ParseName(kRobustLossNames, "tukey", "robust loss", &loss)
-//     → error: robust loss: unknown value "tukey" (expected one of none, huber, cauchy)
+//     → error: robust loss: unknown value "tukey" (expected one of none, huber,
+//     cauchy)
 #ifndef NRSFM_CORE_ENUM_NAMES_H_
 #define NRSFM_CORE_ENUM_NAMES_H_
 
@@ -43,8 +44,8 @@ Status ParseName(const EnumName<Enum> (&names)[N], const std::string& text,
     }
     valid += (valid.empty() ? "" : ", ") + std::string(entry.name);
   }
-  return Status::Error(what + ": unknown value \"" + text + "\" (expected one of " +
-                       valid + ")");
+  return Status::Error(what + ": unknown value \"" + text +
+                       "\" (expected one of " + valid + ")");
 }
 
 }  // namespace nrsfm

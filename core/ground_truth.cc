@@ -41,8 +41,8 @@ Status ReadFromSAndRs(const std::string& path, GroundTruth* truth) {
             .cwiseAbs()
             .maxCoeff() > 1e-3) {
       return Status::Error(path + ": Rs rows " + std::to_string(2 * t + 1) +
-                           "-" + std::to_string(2 * t + 2) +
-                           " (frame " + std::to_string(t) +
+                           "-" + std::to_string(2 * t + 2) + " (frame " +
+                           std::to_string(t) +
                            ") are not two orthonormal rows of a rotation");
     }
     truth->rotations[t] = rotation;

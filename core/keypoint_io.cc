@@ -7,11 +7,10 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string_view>
 #include <utility>
-
-#include <nlohmann/json.hpp>
 
 #include "core/enum_names.h"
 #include "core/option_checker.h"
@@ -70,26 +69,28 @@ Status ReadJsonFile(const std::string& path, Json* json) {
 
 // The [x, y, score, …] array `values` (named `where` in errors) as numbers;
 // empty when the array is.
-Status ReadTriples(const Json& values, const std::string& where, std::vector<double>* out) {
+Status ReadTriples(const Json& values, const std::string& where,
+                   std::vector<double>* out) {
   out->clear();
   if (!values.is_array()) {
     return Status::Error(where + " is a " + TypeName(values) +
                          ", not a list [x1, y1, score1, x2, …]");
   }
   if (values.size() % 3 != 0) {
-    return Status::Error(where + " has " + std::to_string(values.size()) +
-                         " values, not a multiple of 3 (x, y and score of each keypoint)");
+    return Status::Error(
+        where + " has " + std::to_string(values.size()) +
+        " values, not a multiple of 3 (x, y and score of each keypoint)");
   }
   out->reserve(values.size());
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (!values[i].is_number()) {
-      return Status::Error(where + "[" + std::to_string(i) + "] is a " + TypeName(values[i]) +
-                           ", not a number");
+      return Status::Error(where + "[" + std::to_string(i) + "] is a " +
+                           TypeName(values[i]) + ", not a number");
     }
     const double value = values[i].get<double>();
     if (!std::isfinite(value)) {
-      return Status::Error(where + "[" + std::to_string(i) + "] = " + values[i].dump() +
-                           " is not a finite number");
+      return Status::Error(where + "[" + std::to_string(i) + "] = " +
+                           values[i].dump() + " is not a finite number");
     }
     out->push_back(value);
   }
@@ -97,13 +98,15 @@ Status ReadTriples(const Json& values, const std::string& where, std::vector<dou
 }
 
 // "7, 8, 9 and 4 more" of the frames `names[i]` for i in `frames`.
-std::string ListFrames(const std::vector<int>& frames, const std::vector<std::string>& names) {
+std::string ListFrames(const std::vector<int>& frames,
+                       const std::vector<std::string>& names) {
   std::string text;
   const int count = static_cast<int>(frames.size());
   for (int i = 0; i < count && i < kMaxListed; ++i) {
     text += (i == 0 ? "" : ", ") + names[frames[i]];
   }
-  if (count > kMaxListed) text += " and " + std::to_string(count - kMaxListed) + " more";
+  if (count > kMaxListed)
+    text += " and " + std::to_string(count - kMaxListed) + " more";
   return text;
 }
 
@@ -111,14 +114,15 @@ std::string ListFrames(const std::vector<int>& frames, const std::vector<std::st
 // and confidences; `names` (one per frame) and `what` (how a frame is
 // named, e.g. "image_id") for the warning about frames with no person.
 // Errors, naming `path`, when no keypoint is visible.
-Status BuildKeypoints(const std::string& path, const std::vector<std::vector<double>>& frames,
+Status BuildKeypoints(const std::string& path,
+                      const std::vector<std::vector<double>>& frames,
                       int num_points, const KeypointOptions& options,
-                      const std::vector<std::string>& names, const std::string& what,
-                      Keypoints* keypoints) {
+                      const std::vector<std::string>& names,
+                      const std::string& what, Keypoints* keypoints) {
   const int num_frames = static_cast<int>(frames.size());
   if (2.0 * num_frames * num_points > kMaxEntries) {
-    return Status::Error(path + ": F = " + std::to_string(num_frames) + " frames of P = " +
-                         std::to_string(num_points) +
+    return Status::Error(path + ": F = " + std::to_string(num_frames) +
+                         " frames of P = " + std::to_string(num_points) +
                          " keypoints imply a W larger than 2^28 entries");
   }
   const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -129,7 +133,8 @@ Status BuildKeypoints(const std::string& path, const std::vector<std::vector<dou
   m.num_points = num_points;
   m.W = Eigen::MatrixXd::Constant(2 * num_frames, num_points, nan);
   m.visible = VisibilityMask::Constant(num_frames, num_points, false);
-  keypoints->confidence = Eigen::ArrayXXd::Constant(num_frames, num_points, nan);
+  keypoints->confidence =
+      Eigen::ArrayXXd::Constant(num_frames, num_points, nan);
   std::vector<int> empty;
   for (int t = 0; t < num_frames; ++t) {
     const std::vector<double>& values = frames[t];
@@ -150,7 +155,10 @@ Status BuildKeypoints(const std::string& path, const std::vector<std::vector<dou
     std::ostringstream msg;
     msg << path << ": no keypoint has a score of at least min_confidence = "
         << options.min_confidence << " (the highest is "
-        << keypoints->confidence.isNaN().select(-1.0, keypoints->confidence).maxCoeff() << ")";
+        << keypoints->confidence.isNaN()
+               .select(-1.0, keypoints->confidence)
+               .maxCoeff()
+        << ")";
     return Status::Error(msg.str());
   }
   if (!empty.empty()) {
@@ -165,11 +173,13 @@ Status BuildKeypoints(const std::string& path, const std::vector<std::vector<dou
 // The warning about frames with several people or entries, or "".
 // "3 of 120 frames have <what> (<label> 4, 9, 17): <used> is used".
 std::string SeveralWarning(const std::vector<int>& frames, int num_frames,
-                           const std::vector<std::string>& names, const std::string& what,
-                           const std::string& label, const std::string& used) {
+                           const std::vector<std::string>& names,
+                           const std::string& what, const std::string& label,
+                           const std::string& used) {
   if (frames.empty()) return "";
-  return std::to_string(frames.size()) + " of " + std::to_string(num_frames) + " frames have " +
-         what + " (" + label + " " + ListFrames(frames, names) + "): " + used + " is used";
+  return std::to_string(frames.size()) + " of " + std::to_string(num_frames) +
+         " frames have " + what + " (" + label + " " +
+         ListFrames(frames, names) + "): " + used + " is used";
 }
 
 // The frame key of a COCO entry: an integer, another number or a string.
@@ -178,8 +188,9 @@ enum class KeyKind { kInteger, kNumber, kString };
 KeyKind KindOf(const Json& key) {
   if (key.is_string()) return KeyKind::kString;
   const double value = key.get<double>();
-  return (std::floor(value) == value && std::abs(value) <= 9.0e15) ? KeyKind::kInteger
-                                                                   : KeyKind::kNumber;
+  return (std::floor(value) == value && std::abs(value) <= 9.0e15)
+             ? KeyKind::kInteger
+             : KeyKind::kNumber;
 }
 
 std::string KeyText(const Json& key) { return key.dump(); }
@@ -191,21 +202,29 @@ struct CocoEntry {
 };
 
 // The entries of a COCO results file, checked (header).
-Status ReadCocoEntries(const std::string& path, const Json& root, const std::string& frame_key,
+Status ReadCocoEntries(const std::string& path, const Json& root,
+                       const std::string& frame_key,
                        std::vector<CocoEntry>* entries, int* num_points) {
   if (!root.is_array()) {
     std::string hint;
     if (root.is_object() && root.contains("annotations")) {
-      hint = "; this looks like a COCO annotation file (it has 'annotations'): nrsfm reads "
-             "keypoint results, the list a detector writes";
+      hint =
+          "; this looks like a COCO annotation file (it has 'annotations'): "
+          "nrsfm reads "
+          "keypoint results, the list a detector writes";
     } else if (root.is_object() && root.contains("people")) {
-      hint = "; this looks like one OpenPose frame: give the folder of its per-frame files";
+      hint =
+          "; this looks like one OpenPose frame: give the folder of its "
+          "per-frame files";
     }
-    return Status::Error(path + ": expected a list of COCO keypoint results [{\"image_id\", "
-                         "\"keypoints\": [x, y, score, ...], \"score\"}, ...], got a " +
-                         TypeName(root) + hint);
+    return Status::Error(
+        path +
+        ": expected a list of COCO keypoint results [{\"image_id\", "
+        "\"keypoints\": [x, y, score, ...], \"score\"}, ...], got a " +
+        TypeName(root) + hint);
   }
-  if (root.empty()) return Status::Error(path + ": the list of keypoint results is empty");
+  if (root.empty())
+    return Status::Error(path + ": the list of keypoint results is empty");
   if (static_cast<long long>(root.size()) > kMaxFrames * 10) {
     return Status::Error(path + ": " + std::to_string(root.size()) +
                          " entries, more than nrsfm reads (10^7)");
@@ -217,40 +236,48 @@ Status ReadCocoEntries(const std::string& path, const Json& root, const std::str
     const Json& e = root[i];
     std::string where = path + ": entry " + std::to_string(i);
     if (!e.is_object()) {
-      return Status::Error(where + " is a " + TypeName(e) +
-                           ", not an object {\"image_id\", \"keypoints\", ...}");
+      return Status::Error(
+          where + " is a " + TypeName(e) +
+          ", not an object {\"image_id\", \"keypoints\", ...}");
     }
     if (!e.contains(frame_key)) {
-      return Status::Error(where + " has no '" + frame_key + "' (the frame key" +
-                           (frame_key == "image_id" ? "; --frame_key names another field" : "") +
-                           ")");
+      return Status::Error(
+          where + " has no '" + frame_key + "' (the frame key" +
+          (frame_key == "image_id" ? "; --frame_key names another field" : "") +
+          ")");
     }
     CocoEntry entry;
     entry.key = e[frame_key];
     if (!entry.key.is_number() && !entry.key.is_string()) {
-      return Status::Error(where + ": '" + frame_key + "' is a " + TypeName(entry.key) +
-                           ", not a number or a string");
+      return Status::Error(where + ": '" + frame_key + "' is a " +
+                           TypeName(entry.key) + ", not a number or a string");
     }
     where += " (" + frame_key + " " + KeyText(entry.key) + ")";
-    if (!e.contains("keypoints")) return Status::Error(where + " has no 'keypoints'");
-    NRSFM_RETURN_IF_ERROR(ReadTriples(e["keypoints"], where + ": 'keypoints'", &entry.values));
-    if (entry.values.empty()) return Status::Error(where + ": 'keypoints' is empty");
+    if (!e.contains("keypoints"))
+      return Status::Error(where + " has no 'keypoints'");
+    NRSFM_RETURN_IF_ERROR(
+        ReadTriples(e["keypoints"], where + ": 'keypoints'", &entry.values));
+    if (entry.values.empty())
+      return Status::Error(where + ": 'keypoints' is empty");
     const int points = static_cast<int>(entry.values.size() / 3);
     if (i == 0) {
       *num_points = points;
     } else if (points != *num_points) {
       return Status::Error(where + " has " + std::to_string(points) +
-                           " keypoints but entry 0 has " + std::to_string(*num_points));
+                           " keypoints but entry 0 has " +
+                           std::to_string(*num_points));
     }
     if (e.contains("score")) {
       if (!e["score"].is_number()) {
-        return Status::Error(where + ": 'score' is a " + TypeName(e["score"]) + ", not a number");
+        return Status::Error(where + ": 'score' is a " + TypeName(e["score"]) +
+                             ", not a number");
       }
       entry.score = e["score"].get<double>();
     }
     if (i > 0 && entry.key.is_string() != (*entries)[0].key.is_string()) {
-      return Status::Error(where + ": '" + frame_key + "' is a " + TypeName(entry.key) +
-                           " but entry 0's is a " + TypeName((*entries)[0].key));
+      return Status::Error(where + ": '" + frame_key + "' is a " +
+                           TypeName(entry.key) + " but entry 0's is a " +
+                           TypeName((*entries)[0].key));
     }
     entries->push_back(std::move(entry));
   }
@@ -259,7 +286,9 @@ Status ReadCocoEntries(const std::string& path, const Json& root, const std::str
 
 }  // namespace
 
-const char* KeypointPartName(KeypointPart part) { return NameOf(kKeypointPartNames, part); }
+const char* KeypointPartName(KeypointPart part) {
+  return NameOf(kKeypointPartNames, part);
+}
 
 Status ParseKeypointPart(const std::string& name, KeypointPart* part) {
   return ParseName(kKeypointPartNames, name, "keypoint part", part);
@@ -267,7 +296,8 @@ Status ParseKeypointPart(const std::string& name, KeypointPart* part) {
 
 Status KeypointOptions::Check() const {
   OptionChecker check("keypoint options");
-  check.Require(!frame_key.empty(), "frame_key must name a field of the entries, got ''");
+  check.Require(!frame_key.empty(),
+                "frame_key must name a field of the entries, got ''");
   check.Require(NameOf(kKeypointPartNames, part) != std::string("unknown"),
                 "invalid part " + std::to_string(static_cast<int>(part)));
   check.Require(std::isfinite(min_confidence) && min_confidence >= 0.0,
@@ -288,8 +318,12 @@ bool NaturalLess(const std::string& a, const std::string& b) {
     // Two runs of digits: compare without their leading zeros, by length
     // and then digit by digit.
     std::size_t end_a = i, end_b = j;
-    while (end_a < a.size() && std::isdigit(static_cast<unsigned char>(a[end_a]))) ++end_a;
-    while (end_b < b.size() && std::isdigit(static_cast<unsigned char>(b[end_b]))) ++end_b;
+    while (end_a < a.size() &&
+           std::isdigit(static_cast<unsigned char>(a[end_a])))
+      ++end_a;
+    while (end_b < b.size() &&
+           std::isdigit(static_cast<unsigned char>(b[end_b])))
+      ++end_b;
     std::size_t start_a = i, start_b = j;
     while (start_a + 1 < end_a && a[start_a] == '0') ++start_a;
     while (start_b + 1 < end_b && b[start_b] == '0') ++start_b;
@@ -304,8 +338,8 @@ bool NaturalLess(const std::string& a, const std::string& b) {
   return a.size() - i < b.size() - j;
 }
 
-Status ReadCocoKeypoints(const std::string& path, const KeypointOptions& options,
-                         Keypoints* keypoints) {
+Status ReadCocoKeypoints(const std::string& path,
+                         const KeypointOptions& options, Keypoints* keypoints) {
   NRSFM_RETURN_IF_ERROR(options.Check());
   Json root;
   NRSFM_RETURN_IF_ERROR(ReadJsonFile(path, &root));
@@ -319,7 +353,8 @@ Status ReadCocoKeypoints(const std::string& path, const KeypointOptions& options
   // numbers and strings are their distinct values in order.
   KeyKind kind = KindOf(entries[0].key);
   for (const CocoEntry& entry : entries) {
-    if (kind == KeyKind::kInteger && KindOf(entry.key) == KeyKind::kNumber) kind = KeyKind::kNumber;
+    if (kind == KeyKind::kInteger && KindOf(entry.key) == KeyKind::kNumber)
+      kind = KeyKind::kNumber;
   }
   std::vector<int> frame_of(entries.size());
   std::vector<std::string> names;
@@ -332,21 +367,24 @@ Status ReadCocoKeypoints(const std::string& path, const KeypointOptions& options
       highest = std::max(highest, value);
     }
     if (highest - lowest + 1 > kMaxFrames) {
-      return Status::Error(path + ": '" + options.frame_key + "' runs from " +
-                           std::to_string(lowest) + " to " + std::to_string(highest) +
-                           ", more than 10^6 frames (every integer between them is a frame); "
-                           "number the frames of the video or name another --frame_key");
+      return Status::Error(
+          path + ": '" + options.frame_key + "' runs from " +
+          std::to_string(lowest) + " to " + std::to_string(highest) +
+          ", more than 10^6 frames (every integer between them is a frame); "
+          "number the frames of the video or name another --frame_key");
     }
     for (std::size_t i = 0; i < entries.size(); ++i) {
-      frame_of[i] = static_cast<int>(static_cast<long long>(entries[i].key.get<double>()) - lowest);
+      frame_of[i] = static_cast<int>(
+          static_cast<long long>(entries[i].key.get<double>()) - lowest);
     }
     for (long long value = lowest; value <= highest; ++value) {
       names.push_back(std::to_string(value));
     }
   } else {
     const auto less = [kind](const Json& a, const Json& b) {
-      return kind == KeyKind::kString ? NaturalLess(a.get<std::string>(), b.get<std::string>())
-                                      : a.get<double>() < b.get<double>();
+      return kind == KeyKind::kString
+                 ? NaturalLess(a.get<std::string>(), b.get<std::string>())
+                 : a.get<double>() < b.get<double>();
     };
     std::map<Json, int, decltype(less)> index(less);
     for (const CocoEntry& entry : entries) index.emplace(entry.key, 0);
@@ -354,7 +392,8 @@ Status ReadCocoKeypoints(const std::string& path, const KeypointOptions& options
       frame = static_cast<int>(names.size());
       names.push_back(KeyText(key));
     }
-    for (std::size_t i = 0; i < entries.size(); ++i) frame_of[i] = index.at(entries[i].key);
+    for (std::size_t i = 0; i < entries.size(); ++i)
+      frame_of[i] = index.at(entries[i].key);
   }
 
   // The entry used in each frame: the highest score, the first of equal ones.
@@ -374,30 +413,35 @@ Status ReadCocoKeypoints(const std::string& path, const KeypointOptions& options
     if (count[t] > 1) several.push_back(t);
   }
   *keypoints = Keypoints();
-  NRSFM_RETURN_IF_ERROR(
-      BuildKeypoints(path, frames, num_points, options, names, options.frame_key, keypoints));
+  NRSFM_RETURN_IF_ERROR(BuildKeypoints(path, frames, num_points, options, names,
+                                       options.frame_key, keypoints));
   const std::string warning =
-      SeveralWarning(several, num_frames, names, "several entries", options.frame_key,
-                     "the one with the highest 'score'");
+      SeveralWarning(several, num_frames, names, "several entries",
+                     options.frame_key, "the one with the highest 'score'");
   if (!warning.empty()) keypoints->warnings.push_back(warning);
   return Status::OK();
 }
 
-Status ReadOpenPoseFolder(const std::string& path, const KeypointOptions& options,
+Status ReadOpenPoseFolder(const std::string& path,
+                          const KeypointOptions& options,
                           Keypoints* keypoints) {
   NRSFM_RETURN_IF_ERROR(options.Check());
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
   if (!fs::exists(status)) return Status::Error(path + ": no such folder");
   if (!fs::is_directory(status)) {
-    return Status::Error(path + ": is not a folder (OpenPose input is the folder of its "
-                         "per-frame .json files)");
+    return Status::Error(
+        path +
+        ": is not a folder (OpenPose input is the folder of its "
+        "per-frame .json files)");
   }
   std::vector<std::string> files;
-  for (fs::directory_iterator it(path, ec), end; !ec && it != end; it.increment(ec)) {
+  for (fs::directory_iterator it(path, ec), end; !ec && it != end;
+       it.increment(ec)) {
     std::string extension = it->path().extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    std::transform(
+        extension.begin(), extension.end(), extension.begin(),
+        [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     if (extension == ".json" && it->is_regular_file(ec)) {
       files.push_back(it->path().filename().string());
     }
@@ -405,9 +449,12 @@ Status ReadOpenPoseFolder(const std::string& path, const KeypointOptions& option
       return Status::Error(path + ": more than 10^6 .json files");
     }
   }
-  if (ec) return Status::Error(path + ": cannot list the folder (" + ec.message() + ")");
+  if (ec)
+    return Status::Error(path + ": cannot list the folder (" + ec.message() +
+                         ")");
   if (files.empty()) {
-    return Status::Error(path + ": no .json files in the folder (OpenPose writes one "
+    return Status::Error(path +
+                         ": no .json files in the folder (OpenPose writes one "
                          "<name>_keypoints.json per frame with --write_json)");
   }
   std::sort(files.begin(), files.end(), NaturalLess);
@@ -421,8 +468,10 @@ Status ReadOpenPoseFolder(const std::string& path, const KeypointOptions& option
     const std::string file = (fs::path(path) / files[t]).string();
     Json frame;
     NRSFM_RETURN_IF_ERROR(ReadJsonFile(file, &frame));
-    if (!frame.is_object() || !frame.contains("people") || !frame["people"].is_array()) {
-      return Status::Error(file + ": no 'people' list (not an OpenPose keypoint file)");
+    if (!frame.is_object() || !frame.contains("people") ||
+        !frame["people"].is_array()) {
+      return Status::Error(
+          file + ": no 'people' list (not an OpenPose keypoint file)");
     }
     const Json& people = frame["people"];
     if (people.empty()) continue;
@@ -430,30 +479,32 @@ Status ReadOpenPoseFolder(const std::string& path, const KeypointOptions& option
     if (!people[0].is_object() || !people[0].contains(field)) {
       return Status::Error(file + ": people[0] has no '" + field + "'");
     }
-    NRSFM_RETURN_IF_ERROR(ReadTriples(people[0][field], file + ": people[0]." + field, &frames[t]));
+    NRSFM_RETURN_IF_ERROR(ReadTriples(
+        people[0][field], file + ": people[0]." + field, &frames[t]));
     if (frames[t].empty()) continue;
     const int points = static_cast<int>(frames[t].size() / 3);
     if (first < 0) {
       first = t;
       num_points = points;
     } else if (points != num_points) {
-      return Status::Error(file + ": people[0]." + field + " has " + std::to_string(points) +
-                           " keypoints but " + files[first] + " has " +
-                           std::to_string(num_points));
+      return Status::Error(file + ": people[0]." + field + " has " +
+                           std::to_string(points) + " keypoints but " +
+                           files[first] + " has " + std::to_string(num_points));
     }
   }
   if (first < 0) {
-    return Status::Error(path + ": none of the " + std::to_string(num_frames) +
-                         " frames has a person with " + field +
-                         (options.part == KeypointPart::kPose
-                              ? ""
-                              : " (OpenPose computes faces and hands with --face, --hand)"));
+    return Status::Error(
+        path + ": none of the " + std::to_string(num_frames) +
+        " frames has a person with " + field +
+        (options.part == KeypointPart::kPose
+             ? ""
+             : " (OpenPose computes faces and hands with --face, --hand)"));
   }
   *keypoints = Keypoints();
-  NRSFM_RETURN_IF_ERROR(
-      BuildKeypoints(path, frames, num_points, options, files, "files", keypoints));
-  const std::string warning = SeveralWarning(several, num_frames, files,
-                                             "more than one person", "files", "people[0]");
+  NRSFM_RETURN_IF_ERROR(BuildKeypoints(path, frames, num_points, options, files,
+                                       "files", keypoints));
+  const std::string warning = SeveralWarning(
+      several, num_frames, files, "more than one person", "files", "people[0]");
   if (!warning.empty()) keypoints->warnings.push_back(warning);
   return Status::OK();
 }

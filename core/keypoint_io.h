@@ -49,10 +49,9 @@
 #ifndef NRSFM_CORE_KEYPOINT_IO_H_
 #define NRSFM_CORE_KEYPOINT_IO_H_
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "core/measurements.h"
 #include "core/status.h"
@@ -98,12 +97,12 @@ struct Keypoints {
 };
 
 // A COCO keypoint results file (header).
-Status ReadCocoKeypoints(const std::string& path, const KeypointOptions& options,
-                         Keypoints* keypoints);
+Status ReadCocoKeypoints(const std::string& path,
+                         const KeypointOptions& options, Keypoints* keypoints);
 
 // A folder of OpenPose per-frame JSON files (header).
-Status ReadOpenPoseFolder(const std::string& path, const KeypointOptions& options,
-                          Keypoints* keypoints);
+Status ReadOpenPoseFolder(const std::string& path,
+                          const KeypointOptions& options, Keypoints* keypoints);
 
 // a < b in natural order: runs of digits compare as numbers ("f2" < "f10"),
 // the rest character by character; equal numbers with more leading zeros

@@ -215,7 +215,8 @@ Status CheckHeader(const std::string& what, const matvar_t& var, int max_rank,
                          DimsString(var) + "); expected " +
                          (max_rank == 2 ? "a 2-D matrix" : "at most 3-D"));
   }
-  const std::uintmax_t max_dimension = file_size * kMaxDeflateRatio + (1u << 20);
+  const std::uintmax_t max_dimension =
+      file_size * kMaxDeflateRatio + (1u << 20);
   std::uintmax_t count = 1;
   bool too_large = false;
   for (int i = 0; i < var.rank; ++i) {
@@ -226,8 +227,9 @@ Status CheckHeader(const std::string& what, const matvar_t& var, int max_rank,
                 : count * var.dims[i];
   }
   if (too_large || count > max_elements) {
-    return Status::Error(what + " claims a size of " + DimsString(var) +
-                         ", more than the file can hold (truncated or corrupt file?)");
+    return Status::Error(
+        what + " claims a size of " + DimsString(var) +
+        ", more than the file can hold (truncated or corrupt file?)");
   }
   *numel = static_cast<std::size_t>(count);
   return Status::OK();
@@ -239,7 +241,8 @@ Status CheckHeader(const std::string& what, const matvar_t& var, int max_rank,
 std::uint64_t MaxElements(const MatFileClaims& claims, const std::string& name,
                           std::uintmax_t file_size) {
   const auto it = claims.max_elements.find(name);
-  return it != claims.max_elements.end() ? it->second : file_size * kMaxDeflateRatio;
+  return it != claims.max_elements.end() ? it->second
+                                         : file_size * kMaxDeflateRatio;
 }
 
 template <typename T>

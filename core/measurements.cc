@@ -7,7 +7,9 @@
 
 namespace nrsfm {
 
-int Measurements::NumVisible() const { return static_cast<int>(visible.count()); }
+int Measurements::NumVisible() const {
+  return static_cast<int>(visible.count());
+}
 
 Eigen::VectorXi Measurements::VisiblePerView() const {
   return visible.rowwise().count().cast<int>().matrix();
@@ -40,8 +42,7 @@ double Measurements::ImageSpreadRms() const {
 }
 
 Status Measurements::FromMatrixWithNaN(const Eigen::MatrixXd& w,
-                                       int num_cameras,
-                                       const std::string& name,
+                                       int num_cameras, const std::string& name,
                                        Measurements* measurements) {
   if (num_cameras < 1) {
     return Status::Error(name + ": number of cameras must be >= 1, got " +
@@ -56,8 +57,8 @@ Status Measurements::FromMatrixWithNaN(const Eigen::MatrixXd& w,
     std::ostringstream msg;
     msg << name << ": " << w.rows() << " rows is not a multiple of 2";
     if (num_cameras > 1) msg << " x " << num_cameras << " cameras";
-    msg << " (expected rows u, v per frame" << (num_cameras > 1 ? " and camera" : "")
-        << ")";
+    msg << " (expected rows u, v per frame"
+        << (num_cameras > 1 ? " and camera" : "") << ")";
     return Status::Error(msg.str());
   }
   Measurements m;
@@ -107,25 +108,28 @@ Status Measurements::Validate() const {
   }
   if (visible.rows() != NumViews() || visible.cols() != num_points) {
     msg << "measurements: visibility mask is " << visible.rows() << " x "
-        << visible.cols() << ", expected " << NumViews() << " x "
-        << num_points;
+        << visible.cols() << ", expected " << NumViews() << " x " << num_points;
     return Status::Error(msg.str());
   }
   for (const auto& [ids, count, what] :
        {std::make_tuple(&frame_ids, num_frames, "frame_ids"),
         std::make_tuple(&point_ids, num_points, "point_ids")}) {
     bool increasing = ids->empty() || (*ids)[0] >= 0;
-    for (std::size_t i = 1; i < ids->size(); ++i) increasing = increasing && (*ids)[i - 1] < (*ids)[i];
-    if ((!ids->empty() && static_cast<int>(ids->size()) != count) || !increasing) {
+    for (std::size_t i = 1; i < ids->size(); ++i)
+      increasing = increasing && (*ids)[i - 1] < (*ids)[i];
+    if ((!ids->empty() && static_cast<int>(ids->size()) != count) ||
+        !increasing) {
       msg << "measurements: " << what << " has " << ids->size()
-          << " entries, expected none or " << count << " strictly increasing from 0 up";
+          << " entries, expected none or " << count
+          << " strictly increasing from 0 up";
       return Status::Error(msg.str());
     }
   }
   for (int view = 0; view < NumViews(); ++view) {
     for (int p = 0; p < num_points; ++p) {
       if (!visible(view, p)) continue;
-      if (!std::isfinite(W(2 * view, p)) || !std::isfinite(W(2 * view + 1, p))) {
+      if (!std::isfinite(W(2 * view, p)) ||
+          !std::isfinite(W(2 * view + 1, p))) {
         msg << "measurements: visible entry of frame " << view / num_cameras
             << ", camera " << view % num_cameras << ", point " << p
             << " is not finite";

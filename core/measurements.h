@@ -6,15 +6,14 @@
 //   2·(t·M + c) + 1 : v (y image coordinate).
 // With M = 1 this is the usual interleaved 2F × P tracking matrix.
 // `visible` is (F·M) × P: visible(t·M + c, p) says whether point p was observed
-// by camera c at frame t. Entries of W that are not visible are ignored by every
-// algorithm (their value is unspecified; readers store NaN there).
+// by camera c at frame t. Entries of W that are not visible are ignored by
+// every algorithm (their value is unspecified; readers store NaN there).
 #ifndef NRSFM_CORE_MEASUREMENTS_H_
 #define NRSFM_CORE_MEASUREMENTS_H_
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "core/status.h"
 
@@ -23,11 +22,11 @@ namespace nrsfm {
 using VisibilityMask = Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic>;
 
 struct Measurements {
-  int num_frames = 0;   // F
-  int num_cameras = 1;  // M
-  int num_points = 0;   // P
-  Eigen::MatrixXd W;         // (2·F·M) × P, see the layout above.
-  VisibilityMask visible;    // (F·M) × P.
+  int num_frames = 0;      // F
+  int num_cameras = 1;     // M
+  int num_points = 0;      // P
+  Eigen::MatrixXd W;       // (2·F·M) × P, see the layout above.
+  VisibilityMask visible;  // (F·M) × P.
   // The input's own index of each frame and point, when the reader numbered
   // them otherwise: an observation list too sparse for a W over all its
   // indices keeps only the frames and points it mentions, in increasing

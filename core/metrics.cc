@@ -1,7 +1,8 @@
 #include "core/metrics.h"
 
-#include "core/svd.h"
+#include <glog/logging.h>
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -9,10 +10,8 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/LU>
-#include <glog/logging.h>
-
 #include "core/procrustes.h"
+#include "core/svd.h"
 
 namespace nrsfm {
 namespace {
@@ -88,7 +87,8 @@ double SumSquaredDistances(const Measurements& measurements,
       for (int p = 0; p < measurements.num_points; ++p) {
         if (!measurements.visible(view, p)) continue;
         const double squared =
-            (measurements.Observation(t, c, p) - projection.col(p)).squaredNorm();
+            (measurements.Observation(t, c, p) - projection.col(p))
+                .squaredNorm();
         sum_squared += squared;
         if (frame_sums != nullptr) (*frame_sums)(t) += squared;
         if (frame_counts != nullptr) ++(*frame_counts)(t);
@@ -106,7 +106,8 @@ double ComputeE3D(const std::vector<Eigen::Matrix3Xd>& truth,
          E3DScale(Centred(truth));
 }
 
-double ComputeRankFloorE3D(const std::vector<Eigen::Matrix3Xd>& truth, int num_bases) {
+double ComputeRankFloorE3D(const std::vector<Eigen::Matrix3Xd>& truth,
+                           int num_bases) {
   CHECK(!truth.empty());
   CHECK_GE(num_bases, 1);
   const std::vector<Eigen::Matrix3Xd> centred = Centred(truth);
@@ -119,9 +120,9 @@ double ComputeRankFloorE3D(const std::vector<Eigen::Matrix3Xd>& truth, int num_b
   }
   const ThinSvd svd = ComputeThinSvd(shapes, SingularVectors::kBoth);
   const int rank = std::min<int>(num_bases, svd.singular_values.size());
-  const Eigen::MatrixXd approximation = svd.u.leftCols(rank) *
-                                        svd.singular_values.head(rank).asDiagonal() *
-                                        svd.v.leftCols(rank).transpose();
+  const Eigen::MatrixXd approximation =
+      svd.u.leftCols(rank) * svd.singular_values.head(rank).asDiagonal() *
+      svd.v.leftCols(rank).transpose();
   std::vector<Eigen::Matrix3Xd> estimate(frames);
   for (int t = 0; t < frames; ++t) {
     const Eigen::RowVectorXd row = approximation.row(t);
@@ -140,7 +141,8 @@ E3DDetail ComputeE3DDetail(const std::vector<Eigen::Matrix3Xd>& truth,
   detail.scale = E3DScale(x);
   for (std::size_t t = 0; t < x.size(); ++t) {
     detail.frame_errors.push_back(
-        (x[t] - detail.alignment * x_hat[t]).colwise().norm().mean() / detail.scale);
+        (x[t] - detail.alignment * x_hat[t]).colwise().norm().mean() /
+        detail.scale);
   }
   return detail;
 }
@@ -183,11 +185,12 @@ double Diameter(const Eigen::Matrix3Xd& x) {
   center /= static_cast<double>(finite.size());
   std::vector<std::pair<double, Eigen::Index>> by_radius;
   by_radius.reserve(finite.size());
-  for (const Eigen::Index i : finite) by_radius.emplace_back((x.col(i) - center).norm(), i);
-  std::sort(by_radius.begin(), by_radius.end(),
-            [](const auto& a, const auto& b) {
-              return a.first > b.first || (a.first == b.first && a.second < b.second);
-            });
+  for (const Eigen::Index i : finite)
+    by_radius.emplace_back((x.col(i) - center).norm(), i);
+  std::sort(
+      by_radius.begin(), by_radius.end(), [](const auto& a, const auto& b) {
+        return a.first > b.first || (a.first == b.first && a.second < b.second);
+      });
   // The bound is inflated by a relative 1e-9 so that rounding in the radii
   // never skips a pair that is longer than the best one.
   constexpr double kSlack = 1.0 + 1e-9;
@@ -199,7 +202,8 @@ double Diameter(const Eigen::Matrix3Xd& x) {
     const auto column = x.col(by_radius[a].second);
     for (std::size_t b = a + 1; b < n; ++b) {
       if ((radius + by_radius[b].first) * kSlack <= best) break;
-      const double squared = (column - x.col(by_radius[b].second)).squaredNorm();
+      const double squared =
+          (column - x.col(by_radius[b].second)).squaredNorm();
       if (squared > max_squared) {
         max_squared = squared;
         best = std::sqrt(max_squared);
@@ -244,8 +248,8 @@ Status CheckShapes(const std::vector<Eigen::Matrix3Xd>& truth,
   if (truth.empty())
     return Status::Error("evaluation: the truth has no frames");
   if (truth.size() != estimate.size()) {
-    msg << "evaluation: " << what << "truth has " << truth.size() << " frames, estimate has "
-        << estimate.size();
+    msg << "evaluation: " << what << "truth has " << truth.size()
+        << " frames, estimate has " << estimate.size();
     return Status::Error(msg.str());
   }
   const Eigen::Index num_points = truth[0].cols();
@@ -253,8 +257,8 @@ Status CheckShapes(const std::vector<Eigen::Matrix3Xd>& truth,
     return Status::Error("evaluation: truth frame 0 has no points");
   for (size_t t = 0; t < truth.size(); ++t) {
     if (truth[t].cols() != num_points || estimate[t].cols() != num_points) {
-      msg << "evaluation: " << what << "frame " << t << " has " << truth[t].cols()
-          << " truth and " << estimate[t].cols()
+      msg << "evaluation: " << what << "frame " << t << " has "
+          << truth[t].cols() << " truth and " << estimate[t].cols()
           << " estimated points, expected " << num_points
           << " (the point count of truth frame 0)";
       return Status::Error(msg.str());
@@ -281,7 +285,8 @@ bool SameSizes(const GroundTruth& truth, const GroundTruth& estimate) {
   const auto& x_hat = estimate.points_in_camera;
   if (x.empty() || x.size() != x_hat.size()) return false;
   for (std::size_t t = 0; t < x.size(); ++t) {
-    if (x[t].cols() != x[0].cols() || x_hat[t].cols() != x[0].cols()) return false;
+    if (x[t].cols() != x[0].cols() || x_hat[t].cols() != x[0].cols())
+      return false;
   }
   return true;
 }
@@ -297,13 +302,15 @@ void FindUnscored(const GroundTruth& estimate, std::vector<int>* frames,
   for (std::size_t t = 0; t < x_hat.size(); ++t) {
     const bool object = estimate.HasObjectFrame();
     auto nan = x_hat[t].array().isNaN();
-    if (nan.all() && (!object || estimate.points_in_object[t].array().isNaN().all())) {
+    if (nan.all() &&
+        (!object || estimate.points_in_object[t].array().isNaN().all())) {
       frames->push_back(static_cast<int>(t));
       continue;
     }
     for (int p = 0; p < num_points; ++p) {
-      point_nan[p] = point_nan[p] || nan.col(p).any() ||
-                     (object && estimate.points_in_object[t].col(p).array().isNaN().any());
+      point_nan[p] =
+          point_nan[p] || nan.col(p).any() ||
+          (object && estimate.points_in_object[t].col(p).array().isNaN().any());
     }
   }
   for (int p = 0; p < num_points; ++p) {
@@ -325,7 +332,8 @@ GroundTruth Without(const GroundTruth& shapes, const std::vector<int>& frames,
   }
   auto columns = [&](const Eigen::Matrix3Xd& x) {
     Eigen::Matrix3Xd out(3, kept_points.size());
-    for (std::size_t j = 0; j < kept_points.size(); ++j) out.col(j) = x.col(kept_points[j]);
+    for (std::size_t j = 0; j < kept_points.size(); ++j)
+      out.col(j) = x.col(kept_points[j]);
     return out;
   };
   GroundTruth out;
@@ -373,7 +381,8 @@ double ComputeRotationError(const std::vector<Eigen::Matrix3d>& truth,
     const double half_trace = 0.5 * gram.trace();
     const double det = gram.determinant();
     sum += std::sqrt(std::max(
-        0.0, half_trace + std::sqrt(std::max(0.0, half_trace * half_trace - det))));
+        0.0,
+        half_trace + std::sqrt(std::max(0.0, half_trace * half_trace - det))));
   }
   return sum / static_cast<double>(truth.size());
 }
@@ -389,10 +398,12 @@ Status EvaluateShapes(const GroundTruth& truth, const GroundTruth& estimate,
     if (!frames.empty() || !points.empty()) {
       if (frames.size() == truth.points_in_camera.size() ||
           points.size() == static_cast<std::size_t>(truth.NumPoints())) {
-        return Status::Error("evaluation: every frame or every point of the estimate is NaN");
+        return Status::Error(
+            "evaluation: every frame or every point of the estimate is NaN");
       }
       NRSFM_RETURN_IF_ERROR(EvaluateShapes(Without(truth, frames, points),
-                                           Without(estimate, frames, points), errors));
+                                           Without(estimate, frames, points),
+                                           errors));
       errors->num_frames = truth.NumFrames();
       errors->num_points = truth.NumPoints();
       errors->unscored_frames = frames;
@@ -419,18 +430,21 @@ Status EvaluateShapes(const GroundTruth& truth, const GroundTruth& estimate,
           ") is scored in the object frame, but the estimate (" +
           estimate.source + ") has no object-frame shapes and rotations");
     }
-    NRSFM_RETURN_IF_ERROR(CheckShapes(truth.points_in_object,
-                                      estimate.points_in_object, "object-frame "));
+    NRSFM_RETURN_IF_ERROR(CheckShapes(
+        truth.points_in_object, estimate.points_in_object, "object-frame "));
     errors->e3d = ComputeE3D(truth.points_in_object, estimate.points_in_object);
     errors->e3d_frame = EvaluationFrame::kObject;
   }
-  if (!truth.rotations.empty() && truth.rotations.size() == estimate.rotations.size()) {
-    errors->rotation_error = ComputeRotationError(truth.rotations, estimate.rotations);
+  if (!truth.rotations.empty() &&
+      truth.rotations.size() == estimate.rotations.size()) {
+    errors->rotation_error =
+        ComputeRotationError(truth.rotations, estimate.rotations);
   }
   return Status::OK();
 }
 
-std::vector<std::pair<std::string, double>> MetricList(const ShapeErrors& errors) {
+std::vector<std::pair<std::string, double>> MetricList(
+    const ShapeErrors& errors) {
   std::vector<std::pair<std::string, double>> list = {
       {"e3d", errors.e3d},
       {"e3d_camera", errors.e3d_camera},
@@ -495,7 +509,8 @@ FrameReprojectionRms ComputeFrameReprojectionRms(
   FrameReprojectionRms rms;
   rms.frame_rms = Eigen::VectorXd::Constant(measurements.num_frames, kNaN);
   for (int t = 0; t < measurements.num_frames; ++t) {
-    if (frame_counts(t) > 0) rms.frame_rms(t) = std::sqrt(frame_sums(t) / frame_counts(t));
+    if (frame_counts(t) > 0)
+      rms.frame_rms(t) = std::sqrt(frame_sums(t) / frame_counts(t));
   }
   const int count = frame_counts.sum();
   rms.rms = count > 0 ? std::sqrt(total / count) : kNaN;

@@ -14,12 +14,11 @@
 #ifndef NRSFM_CORE_METRICS_H_
 #define NRSFM_CORE_METRICS_H_
 
+#include <Eigen/Core>
 #include <limits>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "core/ground_truth.h"
 #include "core/measurements.h"
@@ -63,7 +62,8 @@ E3DDetail ComputeE3DDetail(const std::vector<Eigen::Matrix3Xd>& truth,
 // S_t = Σ_k l_tk S_k with K bases can score below in the frame of `truth`
 // (use it with object-frame truth: the world-frame S of the Akhter et al.
 // files). CHECKs F ≥ 1 and equal P; K ≥ 1 (K ≥ min(F, 3P) gives 0).
-double ComputeRankFloorE3D(const std::vector<Eigen::Matrix3Xd>& truth, int num_bases);
+double ComputeRankFloorE3D(const std::vector<Eigen::Matrix3Xd>& truth,
+                           int num_bases);
 
 // Relative Frobenius error with a per-frame depth sign (Lee et al., the metric
 // used for the face sequence):
@@ -83,7 +83,8 @@ double ComputeFrobeniusZSign(const std::vector<Eigen::Matrix3Xd>& truth,
 // longest are skipped (its time: docs/performance.md).
 double ShapeSize(const std::vector<Eigen::Matrix3Xd>& truth);
 
-// 3D error in % of shape size (Torresani et al. 2001): with Y the e3D alignment above,
+// 3D error in % of shape size (Torresani et al. 2001): with Y the e3D alignment
+// above,
 //   100 · (1 / FP) Σ_t Σ_p ||X_tp − Y X̂_tp|| / ShapeSize(truth).
 double ComputeError3DPercent(const std::vector<Eigen::Matrix3Xd>& truth,
                              const std::vector<Eigen::Matrix3Xd>& estimate);
@@ -117,7 +118,7 @@ struct ShapeErrors {
   // ComputeE3D in `e3d_frame`: the number to compare with published e3D.
   double e3d = 0.0;
   EvaluationFrame e3d_frame = EvaluationFrame::kCamera;
-  double e3d_camera = 0.0;   // ComputeE3D of the camera-0 frame shapes
+  double e3d_camera = 0.0;  // ComputeE3D of the camera-0 frame shapes
   // Camera frame (camera 0), whatever the truth:
   double frob_zsign = 0.0;   // ComputeFrobeniusZSign
   double error3d_pct = 0.0;  // ComputeError3DPercent, %
@@ -125,8 +126,8 @@ struct ShapeErrors {
   // ComputeRotationError of camera 0 when truth and estimate both have
   // rotations; NaN otherwise.
   double rotation_error = std::numeric_limits<double>::quiet_NaN();
-  int num_frames = 0;        // F
-  int num_points = 0;        // P
+  int num_frames = 0;  // F
+  int num_points = 0;  // P
   // Frames and points the estimate holds as NaN (left out of a
   // reconstruction), 0-based; the errors above are of the others.
   std::vector<int> unscored_frames;
@@ -151,7 +152,8 @@ Status EvaluateShapes(const GroundTruth& truth, const GroundTruth& estimate,
 // `nrsfm evaluate`, `nrsfm view` and the benchmarks use, in this order: e3d,
 // e3d_camera, frob_zsign, error3d_pct, zerror_pct, and rotation_error when it
 // was computed (not NaN).
-std::vector<std::pair<std::string, double>> MetricList(const ShapeErrors& errors);
+std::vector<std::pair<std::string, double>> MetricList(
+    const ShapeErrors& errors);
 
 // The two sequences EvaluateShapes compares for the e3D of `errors.e3d_frame`:
 // the object-frame shapes for EvaluationFrame::kObject, the camera frame

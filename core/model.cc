@@ -1,13 +1,12 @@
 #include "core/model.h"
 
-#include <cmath>
-#include <limits>
-#include <vector>
-
-#include <sstream>
+#include <glog/logging.h>
 
 #include <Eigen/Geometry>
-#include <glog/logging.h>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <vector>
 
 #include "core/rotation.h"
 #include "core/svd.h"
@@ -36,7 +35,8 @@ Eigen::Matrix3d Model::Rotation(int frame, int camera) const {
   return AngleAxisToRotation(rotations.col(View(frame, camera)));
 }
 
-void Model::SetRotation(int frame, int camera, const Eigen::Matrix3d& rotation) {
+void Model::SetRotation(int frame, int camera,
+                        const Eigen::Matrix3d& rotation) {
   rotations.col(View(frame, camera)) = RotationToAngleAxis(rotation);
 }
 
@@ -81,7 +81,8 @@ bool Model::MakeFirstBasisTheMean() {
   const double norm = mean.norm();
   if (!(norm > 0.0) || !std::isfinite(norm)) return false;
   // Q orthonormal with first column u = mean / |mean| (a Householder
-  // reflection), A⁻¹ = Q diag(|mean|, 1, …, 1): A⁻¹ e_1 = mean, so A mean = e_1.
+  // reflection), A⁻¹ = Q diag(|mean|, 1, …, 1): A⁻¹ e_1 = mean, so A mean =
+  // e_1.
   Eigen::VectorXd v = mean / norm;
   v(0) -= 1.0;
   Eigen::MatrixXd q = Eigen::MatrixXd::Identity(k, k);
@@ -98,7 +99,8 @@ bool Model::MakeFirstBasisTheMean() {
   for (int p = 0; p < num_points; ++p) {
     for (int j = 0; j < k; ++j) {
       Eigen::Vector3d shape = Eigen::Vector3d::Zero();
-      for (int i = 0; i < k; ++i) shape += inverse(i, j) * old_basis.block<3, 1>(3 * i, p);
+      for (int i = 0; i < k; ++i)
+        shape += inverse(i, j) * old_basis.block<3, 1>(3 * i, p);
       basis.block<3, 1>(3 * j, p) = shape;
     }
   }
@@ -113,8 +115,8 @@ Status Model::Validate(bool allow_nan) const {
         << ", K = " << num_bases;
     return Status::Error(msg.str());
   }
-  auto check = [&](const char* name, const Eigen::MatrixXd& m, Eigen::Index rows,
-                   Eigen::Index cols) -> Status {
+  auto check = [&](const char* name, const Eigen::MatrixXd& m,
+                   Eigen::Index rows, Eigen::Index cols) -> Status {
     if (m.rows() != rows || m.cols() != cols) {
       std::ostringstream s;
       s << "model: " << name << " is " << m.rows() << " x " << m.cols()
@@ -123,7 +125,8 @@ Status Model::Validate(bool allow_nan) const {
     }
     if (allow_nan ? m.array().isInf().any() : !m.allFinite()) {
       return Status::Error(std::string("model: ") + name +
-                           (allow_nan ? " has an infinite value" : " has a NaN or infinite value"));
+                           (allow_nan ? " has an infinite value"
+                                      : " has a NaN or infinite value"));
     }
     return Status::OK();
   };
@@ -161,8 +164,8 @@ Model ReduceNumBases(const Model& model, int num_bases) {
   const int rank = std::min<int>(num_bases, svd.singular_values.size());
   for (int k = 0; k < rank; ++k) {
     const Eigen::VectorXd column = svd.v.col(k);
-    reduced.SetBasisShape(k, Eigen::Map<const Eigen::Matrix3Xd>(column.data(), 3,
-                                                                model.num_points));
+    reduced.SetBasisShape(k, Eigen::Map<const Eigen::Matrix3Xd>(
+                                 column.data(), 3, model.num_points));
   }
   for (std::size_t i = 0; i < frames.size(); ++i) {
     reduced.weights.col(frames[i]).setZero();

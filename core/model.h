@@ -19,9 +19,8 @@
 #ifndef NRSFM_CORE_MODEL_H_
 #define NRSFM_CORE_MODEL_H_
 
-#include <vector>
-
 #include <Eigen/Core>
+#include <vector>
 
 #include "core/status.h"
 

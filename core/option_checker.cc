@@ -14,7 +14,8 @@ std::string Format(double x) {
 
 }  // namespace
 
-void OptionChecker::AtLeast(const std::string& field, double value, double min) {
+void OptionChecker::AtLeast(const std::string& field, double value,
+                            double min) {
   if (!(value >= min)) Fail(field, value, "must be >= " + Format(min));
 }
 
@@ -35,12 +36,14 @@ void OptionChecker::InRange(const std::string& field, double value, double lo,
                             double hi, bool hi_open) {
   if (!(value >= lo && (hi_open ? value < hi : value <= hi))) {
     Fail(field, value,
-         "must be in [" + Format(lo) + ", " + Format(hi) + (hi_open ? ")" : "]"));
+         "must be in [" + Format(lo) + ", " + Format(hi) +
+             (hi_open ? ")" : "]"));
   }
 }
 
 void OptionChecker::Require(bool condition, const std::string& message) {
-  if (status_.ok() && !condition) status_ = Status::Error(what_ + ": " + message);
+  if (status_.ok() && !condition)
+    status_ = Status::Error(what_ + ": " + message);
 }
 
 void OptionChecker::Nested(const Status& status) {
@@ -50,7 +53,8 @@ void OptionChecker::Nested(const Status& status) {
 void OptionChecker::Fail(const std::string& field, double value,
                          const std::string& rule) {
   if (!status_.ok()) return;  // report the first problem
-  status_ = Status::Error(what_ + ": " + field + " " + rule + ", got " + Format(value));
+  status_ = Status::Error(what_ + ": " + field + " " + rule + ", got " +
+                          Format(value));
 }
 
 }  // namespace nrsfm

@@ -18,9 +18,11 @@ class OptionChecker {
   // `what` names the options in the message ("solver options").
   explicit OptionChecker(std::string what) : what_(std::move(what)) {}
 
-  void AtLeast(const std::string& field, double value, double min);        // value ≥ min
-  void FiniteAtLeast(const std::string& field, double value, double min);  // and finite
-  void FinitePositive(const std::string& field, double value);             // 0 < value < ∞
+  void AtLeast(const std::string& field, double value,
+               double min);  // value ≥ min
+  void FiniteAtLeast(const std::string& field, double value,
+                     double min);                               // and finite
+  void FinitePositive(const std::string& field, double value);  // 0 < value < ∞
   // lo ≤ value ≤ hi, or lo ≤ value < hi with `hi_open`.
   void InRange(const std::string& field, double value, double lo, double hi,
                bool hi_open = false);

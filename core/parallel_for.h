@@ -49,7 +49,8 @@ void ParallelForWorker(int n, int threads, int grain, const Body& body) {
 // thread count: a reduction that keeps one partial result per piece and
 // adds them in piece order gives the same bits with any number of threads.
 template <typename Body>
-int ParallelForPieces(int n, int pieces, int threads, int grain, const Body& body) {
+int ParallelForPieces(int n, int pieces, int threads, int grain,
+                      const Body& body) {
   const int count = std::max(1, std::min(pieces, n / std::max(1, grain)));
   ParallelForWorker(count, threads, /*grain=*/1, [&](int first, int last, int) {
     for (int p = first; p < last; ++p) {

@@ -1,11 +1,11 @@
 #include "core/procrustes.h"
 
-#include <limits>
-
-#include <Eigen/Geometry>
-#include <Eigen/Eigenvalues>
-#include <Eigen/SVD>
 #include <glog/logging.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+#include <limits>
 
 #include "core/rotation.h"
 

@@ -9,9 +9,8 @@
 #ifndef NRSFM_CORE_PROCRUSTES_H_
 #define NRSFM_CORE_PROCRUSTES_H_
 
-#include <vector>
-
 #include <Eigen/Core>
+#include <vector>
 
 namespace nrsfm {
 

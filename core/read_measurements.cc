@@ -17,12 +17,9 @@ namespace nrsfm {
 namespace {
 
 constexpr EnumName<InputFormat> kInputFormatNames[] = {
-    {InputFormat::kAuto, "auto"},
-    {InputFormat::kMat, "mat"},
-    {InputFormat::kText, "text"},
-    {InputFormat::kList, "list"},
-    {InputFormat::kCoco, "coco"},
-    {InputFormat::kOpenPose, "openpose"},
+    {InputFormat::kAuto, "auto"}, {InputFormat::kMat, "mat"},
+    {InputFormat::kText, "text"}, {InputFormat::kList, "list"},
+    {InputFormat::kCoco, "coco"}, {InputFormat::kOpenPose, "openpose"},
 };
 
 std::string Lower(std::string s) {
@@ -136,7 +133,8 @@ Status CamerasOfMatFile(const std::string& path, const Eigen::MatrixXd& w,
   Eigen::MatrixXd value;
   NRSFM_RETURN_IF_ERROR(ReadMatVariable(path, "cameras", &value));
   if (value.rows() != 1 || value.cols() != 1) {
-    return Status::Error(name + " must be a scalar (the number of cameras M), got a " +
+    return Status::Error(name +
+                         " must be a scalar (the number of cameras M), got a " +
                          std::to_string(value.rows()) + " x " +
                          std::to_string(value.cols()) + " matrix");
   }
@@ -145,8 +143,9 @@ Status CamerasOfMatFile(const std::string& path, const Eigen::MatrixXd& w,
         cameras == std::floor(cameras))) {
     std::ostringstream got;
     got << cameras;
-    return Status::Error(name + " must be a positive integer (the number of cameras M), got " +
-                         got.str());
+    return Status::Error(
+        name + " must be a positive integer (the number of cameras M), got " +
+        got.str());
   }
   const int file_cameras = static_cast<int>(cameras);
   if (w.rows() > 0 && w.rows() % (2 * file_cameras) != 0) {
@@ -155,9 +154,10 @@ Status CamerasOfMatFile(const std::string& path, const Eigen::MatrixXd& w,
                          " rows of W into 2 rows per frame and camera");
   }
   if (requested != 0 && requested != file_cameras) {
-    return Status::Error(path + ": the file records cameras = " +
-                         std::to_string(file_cameras) + " (variable 'cameras') but " +
-                         std::to_string(requested) + " camera(s) were asked for");
+    return Status::Error(
+        path + ": the file records cameras = " + std::to_string(file_cameras) +
+        " (variable 'cameras') but " + std::to_string(requested) +
+        " camera(s) were asked for");
   }
   *num_cameras = file_cameras;
   return Status::OK();
@@ -211,7 +211,8 @@ Status ReadMatMeasurements(const std::string& path, const InputOptions& options,
       ReadWFromMat(path, variable, options.num_cameras, &w, &monocular));
   int num_cameras = 1;
   if (!monocular) {
-    NRSFM_RETURN_IF_ERROR(CamerasOfMatFile(path, w, options.num_cameras, &num_cameras));
+    NRSFM_RETURN_IF_ERROR(
+        CamerasOfMatFile(path, w, options.num_cameras, &num_cameras));
   }
   const std::string name = path + ": " + variable;
   // A W of the wrong shape is reported by FromMatrixWithNaN, not by the mask.
@@ -237,8 +238,9 @@ Status ParseInputFormat(const std::string& name, InputFormat* format) {
 
 Status InputOptions::Check() const {
   OptionChecker check("input options");
-  check.Require(num_cameras >= 0, "num_cameras must be >= 1 (or 0: from the file), got " +
-                                      std::to_string(num_cameras));
+  check.Require(num_cameras >= 0,
+                "num_cameras must be >= 1 (or 0: from the file), got " +
+                    std::to_string(num_cameras));
   check.Require(NameOf(kInputFormatNames, format) != std::string("unknown"),
                 "invalid format " + std::to_string(static_cast<int>(format)));
   check.Nested(keypoints.Check());
@@ -263,12 +265,14 @@ Status ReadMeasurements(const std::string& path, const InputOptions& options,
   if (format == InputFormat::kCoco || format == InputFormat::kOpenPose) {
     if (options.num_cameras > 1) {
       return Status::Error(path + ": keypoint files hold one camera, but " +
-                           std::to_string(options.num_cameras) + " cameras were asked for");
+                           std::to_string(options.num_cameras) +
+                           " cameras were asked for");
     }
     Keypoints keypoints;
-    NRSFM_RETURN_IF_ERROR(format == InputFormat::kCoco
-                              ? ReadCocoKeypoints(path, options.keypoints, &keypoints)
-                              : ReadOpenPoseFolder(path, options.keypoints, &keypoints));
+    NRSFM_RETURN_IF_ERROR(
+        format == InputFormat::kCoco
+            ? ReadCocoKeypoints(path, options.keypoints, &keypoints)
+            : ReadOpenPoseFolder(path, options.keypoints, &keypoints));
     m = std::move(keypoints.measurements);
     found.confidence = std::move(keypoints.confidence);
     found.warnings = std::move(keypoints.warnings);
@@ -277,8 +281,8 @@ Status ReadMeasurements(const std::string& path, const InputOptions& options,
   } else if (format == InputFormat::kText) {
     Eigen::MatrixXd w;
     NRSFM_RETURN_IF_ERROR(ReadTextMatrix(path, &w));
-    NRSFM_RETURN_IF_ERROR(
-        Measurements::FromMatrixWithNaN(w, std::max(options.num_cameras, 1), path, &m));
+    NRSFM_RETURN_IF_ERROR(Measurements::FromMatrixWithNaN(
+        w, std::max(options.num_cameras, 1), path, &m));
   } else {
     NRSFM_RETURN_IF_ERROR(ReadObservationList(path, &m));
     if (options.num_cameras != 0 && options.num_cameras != m.num_cameras) {

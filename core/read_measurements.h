@@ -1,5 +1,5 @@
-// Measurements from an input file (docs/guide.md, "Input formats"): a MATLAB .mat file, a text
-// matrix W, an observation list, or detector keypoints.
+// Measurements from an input file (docs/guide.md, "Input formats"): a MATLAB
+// .mat file, a text matrix W, an observation list, or detector keypoints.
 //
 // Format (options.format = kAuto decides by the extension, any case, or
 // a folder):
@@ -33,10 +33,9 @@
 #ifndef NRSFM_CORE_READ_MEASUREMENTS_H_
 #define NRSFM_CORE_READ_MEASUREMENTS_H_
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "core/keypoint_io.h"
 #include "core/measurements.h"
@@ -45,10 +44,10 @@
 namespace nrsfm {
 
 enum class InputFormat {
-  kAuto,  // by the extension (above)
-  kMat,   // MATLAB .mat
-  kText,  // text matrix W
-  kList,  // observation list
+  kAuto,      // by the extension (above)
+  kMat,       // MATLAB .mat
+  kText,      // text matrix W
+  kList,      // observation list
   kCoco,      // COCO keypoint results (.json)
   kOpenPose,  // a folder of OpenPose per-frame .json files
 };
@@ -91,7 +90,8 @@ struct InputDetails {
 // Reads `path` (header) into `measurements` and, when `details` is not
 // null, `details`. Errors name the file and what is wrong with it.
 Status ReadMeasurements(const std::string& path, const InputOptions& options,
-                        Measurements* measurements, InputDetails* details = nullptr);
+                        Measurements* measurements,
+                        InputDetails* details = nullptr);
 
 // Sets `*w` (2FM × P, M = num_cameras) to NaN where `mask` says an entry is
 // not visible (0 = not visible, any other number = visible). `mask` is

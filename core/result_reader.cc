@@ -1,15 +1,15 @@
 #include "core/result_reader.h"
 
+#include <glog/logging.h>
+
 #include <Eigen/Core>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <vector>
-
-#include <Eigen/LU>
-#include <glog/logging.h>
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "core/text_io.h"
 
@@ -40,7 +40,8 @@ Status CheckIndexColumns(const Eigen::MatrixXd& table, int num_index_columns,
 // reconstruction); the text reader has already refused ±Inf.
 Status CheckCoordinates(const Eigen::Vector3d& x, const std::string& where) {
   if (x.allFinite() || x.array().isNaN().all()) return Status::OK();
-  return Status::Error(where + ": coordinates are not finite (NaN in some but not all)");
+  return Status::Error(
+      where + ": coordinates are not finite (NaN in some but not all)");
 }
 
 // points_object.csv: F × P shapes, every (frame, point) exactly once.
@@ -59,14 +60,15 @@ Status ReadPointsObjectCsv(const std::string& file, int num_frames,
     const std::string where = file + ": data row " + std::to_string(r + 1);
     if (table(r, 0) >= num_frames || table(r, 1) >= num_points) {
       return Status::Error(where + ": frame or point index beyond the F = " +
-                           std::to_string(num_frames) + ", P = " +
-                           std::to_string(num_points) + " of points_camera.csv");
+                           std::to_string(num_frames) +
+                           ", P = " + std::to_string(num_points) +
+                           " of points_camera.csv");
     }
     const int t = static_cast<int>(table(r, 0));
     const int p = static_cast<int>(table(r, 1));
-    if (seen(t, p)) return Status::Error(where + ": frame " + std::to_string(t) +
-                                         ", point " + std::to_string(p) +
-                                         " appears twice");
+    if (seen(t, p))
+      return Status::Error(where + ": frame " + std::to_string(t) + ", point " +
+                           std::to_string(p) + " appears twice");
     seen(t, p) = true;
     const Eigen::Vector3d x = table.block<1, 3>(r, 2).transpose();
     NRSFM_RETURN_IF_ERROR(CheckCoordinates(x, where));
@@ -75,8 +77,8 @@ Status ReadPointsObjectCsv(const std::string& file, int num_frames,
   if (!seen.all()) {
     return Status::Error(file + ": has " + std::to_string(table.rows()) +
                          " rows; expected every frame and point of F = " +
-                         std::to_string(num_frames) + ", P = " +
-                         std::to_string(num_points) + " once");
+                         std::to_string(num_frames) +
+                         ", P = " + std::to_string(num_points) + " once");
   }
   return Status::OK();
 }
@@ -85,11 +87,10 @@ Status ReadPointsObjectCsv(const std::string& file, int num_frames,
 Status ReadRotationsCsv(const std::string& file, int num_frames, int camera,
                         std::vector<Eigen::Matrix3d>* rotations) {
   Eigen::MatrixXd table;
-  NRSFM_RETURN_IF_ERROR(ReadCsvTable(
-      file,
-      {"frame", "camera", "r11", "r12", "r13", "r21", "r22", "r23", "r31", "r32",
-       "r33"},
-      &table));
+  NRSFM_RETURN_IF_ERROR(ReadCsvTable(file,
+                                     {"frame", "camera", "r11", "r12", "r13",
+                                      "r21", "r22", "r23", "r31", "r32", "r33"},
+                                     &table));
   NRSFM_RETURN_IF_ERROR(CheckIndexColumns(table, 2, file));
   rotations->assign(num_frames, Eigen::Matrix3d::Zero());
   std::vector<bool> seen(num_frames, false);
@@ -97,30 +98,34 @@ Status ReadRotationsCsv(const std::string& file, int num_frames, int camera,
     if (table(r, 1) != camera) continue;
     const std::string where = file + ": data row " + std::to_string(r + 1);
     if (table(r, 0) >= num_frames) {
-      return Status::Error(where + ": frame index beyond the F = " +
-                           std::to_string(num_frames) + " of points_camera.csv");
+      return Status::Error(
+          where + ": frame index beyond the F = " + std::to_string(num_frames) +
+          " of points_camera.csv");
     }
     const int t = static_cast<int>(table(r, 0));
-    if (seen[t]) return Status::Error(where + ": frame " + std::to_string(t) +
-                                      " appears twice");
+    if (seen[t])
+      return Status::Error(where + ": frame " + std::to_string(t) +
+                           " appears twice");
     seen[t] = true;
     Eigen::Matrix3d rotation;
     for (int i = 0; i < 9; ++i) rotation(i / 3, i % 3) = table(r, 2 + i);
     // A frame left out of a reconstruction has a NaN rotation.
     const bool left_out = rotation.array().isNaN().all();
-    if (!left_out && (!rotation.allFinite() ||
-        (rotation * rotation.transpose() - Eigen::Matrix3d::Identity())
-                .cwiseAbs()
-                .maxCoeff() > 1e-6 ||
-        rotation.determinant() < 0.0)) {
+    if (!left_out &&
+        (!rotation.allFinite() ||
+         (rotation * rotation.transpose() - Eigen::Matrix3d::Identity())
+                 .cwiseAbs()
+                 .maxCoeff() > 1e-6 ||
+         rotation.determinant() < 0.0)) {
       return Status::Error(where + ": not a rotation matrix");
     }
     (*rotations)[t] = rotation;
   }
   for (int t = 0; t < num_frames; ++t) {
     if (!seen[t]) {
-      return Status::Error(file + ": no rotation of frame " + std::to_string(t) +
-                           ", camera " + std::to_string(camera));
+      return Status::Error(file + ": no rotation of frame " +
+                           std::to_string(t) + ", camera " +
+                           std::to_string(camera));
     }
   }
   return Status::OK();
@@ -182,14 +187,15 @@ Status ReadPointsCameraCsv(const std::string& path, int camera,
   return Status::OK();
 }
 
-Status ReadResultShapes(const std::string& dir, int camera, GroundTruth* shapes) {
+Status ReadResultShapes(const std::string& dir, int camera,
+                        GroundTruth* shapes) {
   CHECK(shapes != nullptr);
   GroundTruth result;
   NRSFM_RETURN_IF_ERROR(ReadPointsCameraCsv(dir, camera, &result));
   const std::filesystem::path root(dir);
-  NRSFM_RETURN_IF_ERROR(ReadPointsObjectCsv((root / "points_object.csv").string(),
-                                            result.NumFrames(), result.NumPoints(),
-                                            &result.points_in_object));
+  NRSFM_RETURN_IF_ERROR(ReadPointsObjectCsv(
+      (root / "points_object.csv").string(), result.NumFrames(),
+      result.NumPoints(), &result.points_in_object));
   NRSFM_RETURN_IF_ERROR(ReadRotationsCsv((root / "rotations.csv").string(),
                                          result.NumFrames(), camera,
                                          &result.rotations));
@@ -199,14 +205,17 @@ Status ReadResultShapes(const std::string& dir, int camera, GroundTruth* shapes)
 }
 
 Status ReadResultNumBases(const std::string& dir, int* num_bases) {
-  const std::string path = (std::filesystem::path(dir) / "result.json").string();
+  const std::string path =
+      (std::filesystem::path(dir) / "result.json").string();
   std::ifstream in(path);
   if (!in) return Status::Error(path + ": cannot open");
-  const nlohmann::json json = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
-  if (json.is_discarded() || !json.is_object()) return Status::Error(path + ": not a JSON object");
+  const nlohmann::json json =
+      nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (json.is_discarded() || !json.is_object())
+    return Status::Error(path + ": not a JSON object");
   const auto it = json.find("num_bases");
-  if (it == json.end() || !it->is_number_integer() || it->get<long long>() < 1 ||
-      it->get<long long>() > 1000000) {
+  if (it == json.end() || !it->is_number_integer() ||
+      it->get<long long>() < 1 || it->get<long long>() > 1000000) {
     return Status::Error(path + ": no integer num_bases >= 1");
   }
   *num_bases = static_cast<int>(it->get<long long>());

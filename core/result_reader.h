@@ -29,7 +29,8 @@ Status ReadPointsCameraCsv(const std::string& path, int camera,
 // rotations.csv (header frame,camera,r11..r33; every frame once; each a
 // rotation to 1e-6, or all NaN for a left-out frame). Sets shapes->source
 // to "result". Fails, naming the file and row, like ReadPointsCameraCsv.
-Status ReadResultShapes(const std::string& dir, int camera, GroundTruth* shapes);
+Status ReadResultShapes(const std::string& dir, int camera,
+                        GroundTruth* shapes);
 
 // The number of basis shapes K of a result directory: result.json's
 // "num_bases". Fails, naming the file, when it is missing, not JSON, or has

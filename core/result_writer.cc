@@ -162,7 +162,8 @@ Status WritePly(const fs::path& dir, const Model& model) {
 
 }  // namespace
 
-std::string ReconstructionJson(const Measurements& measurements, const Model& model,
+std::string ReconstructionJson(const Measurements& measurements,
+                               const Model& model,
                                const ReconstructionReport& report) {
   using Json = nlohmann::ordered_json;
   Json json;
@@ -174,8 +175,10 @@ std::string ReconstructionJson(const Measurements& measurements, const Model& mo
   json["num_visible"] = measurements.NumVisible();
   // The input's index of each frame and point when the reader renumbered
   // them (a sparse observation list, core/text_io.h).
-  if (!measurements.frame_ids.empty()) json["input_frames"] = measurements.frame_ids;
-  if (!measurements.point_ids.empty()) json["input_points"] = measurements.point_ids;
+  if (!measurements.frame_ids.empty())
+    json["input_frames"] = measurements.frame_ids;
+  if (!measurements.point_ids.empty())
+    json["input_points"] = measurements.point_ids;
   Json options = Json::object();
   for (const auto& [key, value] : report.options) options[key] = value;
   json["options"] = options;
@@ -196,10 +199,12 @@ std::string ReconstructionJson(const Measurements& measurements, const Model& mo
   json["dropped_points"] = report.dropped_points;
   json["dropped_frames"] = report.dropped_frames;
   Json term_weights = Json::object();
-  for (const auto& [name, value] : report.term_weights) term_weights[name] = value;
+  for (const auto& [name, value] : report.term_weights)
+    term_weights[name] = value;
   json["term_weights"] = term_weights;
   Json diagnostics = Json::object();
-  for (const auto& [name, value] : report.diagnostics) diagnostics[name] = value;
+  for (const auto& [name, value] : report.diagnostics)
+    diagnostics[name] = value;
   json["diagnostics"] = diagnostics;
   Json metrics = Json::object();
   for (const auto& [name, value] : report.metrics) metrics[name] = value;
@@ -329,9 +334,10 @@ Status WriteReconstruction(const std::string& dir,
                            const Measurements& measurements, const Model& model,
                            const ReconstructionReport& report,
                            const WriteOptions& options) {
-  const bool dropped = !report.dropped_points.empty() || !report.dropped_frames.empty();
-  NRSFM_RETURN_IF_ERROR(
-      model.Validate(/*allow_nan=*/dropped).WithContext("WriteReconstruction: model"));
+  const bool dropped =
+      !report.dropped_points.empty() || !report.dropped_frames.empty();
+  NRSFM_RETURN_IF_ERROR(model.Validate(/*allow_nan=*/dropped)
+                            .WithContext("WriteReconstruction: model"));
   if (measurements.num_frames != model.num_frames ||
       measurements.num_cameras != model.num_cameras ||
       measurements.num_points != model.num_points) {

@@ -52,8 +52,9 @@ struct StageReport {
 struct ReconstructionReport {
   std::string input;  // input path
   std::vector<std::pair<std::string, std::string>>
-      options;                        // options used, key/value
-  std::string start_used;             // the start kept: "factorization" | "rigid" | "triple"
+      options;  // options used, key/value
+  std::string
+      start_used;  // the start kept: "factorization" | "rigid" | "triple"
   double start_reprojection_rms = 0;  // of the start, input units
   std::vector<StageReport> stages;
   double reprojection_rms = 0;  // final, input units
@@ -69,7 +70,8 @@ struct ReconstructionReport {
   std::vector<std::pair<std::string, double>> term_weights;
   std::vector<std::pair<std::string, double>> diagnostics;
   std::vector<std::pair<std::string, double>> metrics;  // e.g. {"e3d", 0.03}
-  std::string e3d_frame;  // "object" | "camera" (core/metrics.h), "" = no metrics
+  std::string
+      e3d_frame;  // "object" | "camera" (core/metrics.h), "" = no metrics
   // Versions of the caller's libraries, e.g. {"nrsfm", "0.1.0"},
   // {"ceres", CERES_VERSION_STRING}; the writer adds eigen, matio and
   // nlohmann_json itself.
@@ -85,7 +87,8 @@ struct WriteOptions {
 
 // The text of result.json (indented JSON, NaN → null) for a model of
 // `measurements` and its report: what WriteReconstruction writes.
-std::string ReconstructionJson(const Measurements& measurements, const Model& model,
+std::string ReconstructionJson(const Measurements& measurements,
+                               const Model& model,
                                const ReconstructionReport& report);
 
 // Fails (writing nothing) when the model is invalid or its sizes differ from

@@ -25,7 +25,8 @@ Eigen::Matrix3d NearestRotation(const Eigen::Matrix3d& m) {
   return svd.matrixU() * d * svd.matrixV().transpose();
 }
 
-double RotationAngleBetween(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
+double RotationAngleBetween(const Eigen::Matrix3d& a,
+                            const Eigen::Matrix3d& b) {
   // Via the quaternion (atan2 inside Eigen): accurate for small angles too,
   // unlike acos((trace - 1) / 2).
   return Eigen::AngleAxisd(NearestRotation(a * b.transpose())).angle();

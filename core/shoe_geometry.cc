@@ -1,9 +1,8 @@
 #include "core/shoe_geometry.h"
 
+#include <Eigen/LU>
 #include <cmath>
 #include <iterator>
-
-#include <Eigen/LU>
 
 #include "core/synthetic_common.h"
 

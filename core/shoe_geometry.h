@@ -5,9 +5,8 @@
 #ifndef NRSFM_CORE_SHOE_GEOMETRY_H_
 #define NRSFM_CORE_SHOE_GEOMETRY_H_
 
-#include <vector>
-
 #include <Eigen/Core>
+#include <vector>
 
 #include "core/random.h"
 

@@ -39,9 +39,9 @@ class Status {
 }  // namespace nrsfm
 
 // Returns early from the calling function if `expr` yields a non-OK Status.
-#define NRSFM_RETURN_IF_ERROR(expr)          \
-  do {                                       \
-    ::nrsfm::Status _nrsfm_status = (expr);  \
+#define NRSFM_RETURN_IF_ERROR(expr)                \
+  do {                                             \
+    ::nrsfm::Status _nrsfm_status = (expr);        \
     if (!_nrsfm_status.ok()) return _nrsfm_status; \
   } while (false)
 

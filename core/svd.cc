@@ -39,7 +39,8 @@ ThinSvd ComputeThinSvd(const Eigen::MatrixXd& a, SingularVectors vectors) {
 }
 
 ThinSvd ComputeJacobiSvd(const Eigen::MatrixXd& a, SingularVectors vectors) {
-  return Collect(Eigen::JacobiSVD<Eigen::MatrixXd>(a, Options(vectors)), vectors);
+  return Collect(Eigen::JacobiSVD<Eigen::MatrixXd>(a, Options(vectors)),
+                 vectors);
 }
 
 }  // namespace nrsfm

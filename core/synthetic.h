@@ -20,10 +20,9 @@
 #ifndef NRSFM_CORE_SYNTHETIC_H_
 #define NRSFM_CORE_SYNTHETIC_H_
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <string>
-
-#include <Eigen/Core>
 
 #include "core/ground_truth.h"
 #include "core/measurements.h"
@@ -58,15 +57,15 @@ struct SmoothSequenceOptions {
   std::uint64_t seed = 1;          // any value
 };
 
-// Random basis shapes (Torresani et al. 2001): points uniform in the unit cube [-0.5, 0.5]³
-// for every basis (then centred); weights l_t1 = 1 (first basis dominant, the
-// rigid component) and l_tk ~ N(0, deformation²) i.i.d. for k > 1; camera
-// path, noise and missing entries of SmoothSequenceOptions. Noise-free W has
-// rank 3K when P ≥ 3K and F is large.
+// Random basis shapes (Torresani et al. 2001): points uniform in the unit cube
+// [-0.5, 0.5]³ for every basis (then centred); weights l_t1 = 1 (first basis
+// dominant, the rigid component) and l_tk ~ N(0, deformation²) i.i.d. for k >
+// 1; camera path, noise and missing entries of SmoothSequenceOptions.
+// Noise-free W has rank 3K when P ≥ 3K and F is large.
 struct RandomBasisOptions : SmoothSequenceOptions {
-  int num_points = 50;             // P, >= 1
-  int num_bases = 5;               // K (of the generating model), >= 1
-  double deformation = 0.3;        // std of l_tk, k > 1 (basis 1 weight is 1)
+  int num_points = 50;       // P, >= 1
+  int num_bases = 5;         // K (of the generating model), >= 1
+  double deformation = 0.3;  // std of l_tk, k > 1 (basis 1 weight is 1)
 
   // Errors name the field and value: F < 2, P < 1, K < 1, negative or
   // non-finite deformation or noise, rotation span outside [0, 360] deg,
@@ -94,7 +93,8 @@ struct SuperquadricOptions : SmoothSequenceOptions {
 Status GenerateSuperquadric(const SuperquadricOptions& options,
                             SyntheticSequence* sequence);
 
-// Shoe-style (after Torresani et al. 2001's deforming shoe). Object frame: x from heel (−0.5) to toe
+// Shoe-style (after Torresani et al. 2001's deforming shoe). Object frame: x
+// from heel (−0.5) to toe
 // (+0.5), y up, z from the lateral (−) to the medial (+) side; length 1.
 // Surface: a superellipsoid (exponent 4) with a flat sole, a raised heel and a
 // lower, tapered toe. Points (110 by default): round(P · 30/110) on six
@@ -175,13 +175,16 @@ Status ParseSpeedProfile(const std::string& name, SpeedProfile* profile);
 // the object, which a reconstruction may explain as camera motion; compare
 // such sequences in the camera frame (e3d_camera, frob_zsign).
 struct ReprojectOptions {
-  double total_rotation_deg = 90.0;      // Θ, degrees, (0, 3600]
-  Eigen::Vector3d axis = Eigen::Vector3d::UnitY();  // non-zero, R_0's camera frame
+  double total_rotation_deg = 90.0;  // Θ, degrees, (0, 3600]
+  Eigen::Vector3d axis =
+      Eigen::Vector3d::UnitY();  // non-zero, R_0's camera frame
   SpeedProfile profile = SpeedProfile::kConstant;
-  double noise_fraction = 0.0;    // noise std / image size, [0, 1)
-  double missing_fraction = 0.0;  // fraction of entries removed at random, [0, 1)
-  double occlusion_radius = 0.0;  // self-occlusion radius / image size, [0, 1); 0 = none
-  std::uint64_t seed = 1;         // noise and random missing entries
+  double noise_fraction = 0.0;  // noise std / image size, [0, 1)
+  double missing_fraction =
+      0.0;  // fraction of entries removed at random, [0, 1)
+  double occlusion_radius =
+      0.0;  // self-occlusion radius / image size, [0, 1); 0 = none
+  std::uint64_t seed = 1;  // noise and random missing entries
 
   // Errors name the field and value.
   Status Check() const;
@@ -192,8 +195,8 @@ struct ReprojectedSequence {
   // The source's object-frame shapes with the new rotations R_t (camera
   // from object) and points_in_camera = R_t S_t (source "S+Rs").
   GroundTruth truth;
-  double image_size = 0.0;      // input units
-  double noise_stddev = 0.0;    // noise_fraction · image_size
+  double image_size = 0.0;    // input units
+  double noise_stddev = 0.0;  // noise_fraction · image_size
 };
 
 // Errors on invalid options and on a source with fewer than 2 frames or 1

@@ -1,11 +1,10 @@
 #include "core/synthetic_common.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <limits>
 #include <numeric>
 #include <vector>
-
-#include <Eigen/Geometry>
 
 namespace nrsfm {
 namespace synthetic {
@@ -82,7 +81,8 @@ void RemoveAtRandom(double fraction, Random* random, VisibilityMask* visible) {
   for (int i = total - 1; i > 0; --i)
     std::swap(order[i], order[random->Index(i + 1)]);
   Eigen::VectorXi per_view = visible->rowwise().count().cast<int>();
-  Eigen::VectorXi per_point = visible->colwise().count().transpose().cast<int>();
+  Eigen::VectorXi per_point =
+      visible->colwise().count().transpose().cast<int>();
   int removed = 0;
   for (int i = 0; i < total && removed < target; ++i) {
     const int view = order[i] / num_points;
@@ -127,14 +127,17 @@ void FillMeasurements(const Model& truth, const VisibilityMask& visible,
 // ---- Shoe geometry (object frame: x from heel −0.5 to toe +0.5, y up, the
 // sole at y = kSoleY, z lateral (−) to medial (+); camera 0 at rest looks
 
-void CheckSmoothSequence(const SmoothSequenceOptions& options, OptionChecker* check) {
+void CheckSmoothSequence(const SmoothSequenceOptions& options,
+                         OptionChecker* check) {
   check->AtLeast("num_frames", options.num_frames, 2);
-  check->InRange("max_rotation_deg", options.max_rotation_deg, 0.0, 360.0, false);
+  check->InRange("max_rotation_deg", options.max_rotation_deg, 0.0, 360.0,
+                 false);
   check->FiniteAtLeast("noise_stddev", options.noise_stddev, 0.0);
   check->InRange("missing_fraction", options.missing_fraction, 0.0, 1.0, true);
 }
 
-void FinishSmoothSequence(const SmoothSequenceOptions& options, SyntheticSequence* sequence) {
+void FinishSmoothSequence(const SmoothSequenceOptions& options,
+                          SyntheticSequence* sequence) {
   const Model& truth = sequence->truth;
   Random missing(options.seed, kMissingStream);
   FillMeasurements(truth,

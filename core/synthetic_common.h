@@ -1,13 +1,12 @@
 // Pieces shared by the synthetic generators (core/synthetic.h: the random
-// basis, superquadric, shoe and re-projected sequences, one file each); not part of the
-// library's API.
+// basis, superquadric, shoe and re-projected sequences, one file each); not
+// part of the library's API.
 #ifndef NRSFM_CORE_SYNTHETIC_COMMON_H_
 #define NRSFM_CORE_SYNTHETIC_COMMON_H_
 
+#include <Eigen/Core>
 #include <cmath>
 #include <cstdint>
-
-#include <Eigen/Core>
 
 #include "core/measurements.h"
 #include "core/model.h"
@@ -79,12 +78,14 @@ void FillMeasurements(const Model& truth, const VisibilityMask& visible,
 // The rules of the SmoothSequenceOptions fields (F ≥ 2, rotation span in
 // [0, 360] deg, noise finite and ≥ 0, missing fraction in [0, 1)), added to
 // the generator's `check`.
-void CheckSmoothSequence(const SmoothSequenceOptions& options, OptionChecker* check);
+void CheckSmoothSequence(const SmoothSequenceOptions& options,
+                         OptionChecker* check);
 
 // The last step of the random-basis and superquadric generators: the
 // measurements of sequence->truth with the missing entries (RandomMissing,
 // the missing stream of the seed) and the noise of `options`.
-void FinishSmoothSequence(const SmoothSequenceOptions& options, SyntheticSequence* sequence);
+void FinishSmoothSequence(const SmoothSequenceOptions& options,
+                          SyntheticSequence* sequence);
 
 }  // namespace synthetic
 }  // namespace nrsfm

@@ -1,18 +1,17 @@
-#include "core/synthetic.h"
-
 #include <glog/logging.h>
 
 #include "core/option_checker.h"
+#include "core/synthetic.h"
 #include "core/synthetic_common.h"
 
 namespace nrsfm {
 
-using synthetic::kGeometryStream;
-using synthetic::kMotionStream;
-using synthetic::SetSmoothRotations;
 using synthetic::CentreBasis;
 using synthetic::CheckSmoothSequence;
 using synthetic::FinishSmoothSequence;
+using synthetic::kGeometryStream;
+using synthetic::kMotionStream;
+using synthetic::SetSmoothRotations;
 
 Status RandomBasisOptions::Check() const {
   OptionChecker check("RandomBasisOptions");

@@ -1,10 +1,10 @@
+#include <glog/logging.h>
+
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
-
-#include <Eigen/Geometry>
-#include <glog/logging.h>
 
 #include "core/enum_names.h"
 #include "core/option_checker.h"
@@ -52,7 +52,8 @@ VisibilityMask SelfOcclusion(const std::vector<Eigen::Matrix3Xd>& in_camera,
                              double radius) {
   const int num_frames = static_cast<int>(in_camera.size());
   const int num_points = static_cast<int>(in_camera[0].cols());
-  VisibilityMask visible = VisibilityMask::Constant(num_frames, num_points, true);
+  VisibilityMask visible =
+      VisibilityMask::Constant(num_frames, num_points, true);
   // How far behind its nearest occluder each hidden entry is (> 0).
   Eigen::ArrayXXd margin = Eigen::ArrayXXd::Zero(num_frames, num_points);
   for (int t = 0; t < num_frames; ++t) {
@@ -60,7 +61,8 @@ VisibilityMask SelfOcclusion(const std::vector<Eigen::Matrix3Xd>& in_camera,
     for (int p = 0; p < num_points; ++p) {
       for (int q = 0; q < num_points; ++q) {
         if (q == p) continue;
-        if ((x.col(q).head<2>() - x.col(p).head<2>()).norm() >= radius) continue;
+        if ((x.col(q).head<2>() - x.col(p).head<2>()).norm() >= radius)
+          continue;
         const double behind = x(2, p) - x(2, q) - radius;
         if (behind >= 0.0) {
           visible(t, p) = false;
@@ -125,8 +127,8 @@ Status GenerateReprojection(const GroundTruth& source,
   const int num_points = source.NumPoints();
   if (num_frames < 2 || num_points < 1) {
     return Status::Error("re-projection: the source '" + source.source +
-                         "' has F = " + std::to_string(num_frames) + ", P = " +
-                         std::to_string(num_points) +
+                         "' has F = " + std::to_string(num_frames) +
+                         ", P = " + std::to_string(num_points) +
                          "; needs at least 2 frames and 1 point");
   }
   const bool object_frame = source.HasObjectFrame();
@@ -146,11 +148,12 @@ Status GenerateReprojection(const GroundTruth& source,
   for (int t = 0; t < num_frames; ++t) {
     const double theta =
         total * AngleFraction(options.profile, synthetic::Tau(t, num_frames));
-    truth.rotations[t] = Eigen::AngleAxisd(theta, axis).toRotationMatrix() * base;
+    truth.rotations[t] =
+        Eigen::AngleAxisd(theta, axis).toRotationMatrix() * base;
     truth.points_in_camera[t] = truth.rotations[t] * truth.points_in_object[t];
     const Eigen::Matrix3Xd& x = truth.points_in_camera[t];
-    const Eigen::Vector2d extent =
-        x.topRows<2>().rowwise().maxCoeff() - x.topRows<2>().rowwise().minCoeff();
+    const Eigen::Vector2d extent = x.topRows<2>().rowwise().maxCoeff() -
+                                   x.topRows<2>().rowwise().minCoeff();
     sequence->image_size = std::max(sequence->image_size, extent.maxCoeff());
   }
   sequence->noise_stddev = options.noise_fraction * sequence->image_size;
@@ -182,7 +185,8 @@ Status GenerateReprojection(const GroundTruth& source,
         m.W(2 * t, p) = x(0) + du;
         m.W(2 * t + 1, p) = x(1) + dv;
       } else {
-        m.W(2 * t, p) = m.W(2 * t + 1, p) = std::numeric_limits<double>::quiet_NaN();
+        m.W(2 * t, p) = m.W(2 * t + 1, p) =
+            std::numeric_limits<double>::quiet_NaN();
       }
     }
   }

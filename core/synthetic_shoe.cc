@@ -1,31 +1,30 @@
-#include "core/synthetic.h"
+#include <glog/logging.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
 
-#include <glog/logging.h>
-
 #include "core/option_checker.h"
 #include "core/shoe_geometry.h"
+#include "core/synthetic.h"
 #include "core/synthetic_common.h"
 
 namespace nrsfm {
 
+using synthetic::AxisRotation;
+using synthetic::CentreBasis;
+using synthetic::FillMeasurements;
 using synthetic::kDegToRad;
 using synthetic::kGeometryStream;
 using synthetic::kMotionStream;
-using synthetic::SmoothCurve;
-using synthetic::RandomCurve;
-using synthetic::Tau;
-using synthetic::AxisRotation;
-using synthetic::SmoothStep;
-using synthetic::CentreBasis;
-using synthetic::FillMeasurements;
-using synthetic::ShoeSurface;
-using synthetic::ShoeParameters;
 using synthetic::kShoeSoleY;
+using synthetic::RandomCurve;
+using synthetic::ShoeParameters;
+using synthetic::ShoeSurface;
+using synthetic::SmoothCurve;
+using synthetic::SmoothStep;
+using synthetic::Tau;
 
 namespace {
 constexpr double kRigScale = 0.9;  // s_t1 / s_t0

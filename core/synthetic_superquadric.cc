@@ -1,26 +1,25 @@
-#include "core/synthetic.h"
+#include <glog/logging.h>
 
 #include <cmath>
 
-#include <glog/logging.h>
-
 #include "core/option_checker.h"
+#include "core/synthetic.h"
 #include "core/synthetic_common.h"
 
 namespace nrsfm {
 
-using synthetic::kPi;
-using synthetic::kGeometryStream;
-using synthetic::kMotionStream;
-using synthetic::SmoothCurve;
-using synthetic::RandomCurve;
-using synthetic::Tau;
-using synthetic::SmoothStep;
-using synthetic::SignedPower;
-using synthetic::SetSmoothRotations;
 using synthetic::CentreBasis;
 using synthetic::CheckSmoothSequence;
 using synthetic::FinishSmoothSequence;
+using synthetic::kGeometryStream;
+using synthetic::kMotionStream;
+using synthetic::kPi;
+using synthetic::RandomCurve;
+using synthetic::SetSmoothRotations;
+using synthetic::SignedPower;
+using synthetic::SmoothCurve;
+using synthetic::SmoothStep;
+using synthetic::Tau;
 
 Status SuperquadricOptions::Check() const {
   OptionChecker check("SuperquadricOptions");

@@ -197,7 +197,9 @@ struct Observation {
 // first repeat in file order). Sorts the observations by index.
 Status CheckNoRepeatedObservation(const std::string& path,
                                   std::vector<Observation>* observations) {
-  const auto key = [](const Observation& o) { return std::tie(o.frame, o.camera, o.point); };
+  const auto key = [](const Observation& o) {
+    return std::tie(o.frame, o.camera, o.point);
+  };
   std::sort(observations->begin(), observations->end(),
             [](const Observation& a, const Observation& b) {
               return std::make_tuple(a.frame, a.camera, a.point, a.line) <
@@ -211,25 +213,29 @@ Status CheckNoRepeatedObservation(const std::string& path,
     const Observation& a = (*observations)[i - 1];
     const Observation& b = (*observations)[i];
     const bool a_starts_run = i == 1 || key((*observations)[i - 2]) != key(a);
-    if (key(a) == key(b) && a_starts_run && (repeat == nullptr || b.line < repeat->line)) {
+    if (key(a) == key(b) && a_starts_run &&
+        (repeat == nullptr || b.line < repeat->line)) {
       repeat = &b;
       first_line = a.line;
     }
   }
   if (repeat == nullptr) return Status::OK();
-  return Status::Error(Where(path, repeat->line) + ": frame " + std::to_string(repeat->frame) +
-                       ", camera " + std::to_string(repeat->camera) + ", point " +
-                       std::to_string(repeat->point) + " was already given on line " +
-                       std::to_string(first_line));
+  return Status::Error(
+      Where(path, repeat->line) + ": frame " + std::to_string(repeat->frame) +
+      ", camera " + std::to_string(repeat->camera) + ", point " +
+      std::to_string(repeat->point) + " was already given on line " +
+      std::to_string(first_line));
 }
 
 // Bytes of W and its visibility mask for F frames, M cameras, P points
 // (saturating).
-std::uint64_t DenseBytes(std::int64_t frames, std::int64_t cameras, std::int64_t points) {
-  const std::uint64_t views = std::uint64_t(frames) * std::uint64_t(cameras);  // < 2^62
+std::uint64_t DenseBytes(std::int64_t frames, std::int64_t cameras,
+                         std::int64_t points) {
+  const std::uint64_t views =
+      std::uint64_t(frames) * std::uint64_t(cameras);  // < 2^62
   constexpr std::uint64_t kBytesPerEntry = 2 * sizeof(double) + sizeof(bool);
-  if (points != 0 && views > std::numeric_limits<std::uint64_t>::max() / kBytesPerEntry /
-                                 std::uint64_t(points)) {
+  if (points != 0 && views > std::numeric_limits<std::uint64_t>::max() /
+                                 kBytesPerEntry / std::uint64_t(points)) {
     return std::numeric_limits<std::uint64_t>::max();
   }
   return views * std::uint64_t(points) * kBytesPerEntry;
@@ -253,7 +259,8 @@ std::vector<int> MentionedIndices(const std::vector<Observation>& observations,
 }
 
 int IndexOf(const std::vector<int>& ids, int id) {
-  return static_cast<int>(std::lower_bound(ids.begin(), ids.end(), id) - ids.begin());
+  return static_cast<int>(std::lower_bound(ids.begin(), ids.end(), id) -
+                          ids.begin());
 }
 
 }  // namespace
@@ -351,7 +358,8 @@ Status ReadObservationList(const std::string& path,
   const std::uintmax_t file_size = std::filesystem::file_size(path, ec);
   const std::uint64_t budget = InputArrayBudget(ec ? 0 : file_size);
   // W's rows (2FM) must also be int indices (Measurements::Row).
-  const auto fits = [budget, num_cameras](std::int64_t frames, std::int64_t points) {
+  const auto fits = [budget, num_cameras](std::int64_t frames,
+                                          std::int64_t points) {
     return DenseBytes(frames, num_cameras, points) <= budget &&
            2 * frames * num_cameras <= std::numeric_limits<int>::max();
   };
@@ -364,12 +372,14 @@ Status ReadObservationList(const std::string& path,
     const std::int64_t points = static_cast<std::int64_t>(m.point_ids.size());
     if (!fits(frames, points)) {
       return Status::Error(
-          path + ": the " + std::to_string(observations.size()) + " observations of F = " +
-          std::to_string(frames) + " frames, M = " + std::to_string(num_cameras) +
-          " cameras and P = " + std::to_string(points) +
-          " points would need a W of " + MegaBytes(DenseBytes(frames, num_cameras, points)) +
+          path + ": the " + std::to_string(observations.size()) +
+          " observations of F = " + std::to_string(frames) +
+          " frames, M = " + std::to_string(num_cameras) + " cameras and P = " +
+          std::to_string(points) + " points would need a W of " +
+          MegaBytes(DenseBytes(frames, num_cameras, points)) +
           ", more than a list of its size may take (" + MegaBytes(budget) +
-          ", 64 MB + 1032 bytes per byte of the file): too sparse for nrsfm's dense W");
+          ", 64 MB + 1032 bytes per byte of the file): too sparse for nrsfm's "
+          "dense W");
     }
     num_frames = frames;
     num_points = points;
@@ -400,11 +410,11 @@ Status WriteObservationList(const std::string& path,
       const int view = measurements.View(t, c);
       for (int p = 0; p < measurements.num_points; ++p) {
         if (!measurements.visible(view, p)) continue;
-        std::fprintf(file, "%d %d %d %.17g %.17g\n",
-                     measurements.frame_ids.empty() ? t : measurements.frame_ids[t], c,
-                     measurements.point_ids.empty() ? p : measurements.point_ids[p],
-                     measurements.W(2 * view, p),
-                     measurements.W(2 * view + 1, p));
+        std::fprintf(
+            file, "%d %d %d %.17g %.17g\n",
+            measurements.frame_ids.empty() ? t : measurements.frame_ids[t], c,
+            measurements.point_ids.empty() ? p : measurements.point_ids[p],
+            measurements.W(2 * view, p), measurements.W(2 * view + 1, p));
       }
     }
   }

@@ -43,24 +43,22 @@
 // error. Only the C MEX API that MATLAB and Octave share is used, and no
 // C++ object is alive when an error is raised (MATLAB's mexErrMsgIdAndTxt
 // does not unwind C++ frames).
+#include <Eigen/Core>
 #include <cctype>
 #include <cstdio>
 #include <exception>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include <Eigen/Core>
-#include <nlohmann/json.hpp>
-
 #include "core/result_writer.h"
 #include "core/rotation.h"
+#include "mex.h"
 #include "tools/command_flags.h"
 #include "tools/flag_table.h"
 #include "tools/reconstruction_steps.h"
-
-#include "mex.h"
 
 namespace {
 
@@ -74,11 +72,12 @@ struct Outcome {
   std::string error;                  // "" = success
   std::vector<std::string> warnings;  // nrsfm:warning
   mxArray* model = nullptr;
-  mxArray* summary_json = nullptr;    // a char array, decoded by jsondecode
+  mxArray* summary_json = nullptr;  // a char array, decoded by jsondecode
 };
 
 std::string Lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (char& c : s)
+    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;
 }
 
@@ -86,18 +85,21 @@ std::string SizeText(const mxArray* a) {
   const mwSize n = mxGetNumberOfDimensions(a);
   const mwSize* dims = mxGetDimensions(a);
   std::string text;
-  for (mwSize i = 0; i < n; ++i) text += (i ? " x " : "") + std::to_string(dims[i]);
+  for (mwSize i = 0; i < n; ++i)
+    text += (i ? " x " : "") + std::to_string(dims[i]);
   return text;
 }
 
 // A real, full, 2-D numeric or logical array as a double matrix; `name`
 // names it in errors.
-Status ToMatrix(const mxArray* a, const std::string& name, Eigen::MatrixXd* out) {
+Status ToMatrix(const mxArray* a, const std::string& name,
+                Eigen::MatrixXd* out) {
   if (!(mxIsNumeric(a) || mxIsLogical(a)) || mxIsComplex(a) || mxIsSparse(a) ||
       mxGetNumberOfDimensions(a) != 2) {
-    return Status::Error(name + " must be a real full 2-D numeric matrix, got a " +
-                         std::string(mxGetClassName(a)) + " array of size " + SizeText(a) +
-                         (mxIsSparse(a) ? " (sparse)" : ""));
+    return Status::Error(name +
+                         " must be a real full 2-D numeric matrix, got a " +
+                         std::string(mxGetClassName(a)) + " array of size " +
+                         SizeText(a) + (mxIsSparse(a) ? " (sparse)" : ""));
   }
   const mwSize rows = mxGetM(a), cols = mxGetN(a);
   out->resize(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
@@ -110,8 +112,8 @@ Status ToMatrix(const mxArray* a, const std::string& name, Eigen::MatrixXd* out)
   mxArray* input = const_cast<mxArray*>(a);
   if (mexCallMATLABWithTrap(1, &converted, 1, &input, "double") != nullptr ||
       converted == nullptr) {
-    return Status::Error(name + ": cannot convert a " + std::string(mxGetClassName(a)) +
-                         " array to double");
+    return Status::Error(name + ": cannot convert a " +
+                         std::string(mxGetClassName(a)) + " array to double");
   }
   *out = Eigen::Map<const Eigen::MatrixXd>(mxGetPr(converted), rows, cols);
   mxDestroyArray(converted);
@@ -128,7 +130,8 @@ Status ValueText(const mxArray* a, const std::string& name, std::string* text) {
     mxFree(s);
     return Status::OK();
   }
-  if ((mxIsNumeric(a) || mxIsLogical(a)) && !mxIsComplex(a) && mxGetNumberOfElements(a) == 1) {
+  if ((mxIsNumeric(a) || mxIsLogical(a)) && !mxIsComplex(a) &&
+      mxGetNumberOfElements(a) == 1) {
     if (mxIsLogical(a)) {
       *text = mxGetLogicals(a)[0] ? "true" : "false";
       return Status::OK();
@@ -138,8 +141,10 @@ Status ValueText(const mxArray* a, const std::string& name, std::string* text) {
     *text = buffer;
     return Status::OK();
   }
-  return Status::Error(name + " must be a char row, or a real numeric or logical scalar; got a " +
-                       std::string(mxGetClassName(a)) + " array of size " + SizeText(a));
+  return Status::Error(
+      name +
+      " must be a char row, or a real numeric or logical scalar; got a " +
+      std::string(mxGetClassName(a)) + " array of size " + SizeText(a));
 }
 
 // The options nrsfm_reconstruct takes by name (the tool's flags that apply
@@ -161,15 +166,16 @@ mxArray* NewArray(std::vector<mwSize> dims) {
 
 mxArray* IndexRow(const std::vector<int>& indices) {
   mxArray* a = mxCreateDoubleMatrix(1, indices.size(), mxREAL);
-  for (std::size_t i = 0; i < indices.size(); ++i) mxGetPr(a)[i] = indices[i] + 1.0;
+  for (std::size_t i = 0; i < indices.size(); ++i)
+    mxGetPr(a)[i] = indices[i] + 1.0;
   return a;
 }
 
 // The model struct of the header.
 mxArray* ModelStruct(const Model& model, const std::vector<int>& dropped_points,
                      const std::vector<int>& dropped_frames) {
-  const mwSize f = model.num_frames, m = model.num_cameras, p = model.num_points,
-               k = model.num_bases;
+  const mwSize f = model.num_frames, m = model.num_cameras,
+               p = model.num_points, k = model.num_bases;
   mxArray* rotations = NewArray({3, 3, f, m});
   mxArray* translations = NewArray({2, f, m});
   mxArray* scales = NewArray({f, m});
@@ -187,12 +193,14 @@ mxArray* ModelStruct(const Model& model, const std::vector<int>& dropped_points,
       Eigen::Map<Eigen::Vector2d>(mxGetPr(translations) + 2 * (t + f * c)) =
           model.translations.col(view);
       mxGetPr(scales)[t + f * c] = model.scales(view);
-      Eigen::Map<Eigen::Matrix3Xd>(mxGetPr(points_camera) + 3 * p * (t + f * c), 3, p) =
+      Eigen::Map<Eigen::Matrix3Xd>(mxGetPr(points_camera) + 3 * p * (t + f * c),
+                                   3, p) =
           model.ShapeInCamera(static_cast<int>(t), static_cast<int>(c));
     }
     Eigen::Map<Eigen::Matrix3Xd>(mxGetPr(points_object) + 3 * p * t, 3, p) =
         model.ShapeInObject(static_cast<int>(t));
-    for (mwSize b = 0; b < k; ++b) mxGetPr(weights)[t + f * b] = model.weights(b, t);
+    for (mwSize b = 0; b < k; ++b)
+      mxGetPr(weights)[t + f * b] = model.weights(b, t);
   }
   for (mwSize b = 0; b < k; ++b) {
     Eigen::Map<Eigen::Matrix3Xd>(mxGetPr(basis) + 3 * p * b, 3, p) =
@@ -203,13 +211,23 @@ mxArray* ModelStruct(const Model& model, const std::vector<int>& dropped_points,
         nrsfm::AngleAxisToRotation(model.rig_rotations.col(c));
     mxGetPr(rig_scales)[c] = model.rig_scales(c);
   }
-  const char* fields[] = {"rotations",     "translations",  "scales",         "weights",
-                          "basis",         "points_object", "points_camera",  "rig_rotations",
-                          "rig_scales",    "dropped_points", "dropped_frames"};
-  mxArray* out = mxCreateStructMatrix(1, 1, sizeof(fields) / sizeof(fields[0]), fields);
-  mxArray* values[] = {rotations,     translations,  scales,        weights,
-                       basis,         points_object, points_camera, rig_rotations,
-                       rig_scales,    IndexRow(dropped_points), IndexRow(dropped_frames)};
+  const char* fields[] = {"rotations",      "translations",  "scales",
+                          "weights",        "basis",         "points_object",
+                          "points_camera",  "rig_rotations", "rig_scales",
+                          "dropped_points", "dropped_frames"};
+  mxArray* out =
+      mxCreateStructMatrix(1, 1, sizeof(fields) / sizeof(fields[0]), fields);
+  mxArray* values[] = {rotations,
+                       translations,
+                       scales,
+                       weights,
+                       basis,
+                       points_object,
+                       points_camera,
+                       rig_rotations,
+                       rig_scales,
+                       IndexRow(dropped_points),
+                       IndexRow(dropped_frames)};
   for (std::size_t i = 0; i < sizeof(fields) / sizeof(fields[0]); ++i) {
     mxSetField(out, 0, fields[i], values[i]);
   }
@@ -223,9 +241,11 @@ Status Run(int nlhs, int nrhs, const mxArray* prhs[], Outcome* outcome) {
     return Status::Error(
         "usage: [model, info] = nrsfm_reconstruct(W, K, 'Name', value, ...)");
   }
-  if (nlhs > 2) return Status::Error("nrsfm_reconstruct returns at most two outputs");
+  if (nlhs > 2)
+    return Status::Error("nrsfm_reconstruct returns at most two outputs");
   CommandFlags flags;
-  if (mxIsLogical(prhs[1])) return Status::Error("K must be a positive integer or 'auto'");
+  if (mxIsLogical(prhs[1]))
+    return Status::Error("K must be a positive integer or 'auto'");
   NRSFM_RETURN_IF_ERROR(ValueText(prhs[1], "K", &flags.K));
   nrsfm::tools::NumBasesFlag num_bases;
   NRSFM_RETURN_IF_ERROR(nrsfm::tools::ParseNumBasesFlag(flags.K, &num_bases));
@@ -248,13 +268,15 @@ Status Run(int nlhs, int nrhs, const mxArray* prhs[], Outcome* outcome) {
       continue;
     }
     if (lower == "observation_weights") {
-      NRSFM_RETURN_IF_ERROR(ToMatrix(value, "observation_weights", &observation_weights));
+      NRSFM_RETURN_IF_ERROR(
+          ToMatrix(value, "observation_weights", &observation_weights));
       continue;
     }
     if (lower == "cameras") {
       std::string text;
       NRSFM_RETURN_IF_ERROR(ValueText(value, "cameras", &text));
-      NRSFM_RETURN_IF_ERROR(nrsfm::tools::SetFlagFromText("cameras", text, &flags));
+      NRSFM_RETURN_IF_ERROR(
+          nrsfm::tools::SetFlagFromText("cameras", text, &flags));
       cameras = flags.cameras;
       continue;
     }
@@ -265,7 +287,8 @@ Status Run(int nlhs, int nrhs, const mxArray* prhs[], Outcome* outcome) {
     if (flag.empty()) {
       std::string known = "mask, cameras, observation_weights";
       for (const auto& entry : names) known += ", " + entry.second;
-      return Status::Error("unknown option '" + name + "'; the options are " + known);
+      return Status::Error("unknown option '" + name + "'; the options are " +
+                           known);
     }
     std::string text;
     NRSFM_RETURN_IF_ERROR(ValueText(value, flag, &text));
@@ -281,8 +304,10 @@ Status Run(int nlhs, int nrhs, const mxArray* prhs[], Outcome* outcome) {
   NRSFM_RETURN_IF_ERROR(nrsfm::tools::ArrayReconstructOptions(
       measurements, observation_weights.array(), &flags, &targets));
   nrsfm::tools::ReconstructionRun run;
-  NRSFM_RETURN_IF_ERROR(nrsfm::tools::RunReconstruction(targets, measurements, "", &run));
-  const nrsfm::ReconstructionReport report = nrsfm::tools::MakeReport(flags, "", run, nullptr);
+  NRSFM_RETURN_IF_ERROR(
+      nrsfm::tools::RunReconstruction(targets, measurements, "", &run));
+  const nrsfm::ReconstructionReport report =
+      nrsfm::tools::MakeReport(flags, "", run, nullptr);
   if (!run.result.refine.usable) {
     return Status::Error("the refinement did not give a usable solution (" +
                          run.result.refine.message + ")");
@@ -299,11 +324,12 @@ Status Run(int nlhs, int nrhs, const mxArray* prhs[], Outcome* outcome) {
                        {"expected_rms", c.expected_rms},
                        {"seconds", c.seconds}});
     }
-    summary["K_selection"] = {{"noise_stddev", run.selection.noise_stddev}, {"curve", curve}};
+    summary["K_selection"] = {{"noise_stddev", run.selection.noise_stddev},
+                              {"curve", curve}};
   }
   outcome->warnings = report.warnings;
-  outcome->model =
-      ModelStruct(run.result.model, run.result.dropped_points, run.result.dropped_frames);
+  outcome->model = ModelStruct(run.result.model, run.result.dropped_points,
+                               run.result.dropped_frames);
   outcome->summary_json = mxCreateString(summary.dump().c_str());
   return Status::OK();
 }

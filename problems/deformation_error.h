@@ -22,6 +22,7 @@
 
 #include <ceres/cost_function.h>
 #include <glog/logging.h>
+
 #include <Eigen/Core>
 
 namespace nrsfm {
@@ -43,13 +44,15 @@ class DeformationError final : public ceres::CostFunction {
     const double* basis = parameters[1];  // shape b: basis[3b .. 3b + 2]
     for (int j = 0; j < 3; ++j) residuals[j] = 0.0;
     for (int b = 1; b < k; ++b) {
-      for (int j = 0; j < 3; ++j) residuals[j] += s * weights[b] * basis[3 * b + j];
+      for (int j = 0; j < 3; ++j)
+        residuals[j] += s * weights[b] * basis[3 * b + j];
     }
     if (jacobians == nullptr) return true;
     if (jacobians[0] != nullptr) {  // 3 × K, row-major
       for (int j = 0; j < 3; ++j) {
         jacobians[0][j * k] = 0.0;
-        for (int b = 1; b < k; ++b) jacobians[0][j * k + b] = s * basis[3 * b + j];
+        for (int b = 1; b < k; ++b)
+          jacobians[0][j * k + b] = s * basis[3 * b + j];
       }
     }
     if (jacobians[1] != nullptr) {  // 3 × 3K, row-major

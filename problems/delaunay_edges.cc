@@ -1,5 +1,7 @@
 #include "problems/delaunay_edges.h"
 
+#include <glog/logging.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -7,8 +9,6 @@
 #include <sstream>
 #include <string>
 #include <utility>
-
-#include <glog/logging.h>
 
 #include "core/option_checker.h"
 
@@ -60,8 +60,9 @@ Status DelaunayTriangulation(const Eigen::Matrix2Xd& points,
   triangles->clear();
   const int n = static_cast<int>(points.cols());
   if (n < 3) {
-    return Status::Error("Delaunay triangulation needs at least 3 points, got " +
-                         std::to_string(n));
+    return Status::Error(
+        "Delaunay triangulation needs at least 3 points, got " +
+        std::to_string(n));
   }
   if (!points.allFinite()) {
     return Status::Error("Delaunay triangulation: a point is not finite");
@@ -89,9 +90,12 @@ Status DelaunayTriangulation(const Eigen::Matrix2Xd& points,
         ++count;
       }
       if (count != 3) continue;
-      const Eigen::Vector2d a = points.col(triangle[1]) - points.col(triangle[0]);
-      const Eigen::Vector2d b = points.col(triangle[2]) - points.col(triangle[0]);
-      if (a.x() * b.y() - a.y() * b.x() < 0.0) std::swap(triangle[1], triangle[2]);
+      const Eigen::Vector2d a =
+          points.col(triangle[1]) - points.col(triangle[0]);
+      const Eigen::Vector2d b =
+          points.col(triangle[2]) - points.col(triangle[0]);
+      if (a.x() * b.y() - a.y() * b.x() < 0.0)
+        std::swap(triangle[1], triangle[2]);
       triangles->push_back(triangle);
     }
   }
@@ -103,10 +107,9 @@ Status DelaunayTriangulation(const Eigen::Matrix2Xd& points,
     std::string detail = messages.Text();
     const std::size_t end = detail.find('\n');
     if (end != std::string::npos) detail.resize(end);
-    return Status::Error(
-        "Delaunay triangulation of " + std::to_string(n) +
-        " points failed (are they all collinear?)" +
-        (detail.empty() ? "" : ": qhull: " + detail));
+    return Status::Error("Delaunay triangulation of " + std::to_string(n) +
+                         " points failed (are they all collinear?)" +
+                         (detail.empty() ? "" : ": qhull: " + detail));
   }
   std::sort(triangles->begin(), triangles->end());
   return Status::OK();
@@ -123,9 +126,9 @@ Status ComputeDelaunayEdges(const Measurements& measurements,
   const Measurements& m = measurements;
   int frame = options.reference_frame;
   if (frame >= m.num_frames) {
-    return Status::Error("delaunay edges: reference_frame " +
-                         std::to_string(frame) + " is out of range (F = " +
-                         std::to_string(m.num_frames) + ")");
+    return Status::Error(
+        "delaunay edges: reference_frame " + std::to_string(frame) +
+        " is out of range (F = " + std::to_string(m.num_frames) + ")");
   }
   if (frame < 0) {
     int best = -1;
@@ -180,7 +183,8 @@ Status ComputeDelaunayEdges(const Measurements& measurements,
   }
   if (!others.empty()) {
     Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(others.size(), vertices.size());
-    Eigen::MatrixXi count = Eigen::MatrixXi::Zero(others.size(), vertices.size());
+    Eigen::MatrixXi count =
+        Eigen::MatrixXi::Zero(others.size(), vertices.size());
     for (int t = 0; t < m.num_frames; ++t) {
       for (int c = 0; c < m.num_cameras; ++c) {
         const int view = m.View(t, c);
@@ -215,8 +219,8 @@ Status ComputeDelaunayEdges(const Measurements& measurements,
   }
 
   for (const auto& [pair, length] : lengths) {
-    edges->push_back(
-        {pair.first, pair.second, mean_length / std::max(length, 1e-3 * mean_length)});
+    edges->push_back({pair.first, pair.second,
+                      mean_length / std::max(length, 1e-3 * mean_length)});
   }
   return Status::OK();
 }

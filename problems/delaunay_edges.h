@@ -20,10 +20,9 @@
 #ifndef NRSFM_PROBLEMS_DELAUNAY_EDGES_H_
 #define NRSFM_PROBLEMS_DELAUNAY_EDGES_H_
 
+#include <Eigen/Core>
 #include <array>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "core/measurements.h"
 #include "core/status.h"
@@ -37,8 +36,10 @@ struct NeighbourEdge {
 };
 
 struct DelaunayEdgesOptions {
-  int reference_frame = -1;       // frame whose camera-0 view is triangulated; -1 = most visible points
-  int num_hidden_neighbours = 3;  // vertices each non-vertex point is joined to, ≥ 1
+  int reference_frame = -1;  // frame whose camera-0 view is triangulated; -1 =
+                             // most visible points
+  int num_hidden_neighbours =
+      3;  // vertices each non-vertex point is joined to, ≥ 1
 
   // Errors on reference_frame < -1 or num_hidden_neighbours < 1 (the frame
   // range is checked against the measurements by ComputeDelaunayEdges).

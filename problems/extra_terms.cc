@@ -1,9 +1,9 @@
 #include "problems/extra_terms.h"
 
+#include <glog/logging.h>
+
 #include <cmath>
 #include <vector>
-
-#include <glog/logging.h>
 
 #include "problems/deformation_error.h"
 #include "problems/delaunay_edges.h"
@@ -20,8 +20,8 @@ namespace {
 Status AddSmoothness(double weight, const ProblemOptions& options,
                      ProblemBuilder* builder, int* num_blocks) {
   std::vector<NeighbourEdge> edges;
-  NRSFM_RETURN_IF_ERROR(
-      ComputeDelaunayEdges(builder->measurements(), options.smoothness_edges, &edges));
+  NRSFM_RETURN_IF_ERROR(ComputeDelaunayEdges(builder->measurements(),
+                                             options.smoothness_edges, &edges));
   const int num_bases = builder->model()->num_bases;
   const double sqrt_weight = std::sqrt(weight);
   for (const NeighbourEdge& edge : edges) {
@@ -33,8 +33,8 @@ Status AddSmoothness(double weight, const ProblemOptions& options,
   return Status::OK();
 }
 
-Status AddRigidity(double weight, const ProblemOptions&, ProblemBuilder* builder,
-                   int* num_blocks) {
+Status AddRigidity(double weight, const ProblemOptions&,
+                   ProblemBuilder* builder, int* num_blocks) {
   const Model& model = *builder->model();
   const double sqrt_weight = std::sqrt(weight);
   for (int t = 0; t < model.num_frames; ++t) {
@@ -105,9 +105,11 @@ Status AddDeformation(double weight, const ProblemOptions&,
   model.MakeFirstBasisTheMean();
   const double sqrt_weight = std::sqrt(weight);
   for (int t = 0; t < model.num_frames; ++t) {
-    if (!builder->problem()->HasParameterBlock(builder->WeightsBlock(t))) continue;
+    if (!builder->problem()->HasParameterBlock(builder->WeightsBlock(t)))
+      continue;
     for (int p = 0; p < model.num_points; ++p) {
-      if (!builder->problem()->HasParameterBlock(builder->BasisBlock(p))) continue;
+      if (!builder->problem()->HasParameterBlock(builder->BasisBlock(p)))
+        continue;
       builder->problem()->AddResidualBlock(
           new DeformationError(model.num_bases, sqrt_weight), nullptr,
           builder->WeightsBlock(t), builder->BasisBlock(p));
@@ -176,8 +178,9 @@ const std::vector<ExtraTerm>& ExtraTerms() {
 
 Status ExtraTerm::CheckCameras(int num_cameras) const {
   if (num_cameras >= min_cameras) return Status::OK();
-  return Status::Error("needs data from M >= " + std::to_string(min_cameras) +
-                       " synchronised cameras, got M = " + std::to_string(num_cameras));
+  return Status::Error(
+      "needs data from M >= " + std::to_string(min_cameras) +
+      " synchronised cameras, got M = " + std::to_string(num_cameras));
 }
 
 const ExtraTerm* FindExtraTerm(const std::string& name) {
@@ -196,14 +199,16 @@ Status AddExtraTerms(const ProblemOptions& options, ProblemBuilder* builder,
   const int num_cameras = builder->model()->num_cameras;
   for (const ExtraTerm& term : terms) {
     if (!(options.TermWeight(term.name) > 0.0)) continue;
-    NRSFM_RETURN_IF_ERROR(
-        term.CheckCameras(num_cameras).WithContext(std::string(term.name) + " term"));
+    NRSFM_RETURN_IF_ERROR(term.CheckCameras(num_cameras)
+                              .WithContext(std::string(term.name) + " term"));
   }
   for (std::size_t i = 0; i < terms.size(); ++i) {
     const double weight = options.TermWeight(terms[i].name);
     if (weight == 0.0) continue;
-    NRSFM_RETURN_IF_ERROR(terms[i].add(weight, options, builder, &counts[i])
-                              .WithContext(std::string(terms[i].name) + " term"));
+    NRSFM_RETURN_IF_ERROR(
+        terms[i]
+            .add(weight, options, builder, &counts[i])
+            .WithContext(std::string(terms[i].name) + " term"));
   }
   builder->SetConstantBlocks(options);
   if (num_blocks != nullptr) *num_blocks = std::move(counts);

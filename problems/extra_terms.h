@@ -40,7 +40,7 @@ struct ExtraTerm {
   // Key of ProblemOptions::term_weights, the nrsfm tool's flag (--name λ)
   // and the key in result.json's options and term_weights.
   const char* name;
-  const char* units;    // of λ
+  const char* units;  // of λ
   // Whether λ is in (input units)² (per rad² or per weight²): the term's
   // residual has no input units while the data term's does, so measuring
   // the input in other units changes the λ that means the same balance.

@@ -35,8 +35,8 @@ class JacobianProduct {
   virtual bool ProvidesGram() const { return false; }
   // out += J_aᵀ J_b for parameter blocks a and b (size_a × size_b,
   // column-major with leading dimension ld). Only called when ProvidesGram().
-  virtual void AddGram(double const* const* /*parameters*/, int /*a*/, int /*b*/,
-                       double* /*out*/, int /*ld*/) const {}
+  virtual void AddGram(double const* const* /*parameters*/, int /*a*/,
+                       int /*b*/, double* /*out*/, int /*ld*/) const {}
   // out (size_a) += diag(J_aᵀ J_a), the squared norms of block a's columns.
   // Only called when ProvidesGram().
   virtual void AddGramDiagonal(double const* const* /*parameters*/, int /*a*/,

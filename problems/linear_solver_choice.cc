@@ -1,5 +1,7 @@
 #include "problems/linear_solver_choice.h"
 
+#include <ceres/ordered_groups.h>
+
 #include <algorithm>
 #include <memory>
 #include <sstream>
@@ -7,8 +9,6 @@
 #include <unordered_set>
 #include <utility>
 #include <vector>
-
-#include <ceres/ordered_groups.h>
 
 #include "core/enum_names.h"
 
@@ -115,11 +115,13 @@ ProblemStructure DescribeProblem(ProblemBuilder* builder) {
     int first = model.num_frames, last = -1;
     for (double* block : blocks) {
       const auto it = frame_of.find(block);
-      if (it == frame_of.end() || problem.IsParameterBlockConstant(block)) continue;
+      if (it == frame_of.end() || problem.IsParameterBlockConstant(block))
+        continue;
       first = std::min(first, it->second);
       last = std::max(last, it->second);
     }
-    if (last >= first) s.frame_coupling = std::max(s.frame_coupling, last - first);
+    if (last >= first)
+      s.frame_coupling = std::max(s.frame_coupling, last - first);
   }
   return s;
 }

@@ -18,17 +18,17 @@
 //   (docs/performance.md); a problem whose blocks it cannot lay out (a free
 //   block of an unknown kind) falls back to ITERATIVE_SCHUR
 //   no free point block (poses / weights only; JᵀJ is then block-diagonal
-//   per frame plus what other terms couple)              → SPARSE_NORMAL_CHOLESKY
-//   point blocks coupled (e.g. basis smoothness)         → CGNR (the points
-//   cannot be eliminated and the normal equations fill as above)
+//   per frame plus what other terms couple)              →
+//   SPARSE_NORMAL_CHOLESKY point blocks coupled (e.g. basis smoothness) → CGNR
+//   (the points cannot be eliminated and the normal equations fill as above)
 // The iterative solvers use the JACOBI preconditioner (SCHUR_JACOBI visits
 // every pair of frame blocks that share a point to build).
 #ifndef NRSFM_PROBLEMS_LINEAR_SOLVER_CHOICE_H_
 #define NRSFM_PROBLEMS_LINEAR_SOLVER_CHOICE_H_
 
-#include <string>
-
 #include <ceres/solver.h>
+
+#include <string>
 
 #include "core/status.h"
 #include "problems/problem_builder.h"
@@ -36,10 +36,11 @@
 namespace nrsfm {
 
 enum class LinearSolverChoice {
-  kAuto,                  // the rule above, from the problem's structure
-  kDenseSchur,            // points eliminated, dense reduced system
-  kSparseSchur,           // points eliminated, sparse Cholesky of the rest
-  kIterativeSchur,        // points eliminated, CG on the implicit reduced system, JACOBI
+  kAuto,            // the rule above, from the problem's structure
+  kDenseSchur,      // points eliminated, dense reduced system
+  kSparseSchur,     // points eliminated, sparse Cholesky of the rest
+  kIterativeSchur,  // points eliminated, CG on the implicit reduced system,
+                    // JACOBI
   kSparseNormalCholesky,  // sparse Cholesky of JᵀJ
   kCgnr,                  // CG on the normal equations, JACOBI
   kDenseQr,               // dense QR of J (tiny problems only)
@@ -55,14 +56,14 @@ const char* LinearSolverName(LinearSolverChoice choice);
 
 // What the rule and the memory checks look at (free parameters only).
 struct ProblemStructure {
-  int num_point_blocks = 0;           // non-constant basis columns
-  int num_point_parameters = 0;       // their total size, 3K each
-  int num_other_parameters = 0;       // every other non-constant parameter
-  int num_residuals = 0;              // rows of J
+  int num_point_blocks = 0;      // non-constant basis columns
+  int num_point_parameters = 0;  // their total size, 3K each
+  int num_other_parameters = 0;  // every other non-constant parameter
+  int num_residuals = 0;         // rows of J
   // Upper bound on the entries of the reduced matrix with the points
   // eliminated (its fill: every pair of parameters that share a point).
   double schur_matrix_entries = 0.0;
-  bool points_are_independent = true; // see ProblemBuilder
+  bool points_are_independent = true;  // see ProblemBuilder
   // Largest distance in time between two frames whose free blocks one
   // residual block holds (0: no residual couples two frames).
   int frame_coupling = 0;

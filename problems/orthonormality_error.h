@@ -19,9 +19,9 @@
 #define NRSFM_PROBLEMS_ORTHONORMALITY_ERROR_H_
 
 #include <ceres/cost_function.h>
-#include <Eigen/Core>
 #include <glog/logging.h>
 
+#include <Eigen/Core>
 #include <utility>
 
 namespace nrsfm {
@@ -32,14 +32,16 @@ class OrthonormalityError final : public ceres::CostFunction {
   explicit OrthonormalityError(Eigen::MatrixXd rows) : rows_(std::move(rows)) {
     CHECK(rows_.rows() >= 2 && rows_.rows() % 2 == 0 && rows_.cols() >= 1);
     set_num_residuals(static_cast<int>(rows_.rows()));
-    mutable_parameter_block_sizes()->push_back(3 * static_cast<int>(rows_.cols()));
+    mutable_parameter_block_sizes()->push_back(3 *
+                                               static_cast<int>(rows_.cols()));
   }
 
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
     const Eigen::Index n = rows_.cols();
     const Eigen::Map<const Eigen::MatrixXd> g(parameters[0], n, 3);
-    const Eigen::Matrix<double, Eigen::Dynamic, 3> a = rows_ * g;  // rows a₁, a₂ per frame
+    const Eigen::Matrix<double, Eigen::Dynamic, 3> a =
+        rows_ * g;  // rows a₁, a₂ per frame
     const bool with_jacobian = jacobians != nullptr && jacobians[0] != nullptr;
     for (Eigen::Index f = 0; f < rows_.rows() / 2; ++f) {
       const Eigen::RowVector3d a1 = a.row(2 * f), a2 = a.row(2 * f + 1);
@@ -58,7 +60,8 @@ class OrthonormalityError final : public ceres::CostFunction {
       const double norm2 = norm * norm;
       const Eigen::RowVector3d u[2][2] = {
           {4.0 * q / norm2 * a1, -4.0 * p / norm2 * a2},
-          {2.0 / norm * a2 - 4.0 * c / norm2 * a1, 2.0 / norm * a1 - 4.0 * c / norm2 * a2}};
+          {2.0 / norm * a2 - 4.0 * c / norm2 * a1,
+           2.0 / norm * a1 - 4.0 * c / norm2 * a2}};
       for (int r = 0; r < 2; ++r) {
         // Row 2f + r of the row-major 2N × 3n Jacobian; column i + n·j is
         // entry (i, j) of the column-major G.

@@ -1,10 +1,10 @@
 #include "problems/problem_builder.h"
 
+#include <glog/logging.h>
+
 #include <cmath>
 #include <sstream>
 #include <unordered_set>
-
-#include <glog/logging.h>
 
 #include "problems/reprojection_cost_function.h"
 #include "problems/reprojection_error.h"
@@ -36,25 +36,42 @@ ceres::CostFunction* CreateReprojectionCostFunction(
   CHECK_GE(num_bases, 1);
   const Eigen::Vector2d& o = observation;
   const double w = sqrt_weight;
-  if (autodiff) return DynamicReprojectionError::Create(num_bases, with_scale, o, w);
+  if (autodiff)
+    return DynamicReprojectionError::Create(num_bases, with_scale, o, w);
   static_assert(kMaxStaticBases == 16, "update the switch below");
   switch (num_bases) {
-    case 1: return CreateFixedK<1>(with_scale, o, w);
-    case 2: return CreateFixedK<2>(with_scale, o, w);
-    case 3: return CreateFixedK<3>(with_scale, o, w);
-    case 4: return CreateFixedK<4>(with_scale, o, w);
-    case 5: return CreateFixedK<5>(with_scale, o, w);
-    case 6: return CreateFixedK<6>(with_scale, o, w);
-    case 7: return CreateFixedK<7>(with_scale, o, w);
-    case 8: return CreateFixedK<8>(with_scale, o, w);
-    case 9: return CreateFixedK<9>(with_scale, o, w);
-    case 10: return CreateFixedK<10>(with_scale, o, w);
-    case 11: return CreateFixedK<11>(with_scale, o, w);
-    case 12: return CreateFixedK<12>(with_scale, o, w);
-    case 13: return CreateFixedK<13>(with_scale, o, w);
-    case 14: return CreateFixedK<14>(with_scale, o, w);
-    case 15: return CreateFixedK<15>(with_scale, o, w);
-    case 16: return CreateFixedK<16>(with_scale, o, w);
+    case 1:
+      return CreateFixedK<1>(with_scale, o, w);
+    case 2:
+      return CreateFixedK<2>(with_scale, o, w);
+    case 3:
+      return CreateFixedK<3>(with_scale, o, w);
+    case 4:
+      return CreateFixedK<4>(with_scale, o, w);
+    case 5:
+      return CreateFixedK<5>(with_scale, o, w);
+    case 6:
+      return CreateFixedK<6>(with_scale, o, w);
+    case 7:
+      return CreateFixedK<7>(with_scale, o, w);
+    case 8:
+      return CreateFixedK<8>(with_scale, o, w);
+    case 9:
+      return CreateFixedK<9>(with_scale, o, w);
+    case 10:
+      return CreateFixedK<10>(with_scale, o, w);
+    case 11:
+      return CreateFixedK<11>(with_scale, o, w);
+    case 12:
+      return CreateFixedK<12>(with_scale, o, w);
+    case 13:
+      return CreateFixedK<13>(with_scale, o, w);
+    case 14:
+      return CreateFixedK<14>(with_scale, o, w);
+    case 15:
+      return CreateFixedK<15>(with_scale, o, w);
+    case 16:
+      return CreateFixedK<16>(with_scale, o, w);
     default:
       return new ReprojectionCostFunction<Eigen::Dynamic>(num_bases, with_scale,
                                                           o, w);
@@ -62,7 +79,9 @@ ceres::CostFunction* CreateReprojectionCostFunction(
 }
 
 ProblemBuilder::ProblemBuilder(const Measurements* measurements, Model* model)
-    : measurements_(measurements), model_(model), problem_(MakeProblemOptions()) {
+    : measurements_(measurements),
+      model_(model),
+      problem_(MakeProblemOptions()) {
   CHECK(measurements != nullptr);
   CHECK(model != nullptr);
 }
@@ -126,9 +145,9 @@ Status ProblemBuilder::AddReprojectionTerms(const ProblemOptions& options) {
       m.num_points != model.num_points) {
     std::ostringstream msg;
     msg << "model (F = " << model.num_frames << ", M = " << model.num_cameras
-        << ", P = " << model.num_points << ") does not match the measurements (F = "
-        << m.num_frames << ", M = " << m.num_cameras << ", P = " << m.num_points
-        << ")";
+        << ", P = " << model.num_points
+        << ") does not match the measurements (F = " << m.num_frames
+        << ", M = " << m.num_cameras << ", P = " << m.num_points << ")";
     return Status::Error(msg.str());
   }
   const bool weighted = options.observation_weights.size() > 0;
@@ -158,7 +177,8 @@ Status ProblemBuilder::AddReprojectionTerms(const ProblemOptions& options) {
       const bool with_scale = c > 0;
       for (int p = 0; p < m.num_points; ++p) {
         if (!m.visible(view, p)) continue;
-        const double weight = weighted ? options.observation_weights(view, p) : 1.0;
+        const double weight =
+            weighted ? options.observation_weights(view, p) : 1.0;
         if (weight == 0.0) continue;
         ceres::CostFunction* cost = CreateReprojectionCostFunction(
             num_bases, with_scale, options.autodiff, m.Observation(t, c, p),
@@ -191,7 +211,8 @@ void ProblemBuilder::SetRotationManifold(double* block) {
 
 void ProblemBuilder::SetConstantBlocks(const ProblemOptions& options) {
   auto set_constant = [this](double* block) {
-    if (problem_.HasParameterBlock(block)) problem_.SetParameterBlockConstant(block);
+    if (problem_.HasParameterBlock(block))
+      problem_.SetParameterBlockConstant(block);
   };
   const Model& model = *model_;
   for (int t = 0; t < model.num_frames; ++t) {
@@ -216,7 +237,8 @@ void ProblemBuilder::SetConstantBlocks(const ProblemOptions& options) {
 std::vector<double*> ProblemBuilder::PointBlocks() {
   std::vector<double*> blocks;
   for (int p = 0; p < model_->num_points; ++p) {
-    if (problem_.HasParameterBlock(BasisBlock(p))) blocks.push_back(BasisBlock(p));
+    if (problem_.HasParameterBlock(BasisBlock(p)))
+      blocks.push_back(BasisBlock(p));
   }
   return blocks;
 }

@@ -7,13 +7,13 @@
 // block accessors below — the builder does not need to know them.
 //
 // Parameter blocks (pointers into the model; sizes in brackets):
-//   RotationBlock(t, c)     ω_tc, angle-axis, radians [3]  rotations.col(View(t, c))
-//   TranslationBlock(t, c)  T_tc, input units        [2]  translations.col(View(t, c))
-//   WeightsBlock(t)         l_t                      [K]  weights.col(t)
+//   RotationBlock(t, c)     ω_tc, angle-axis, radians [3] rotations.col(View(t,
+//   c)) TranslationBlock(t, c)  T_tc, input units        [2]
+//   translations.col(View(t, c)) WeightsBlock(t)         l_t [K] weights.col(t)
 //   BasisBlock(p)           b_p = [S_1[:,p]; …; S_K[:,p]]  [3K]  basis.col(p)
 //   ScaleBlock(t, c)        s_tc, c ≥ 1 of multi-camera data only  [1]
-//                           scales(View(t, c)); camera 0 has s = 1 and no block,
-//                           monocular data have no scale block at all.
+//                           scales(View(t, c)); camera 0 has s = 1 and no
+//                           block, monocular data have no scale block at all.
 // A block is in the problem only once a residual uses it (a view that sees no
 // point has no rotation block; test with problem()->HasParameterBlock).
 //
@@ -25,15 +25,15 @@
 #ifndef NRSFM_PROBLEMS_PROBLEM_BUILDER_H_
 #define NRSFM_PROBLEMS_PROBLEM_BUILDER_H_
 
+#include <ceres/cost_function.h>
+#include <ceres/loss_function.h>
+#include <ceres/problem.h>
+
+#include <Eigen/Core>
 #include <map>
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <ceres/cost_function.h>
-#include <ceres/loss_function.h>
-#include <ceres/problem.h>
-#include <Eigen/Core>
 
 #include "core/measurements.h"
 #include "core/model.h"

@@ -17,7 +17,9 @@ constexpr EnumName<RobustLoss> kRobustLossNames[] = {
 
 }  // namespace
 
-const char* RobustLossName(RobustLoss loss) { return NameOf(kRobustLossNames, loss); }
+const char* RobustLossName(RobustLoss loss) {
+  return NameOf(kRobustLossNames, loss);
+}
 
 Status ParseRobustLoss(const std::string& name, RobustLoss* loss) {
   return ParseName(kRobustLossNames, name, "robust loss", loss);
@@ -31,25 +33,26 @@ double ProblemOptions::TermWeight(const std::string& name) const {
 Status ProblemOptions::Check() const {
   OptionChecker check("problem options");
   check.FinitePositive("robust_scale", robust_scale);
-  check.Require(observation_weights.size() == 0 ||
-                    (observation_weights.allFinite() &&
-                     (observation_weights >= 0.0).all()),
-                "observation_weights must be finite and non-negative");
+  check.Require(
+      observation_weights.size() == 0 || (observation_weights.allFinite() &&
+                                          (observation_weights >= 0.0).all()),
+      "observation_weights must be finite and non-negative");
   for (const auto& [name, weight] : term_weights) {
     if (FindExtraTerm(name) == nullptr) {
       std::string known;
       for (const ExtraTerm& term : ExtraTerms()) {
         known += (known.empty() ? "" : ", ") + std::string(term.name);
       }
-      check.Require(false, "term_weights: no term \"" + name + "\" (the terms are " +
-                               known + ")");
+      check.Require(false, "term_weights: no term \"" + name +
+                               "\" (the terms are " + known + ")");
     }
     check.FiniteAtLeast("term weight " + name, weight, 0.0);
   }
   check.Nested(smoothness_edges.Check());
-  check.Require(!(constant_rotations && constant_translations && constant_weights &&
-                  constant_basis && constant_scales),
-                "nothing to refine: every constant_* flag of the data term is true");
+  check.Require(
+      !(constant_rotations && constant_translations && constant_weights &&
+        constant_basis && constant_scales),
+      "nothing to refine: every constant_* flag of the data term is true");
   return check.status();
 }
 

@@ -5,10 +5,9 @@
 #ifndef NRSFM_PROBLEMS_PROBLEM_OPTIONS_H_
 #define NRSFM_PROBLEMS_PROBLEM_OPTIONS_H_
 
+#include <Eigen/Core>
 #include <map>
 #include <string>
-
-#include <Eigen/Core>
 
 #include "core/status.h"
 #include "problems/delaunay_edges.h"
@@ -32,8 +31,8 @@ struct ProblemOptions {
   bool constant_translations = false;  // every T_tc
   bool constant_weights = false;       // every l_t
   bool constant_basis = false;         // every b_p
-  bool constant_scales = false;        // every s_tc, c ≥ 1 (no effect for M = 1)
-  bool constant_rig = false;           // rig rotations and scales (rigidity term only)
+  bool constant_scales = false;  // every s_tc, c ≥ 1 (no effect for M = 1)
+  bool constant_rig = false;  // rig rotations and scales (rigidity term only)
 
   // Robust loss of each observation's squared distance, with its scale a in
   // input units (the residual distance where the loss stops being quadratic).

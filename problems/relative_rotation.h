@@ -14,9 +14,9 @@
 #ifndef NRSFM_PROBLEMS_RELATIVE_ROTATION_H_
 #define NRSFM_PROBLEMS_RELATIVE_ROTATION_H_
 
-#include <cmath>
-
 #include <ceres/rotation.h>
+
+#include <cmath>
 
 namespace nrsfm {
 namespace internal {
@@ -56,9 +56,9 @@ void ToAngleAxis(const T* q, T* angle_axis) {
     const T sin_theta = sqrt(sin_squared);
     const T& cos_theta = q[0];
     // θ in [0, π]: q and −q are the same rotation.
-    const T two_theta = T(2.0) * ((cos_theta < T(0.0))
-                                      ? atan2(-sin_theta, -cos_theta)
-                                      : atan2(sin_theta, cos_theta));
+    const T two_theta =
+        T(2.0) * ((cos_theta < T(0.0)) ? atan2(-sin_theta, -cos_theta)
+                                       : atan2(sin_theta, cos_theta));
     k = two_theta * (T(1.0) / sin_theta);
   }
   angle_axis[0] = q[1] * k;

@@ -20,13 +20,13 @@
 #ifndef NRSFM_PROBLEMS_REPROJECTION_COST_FUNCTION_H_
 #define NRSFM_PROBLEMS_REPROJECTION_COST_FUNCTION_H_
 
-#include <vector>
-
 #include <ceres/cost_function.h>
 #include <ceres/jet.h>
 #include <ceres/rotation.h>
 #include <glog/logging.h>
+
 #include <Eigen/Core>
+#include <vector>
 
 namespace nrsfm {
 
@@ -82,8 +82,9 @@ class ReprojectionCostFunction final : public ceres::CostFunction,
     return EvaluateWithBasisFactor(parameters, residuals, jacobians, nullptr);
   }
 
-  bool EvaluateWithBasisFactor(double const* const* parameters, double* residuals,
-                               double** jacobians, double* factor) const override {
+  bool EvaluateWithBasisFactor(double const* const* parameters,
+                               double* residuals, double** jacobians,
+                               double* factor) const override {
     // Eigen forbids a row-major 2 × 1 type; for K = 1 both layouts agree.
     using RowMajor2xK =
         Eigen::Matrix<double, 2, kNumBases,

@@ -3,7 +3,8 @@
 // functor:
 //
 //   r = sqrt(w_obs) · ( s_tc · Π · R(ω_tc) · X + T_tc − w_tcp ),   2 residuals,
-//   X = Σ_k l_tk · b_p[3k : 3k+3]        (point p of the shape S_t, object frame)
+//   X = Σ_k l_tk · b_p[3k : 3k+3]        (point p of the shape S_t, object
+//   frame)
 //
 // Π = [I_2 0] (scaled orthographic), R(ω) the rotation of the angle-axis ω
 // (ceres/rotation.h convention: axis · angle in radians), w_obs ≥ 0 the
@@ -11,10 +12,10 @@
 //
 // Parameter blocks, in this order (the Model column of each, core/model.h):
 //   rotation     ω_tc      3   Model::rotations.col(View(t, c))
-//   translation  T_tc      2   Model::translations.col(View(t, c))   (input units)
-//   weights      l_t       K   Model::weights.col(t)
-//   basis        b_p       3K  Model::basis.col(p) = [S_1[:,p]; …; S_K[:,p]]
-//   scale        s_tc      1   Model::scales(View(t, c))  — only for cameras c ≥ 1
+//   translation  T_tc      2   Model::translations.col(View(t, c))   (input
+//   units) weights      l_t       K   Model::weights.col(t) basis        b_p 3K
+//   Model::basis.col(p) = [S_1[:,p]; …; S_K[:,p]] scale        s_tc      1
+//   Model::scales(View(t, c))  — only for cameras c ≥ 1
 //                              of multi-camera data; otherwise s_tc = 1 and the
 //                              block does not exist.
 //
@@ -34,6 +35,7 @@
 #include <ceres/dynamic_autodiff_cost_function.h>
 #include <ceres/rotation.h>
 #include <glog/logging.h>
+
 #include <Eigen/Core>
 
 namespace nrsfm {
@@ -102,8 +104,8 @@ class ReprojectionError {
   // Camera c ≥ 1 of multi-camera data: the extra scale block.
   static ceres::CostFunction* CreateScaled(const Eigen::Vector2d& observation,
                                            double sqrt_weight) {
-    return new ceres::AutoDiffCostFunction<ReprojectionError, 2, 3, 2, K,
-                                           3 * K, 1>(
+    return new ceres::AutoDiffCostFunction<ReprojectionError, 2, 3, 2, K, 3 * K,
+                                           1>(
         new ReprojectionError(observation, sqrt_weight));
   }
 
@@ -139,9 +141,10 @@ class DynamicReprojectionError {
                                      const Eigen::Vector2d& observation,
                                      double sqrt_weight) {
     // Stride 8: derivatives in passes of 8 parameters.
-    auto* cost = new ceres::DynamicAutoDiffCostFunction<
-        DynamicReprojectionError, 8>(new DynamicReprojectionError(
-        num_bases, with_scale, observation, sqrt_weight));
+    auto* cost =
+        new ceres::DynamicAutoDiffCostFunction<DynamicReprojectionError, 8>(
+            new DynamicReprojectionError(num_bases, with_scale, observation,
+                                         sqrt_weight));
     cost->AddParameterBlock(3);
     cost->AddParameterBlock(2);
     cost->AddParameterBlock(num_bases);

@@ -1,9 +1,8 @@
 #include "problems/rotation_manifold.h"
 
-#include <cmath>
-
 #include <Eigen/Core>
 #include <Eigen/LU>
+#include <cmath>
 
 #include "core/rotation.h"
 
@@ -22,10 +21,10 @@ Eigen::Matrix3d InverseRightJacobian(const Eigen::Vector3d& w) {
   const double theta = w.norm();
   const Eigen::Matrix3d hat = Hat(w);
   // The coefficient of [w]×², with its series 1/12 + θ²/720 near θ = 0.
-  const double c = theta > 1e-4 ? 1.0 / (theta * theta) -
-                                      (1.0 + std::cos(theta)) /
-                                          (2.0 * theta * std::sin(theta))
-                                : 1.0 / 12.0 + theta * theta / 720.0;
+  const double c =
+      theta > 1e-4 ? 1.0 / (theta * theta) - (1.0 + std::cos(theta)) /
+                                                 (2.0 * theta * std::sin(theta))
+                   : 1.0 / 12.0 + theta * theta / 720.0;
   return Eigen::Matrix3d::Identity() + 0.5 * hat + c * hat * hat;
 }
 

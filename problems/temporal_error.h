@@ -44,6 +44,7 @@
 #include <ceres/cost_function.h>
 #include <ceres/dynamic_autodiff_cost_function.h>
 #include <glog/logging.h>
+
 #include <Eigen/Core>
 
 #include "problems/jacobian_product.h"
@@ -84,7 +85,8 @@ class WeightsTemporalError {
 // Blocks: ω_tc (3), ω_{t−1,c} (3).
 class RotationTemporalError {
  public:
-  explicit RotationTemporalError(double sqrt_weight) : sqrt_weight_(sqrt_weight) {}
+  explicit RotationTemporalError(double sqrt_weight)
+      : sqrt_weight_(sqrt_weight) {}
 
   template <typename T>
   bool operator()(const T* rotation, const T* previous_rotation,
@@ -116,13 +118,15 @@ class RotationAccelerationError {
     T backward[3];
     RelativeAngleAxis<T>(next, rotation, nullptr, forward);
     RelativeAngleAxis<T>(rotation, previous, nullptr, backward);
-    for (int i = 0; i < 3; ++i) residuals[i] = scale_ * (forward[i] - backward[i]);
+    for (int i = 0; i < 3; ++i)
+      residuals[i] = scale_ * (forward[i] - backward[i]);
     return true;
   }
 
   // Caller owns the result.
   static ceres::CostFunction* Create(double scale) {
-    return new ceres::AutoDiffCostFunction<RotationAccelerationError, 3, 3, 3, 3>(
+    return new ceres::AutoDiffCostFunction<RotationAccelerationError, 3, 3, 3,
+                                           3>(
         new RotationAccelerationError(scale));
   }
 
@@ -148,7 +152,8 @@ class ShapeTemporalError final : public ceres::CostFunction,
 
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
-    using RowMajor3X = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>;
+    using RowMajor3X =
+        Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>;
     const int k = num_bases_;
     const Eigen::Map<const Eigen::VectorXd> weights(parameters[0], k);
     const Eigen::Map<const Eigen::VectorXd> previous(parameters[1], k);
@@ -168,20 +173,22 @@ class ShapeTemporalError final : public ceres::CostFunction,
       Eigen::Map<RowMajor3X> j(jacobians[2], 3, 3 * k);
       j.setZero();
       for (int b = 0; b < k; ++b) {
-        j.block<3, 3>(0, 3 * b).diagonal().setConstant(sqrt_weight_ * change[b]);
+        j.block<3, 3>(0, 3 * b).diagonal().setConstant(sqrt_weight_ *
+                                                       change[b]);
       }
     }
     return true;
   }
 
-  void AddJacobianProduct(double const* const* parameters, double const* const* x,
-                          double* y) const override {
+  void AddJacobianProduct(double const* const* parameters,
+                          double const* const* x, double* y) const override {
     const int k = num_bases_;
     const double s = sqrt_weight_;
     const double* basis = parameters[2];  // column b: basis[3b .. 3b + 2]
     double sum[3] = {0.0, 0.0, 0.0};
     for (int b = 0; b < k; ++b) {
-      const double dl = (x[0] != nullptr ? x[0][b] : 0.0) - (x[1] != nullptr ? x[1][b] : 0.0);
+      const double dl =
+          (x[0] != nullptr ? x[0][b] : 0.0) - (x[1] != nullptr ? x[1][b] : 0.0);
       const double change = parameters[0][b] - parameters[1][b];
       for (int j = 0; j < 3; ++j) {
         sum[j] += basis[3 * b + j] * dl;
@@ -213,7 +220,9 @@ class ShapeTemporalError final : public ceres::CostFunction,
       }
       return;
     }
-    const auto change = [parameters](int c) { return parameters[0][c] - parameters[1][c]; };
+    const auto change = [parameters](int c) {
+      return parameters[0][c] - parameters[1][c];
+    };
     if (a == 2 && b == 2) {
       for (int cj = 0; cj < k; ++cj) {
         for (int ci = 0; ci < k; ++ci) {
@@ -258,7 +267,8 @@ class ShapeTemporalError final : public ceres::CostFunction,
     }
   }
 
-  void AddJacobianTransposeProduct(double const* const* parameters, const double* y,
+  void AddJacobianTransposeProduct(double const* const* parameters,
+                                   const double* y,
                                    double* const* x) const override {
     const int k = num_bases_;
     const double s = sqrt_weight_;
@@ -266,8 +276,8 @@ class ShapeTemporalError final : public ceres::CostFunction,
     const double sy[3] = {s * y[0], s * y[1], s * y[2]};
     for (int b = 0; b < k; ++b) {
       if (x[0] != nullptr || x[1] != nullptr) {
-        const double dot =
-            basis[3 * b] * sy[0] + basis[3 * b + 1] * sy[1] + basis[3 * b + 2] * sy[2];
+        const double dot = basis[3 * b] * sy[0] + basis[3 * b + 1] * sy[1] +
+                           basis[3 * b + 2] * sy[2];
         if (x[0] != nullptr) x[0][b] += dot;
         if (x[1] != nullptr) x[1][b] -= dot;
       }

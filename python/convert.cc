@@ -1,9 +1,12 @@
 #include "python/convert.h"
 
+#include <glog/logging.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <Eigen/Core>
+#include <Eigen/LU>
 #include <atomic>
 #include <cmath>
 #include <filesystem>
@@ -16,10 +19,6 @@
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <Eigen/Core>
-#include <Eigen/LU>
-#include <glog/logging.h>
 
 #include "core/ground_truth.h"
 #include "core/mat_io.h"
@@ -86,8 +85,9 @@ std::string PathOf(py::handle object, const char* what) {
   PyObject* path = PyOS_FSPath(object.ptr());
   if (path == nullptr) {
     PyErr_Clear();
-    throw py::type_error(std::string(what) + " must be a path (str or os.PathLike), got " +
-                         std::string(py::str(py::type::of(object).attr("__name__"))));
+    throw py::type_error(
+        std::string(what) + " must be a path (str or os.PathLike), got " +
+        std::string(py::str(py::type::of(object).attr("__name__"))));
   }
   py::object owned = py::reinterpret_steal<py::object>(path);
   if (!py::isinstance<py::str>(owned)) {
@@ -103,8 +103,9 @@ bool IsPath(py::handle object) {
 // An integer argument: a Python int or numpy integer, not a bool.
 long long IntegerFromPython(py::handle value, const std::string& name) {
   if (py::isinstance<py::bool_>(value) || !PyIndex_Check(value.ptr())) {
-    throw py::type_error(name + " must be an int, got " +
-                         std::string(py::str(py::type::of(value).attr("__name__"))));
+    throw py::type_error(
+        name + " must be an int, got " +
+        std::string(py::str(py::type::of(value).attr("__name__"))));
   }
   py::int_ index = py::reinterpret_steal<py::int_>(PyNumber_Index(value.ptr()));
   int overflow = 0;
@@ -120,8 +121,8 @@ using Array = py::array_t<double, py::array::c_style>;
 
 // Any array-like as float64 (a copy when it is not already float64; any
 // order or strides). ValueError naming `name` when it cannot be.
-py::array_t<double, py::array::forcecast> AsDoubleArray(py::handle object,
-                                                         const std::string& name) {
+py::array_t<double, py::array::forcecast> AsDoubleArray(
+    py::handle object, const std::string& name) {
   if (object.is_none()) ThrowValueError(name + " is None");
   py::array_t<double, py::array::forcecast> array;
   try {
@@ -131,8 +132,9 @@ py::array_t<double, py::array::forcecast> AsDoubleArray(py::handle object,
   }
   if (!array) {
     PyErr_Clear();
-    ThrowValueError(name + " must be an array of numbers (convertible to float64), got " +
-                    std::string(py::str(py::type::of(object).attr("__name__"))));
+    ThrowValueError(
+        name + " must be an array of numbers (convertible to float64), got " +
+        std::string(py::str(py::type::of(object).attr("__name__"))));
   }
   return array;
 }
@@ -149,7 +151,8 @@ std::string ShapeString(const py::array& array) {
 Eigen::MatrixXd ToMatrix(py::handle object, const std::string& name) {
   const auto array = AsDoubleArray(object, name);
   if (array.ndim() != 2) {
-    ThrowValueError(name + " must be a 2-D array, got shape " + ShapeString(array));
+    ThrowValueError(name + " must be a 2-D array, got shape " +
+                    ShapeString(array));
   }
   const auto a = array.unchecked<2>();
   Eigen::MatrixXd m(a.shape(0), a.shape(1));
@@ -160,18 +163,21 @@ Eigen::MatrixXd ToMatrix(py::handle object, const std::string& name) {
 }
 
 // An array of exactly `shape`, or ValueError naming it.
-py::array_t<double, py::array::forcecast> WithShape(py::handle object, const std::string& name,
-                                                    const std::vector<py::ssize_t>& shape) {
+py::array_t<double, py::array::forcecast> WithShape(
+    py::handle object, const std::string& name,
+    const std::vector<py::ssize_t>& shape) {
   const auto array = AsDoubleArray(object, name);
   bool same = array.ndim() == static_cast<py::ssize_t>(shape.size());
-  for (std::size_t i = 0; same && i < shape.size(); ++i) same = array.shape(i) == shape[i];
+  for (std::size_t i = 0; same && i < shape.size(); ++i)
+    same = array.shape(i) == shape[i];
   if (!same) {
     std::string expected = "(";
     for (std::size_t i = 0; i < shape.size(); ++i) {
       expected += (i ? ", " : "") + std::to_string(shape[i]);
     }
     expected += shape.size() == 1 ? ",)" : ")";
-    ThrowValueError(name + " has shape " + ShapeString(array) + ", expected " + expected);
+    ThrowValueError(name + " has shape " + ShapeString(array) + ", expected " +
+                    expected);
   }
   return array;
 }
@@ -180,7 +186,8 @@ Array NewArray(const std::vector<py::ssize_t>& shape) { return Array(shape); }
 
 // Measurements from W (2FM × P) and an optional mask, named "W" and "mask"
 // in the messages.
-Measurements MeasurementsOf(py::handle w_object, py::handle mask_object, int cameras) {
+Measurements MeasurementsOf(py::handle w_object, py::handle mask_object,
+                            int cameras) {
   const Eigen::MatrixXd w = ToMatrix(w_object, "W");
   const Eigen::MatrixXd mask =
       mask_object.is_none() ? Eigen::MatrixXd() : ToMatrix(mask_object, "mask");
@@ -228,9 +235,10 @@ Reconstruction FromModel(const Model& model) {
             k = model.num_bases;
   Reconstruction r;
   Array rotations = NewArray({f, m, 3, 3}), translations = NewArray({f, m, 2}),
-        scales = NewArray({f, m}), weights = NewArray({f, k}), basis = NewArray({k, 3, p}),
-        rig_rotations = NewArray({m - 1, 3, 3}), rig_scales = NewArray({m - 1}),
-        points_camera = NewArray({f, m, 3, p}), points_object = NewArray({f, 3, p});
+        scales = NewArray({f, m}), weights = NewArray({f, k}),
+        basis = NewArray({k, 3, p}), rig_rotations = NewArray({m - 1, 3, 3}),
+        rig_scales = NewArray({m - 1}), points_camera = NewArray({f, m, 3, p}),
+        points_object = NewArray({f, 3, p});
   auto rot = rotations.mutable_unchecked<4>();
   auto tra = translations.mutable_unchecked<3>();
   auto sca = scales.mutable_unchecked<2>();
@@ -245,7 +253,8 @@ Reconstruction FromModel(const Model& model) {
         for (int j = 0; j < 3; ++j) rot(t, c, i, j) = r_tc(i, j);
         for (int q = 0; q < p; ++q) pc(t, c, i, q) = x(i, q);
       }
-      for (int i = 0; i < 2; ++i) tra(t, c, i) = model.translations(i, model.View(t, c));
+      for (int i = 0; i < 2; ++i)
+        tra(t, c, i) = model.translations(i, model.View(t, c));
       sca(t, c) = model.scales(model.View(t, c));
     }
     const Eigen::Matrix3Xd s = model.ShapeInObject(t);
@@ -297,14 +306,16 @@ Model ModelFromPython(py::handle object, const Measurements& m) {
   const int f = m.num_frames, cams = m.num_cameras, p = m.num_points;
   py::object weights_object = Field(object, "weights");
   if (weights_object.is_none()) {
-    ThrowValueError("model must have rotations, translations, weights and basis "
-                    "(attributes or keys)");
+    ThrowValueError(
+        "model must have rotations, translations, weights and basis "
+        "(attributes or keys)");
   }
   const auto weights_array = AsDoubleArray(weights_object, "model.weights");
-  if (weights_array.ndim() != 2 || weights_array.shape(0) != f || weights_array.shape(1) < 1) {
-    ThrowValueError("model.weights has shape " + ShapeString(weights_array) + ", expected (" +
-                    std::to_string(f) + ", K) for the F = " + std::to_string(f) +
-                    " frames of W");
+  if (weights_array.ndim() != 2 || weights_array.shape(0) != f ||
+      weights_array.shape(1) < 1) {
+    ThrowValueError("model.weights has shape " + ShapeString(weights_array) +
+                    ", expected (" + std::to_string(f) +
+                    ", K) for the F = " + std::to_string(f) + " frames of W");
   }
   const int k = static_cast<int>(weights_array.shape(1));
   Model model;
@@ -314,8 +325,10 @@ Model ModelFromPython(py::handle object, const Measurements& m) {
     if (value.is_none()) ThrowValueError(std::string("model has no ") + name);
     return value;
   };
-  const auto rotations = WithShape(required("rotations"), "model.rotations", {f, cams, 3, 3});
-  const auto translations = WithShape(required("translations"), "model.translations", {f, cams, 2});
+  const auto rotations =
+      WithShape(required("rotations"), "model.rotations", {f, cams, 3, 3});
+  const auto translations =
+      WithShape(required("translations"), "model.translations", {f, cams, 2});
   const auto basis = WithShape(required("basis"), "model.basis", {k, 3, p});
   auto rot = rotations.unchecked<4>();
   auto tra = translations.unchecked<3>();
@@ -328,15 +341,21 @@ Model ModelFromPython(py::handle object, const Measurements& m) {
       const std::string where = "model.rotations[" + std::to_string(t) + ", " +
                                 std::to_string(c) + "]";
       if (!r.allFinite()) {
-        ThrowValueError(where + " is not finite (a reconstruction that left frames out "
-                                "holds NaN there; refine needs a finite model)");
+        ThrowValueError(where +
+                        " is not finite (a reconstruction that left frames out "
+                        "holds NaN there; refine needs a finite model)");
       }
-      if ((r * r.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-6 ||
+      if ((r * r.transpose() - Eigen::Matrix3d::Identity())
+                  .cwiseAbs()
+                  .maxCoeff() > 1e-6 ||
           r.determinant() < 0.0) {
-        ThrowValueError(where + " is not a rotation matrix (R R^T = I and det R = +1 to 1e-6)");
+        ThrowValueError(
+            where +
+            " is not a rotation matrix (R R^T = I and det R = +1 to 1e-6)");
       }
       model.SetRotation(t, c, r);
-      for (int i = 0; i < 2; ++i) model.translations(i, model.View(t, c)) = tra(t, c, i);
+      for (int i = 0; i < 2; ++i)
+        model.translations(i, model.View(t, c)) = tra(t, c, i);
     }
   }
   auto wei = weights_array.unchecked<2>();
@@ -359,7 +378,8 @@ Model ModelFromPython(py::handle object, const Measurements& m) {
   }
   py::object rig_rotations = Field(object, "rig_rotations");
   if (!rig_rotations.is_none()) {
-    const auto r = WithShape(rig_rotations, "model.rig_rotations", {cams - 1, 3, 3});
+    const auto r =
+        WithShape(rig_rotations, "model.rig_rotations", {cams - 1, 3, 3});
     auto a = r.unchecked<3>();
     for (int c = 0; c + 1 < cams; ++c) {
       Eigen::Matrix3d m3;
@@ -367,7 +387,9 @@ Model ModelFromPython(py::handle object, const Measurements& m) {
         for (int j = 0; j < 3; ++j) m3(i, j) = a(c, i, j);
       }
       if (!m3.allFinite() ||
-          (m3 * m3.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > 1e-6 ||
+          (m3 * m3.transpose() - Eigen::Matrix3d::Identity())
+                  .cwiseAbs()
+                  .maxCoeff() > 1e-6 ||
           m3.determinant() < 0.0) {
         ThrowValueError("model.rig_rotations[" + std::to_string(c) +
                         "] is not a rotation matrix");

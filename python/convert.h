@@ -10,10 +10,9 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "core/measurements.h"
 #include "core/model.h"
@@ -51,8 +50,8 @@ using Array = py::array_t<double, py::array::c_style>;
 
 // Any array-like as float64 (a copy when it is not already float64; any
 // order or strides). ValueError naming `name` when it cannot be.
-py::array_t<double, py::array::forcecast> AsDoubleArray(py::handle object,
-                                                         const std::string& name);
+py::array_t<double, py::array::forcecast> AsDoubleArray(
+    py::handle object, const std::string& name);
 
 // "(2, 3)", "(4,)": an array's shape as Python prints it.
 std::string ShapeString(const py::array& array);
@@ -61,8 +60,9 @@ std::string ShapeString(const py::array& array);
 Eigen::MatrixXd ToMatrix(py::handle object, const std::string& name);
 
 // An array of exactly `shape`, or ValueError naming it.
-py::array_t<double, py::array::forcecast> WithShape(py::handle object, const std::string& name,
-                                                    const std::vector<py::ssize_t>& shape);
+py::array_t<double, py::array::forcecast> WithShape(
+    py::handle object, const std::string& name,
+    const std::vector<py::ssize_t>& shape);
 
 // A new C-contiguous float64 array of `shape`.
 Array NewArray(const std::vector<py::ssize_t>& shape);
@@ -70,7 +70,8 @@ Array NewArray(const std::vector<py::ssize_t>& shape);
 // Measurements from W (2FM, P; NaN = missing) and an optional mask (None,
 // (FM, P) or (2FM, P), nonzero = visible); ValueError with the tool's
 // message (tools::MeasurementsFromArrays).
-Measurements MeasurementsOf(py::handle w_object, py::handle mask_object, int cameras);
+Measurements MeasurementsOf(py::handle w_object, py::handle mask_object,
+                            int cameras);
 
 // W (2FM, P) with NaN at the missing entries.
 py::array WArray(const Measurements& m);
@@ -85,7 +86,8 @@ py::array MaskArray(const Measurements& m);
 // A reconstruction (or a model given to refine, or a synthetic truth): the
 // model's blocks as arrays, the shapes they give, and what the solve said.
 struct Reconstruction {
-  py::object rotations, translations, scales, weights, basis, rig_rotations, rig_scales;
+  py::object rotations, translations, scales, weights, basis, rig_rotations,
+      rig_scales;
   py::object points_camera, points_object;
   py::dict summary;
   py::list dropped_points, dropped_frames;

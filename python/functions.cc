@@ -1,9 +1,12 @@
 #include "python/functions.h"
 
+#include <glog/logging.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <Eigen/Core>
+#include <Eigen/LU>
 #include <atomic>
 #include <cmath>
 #include <filesystem>
@@ -17,10 +20,6 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Core>
-#include <Eigen/LU>
-#include <glog/logging.h>
-
 #include "core/ground_truth.h"
 #include "core/mat_io.h"
 #include "core/metrics.h"
@@ -29,14 +28,13 @@
 #include "core/result_writer.h"
 #include "core/rotation.h"
 #include "problems/extra_terms.h"
+#include "python/convert.h"
+#include "python/keywords.h"
 #include "solvers/refine.h"
 #include "tools/command_flags.h"
 #include "tools/flag_table.h"
 #include "tools/reconstruction_steps.h"
 #include "tools/synth_steps.h"
-
-#include "python/convert.h"
-#include "python/keywords.h"
 
 namespace py = pybind11;
 
@@ -56,12 +54,15 @@ class Interruptible {
  public:
   explicit Interruptible(py::object progress) : progress_(std::move(progress)) {
     if (!progress_.is_none() && !PyCallable_Check(progress_.ptr())) {
-      throw py::type_error("progress must be callable (iteration, cost, seconds) or None");
+      throw py::type_error(
+          "progress must be callable (iteration, cost, seconds) or None");
     }
   }
 
   void Configure(SolverOptions* solver) {
-    solver->progress = [this](const IterationReport& report) { OnIteration(report); };
+    solver->progress = [this](const IterationReport& report) {
+      OnIteration(report);
+    };
     solver->stop_requested = [this] { return stop_.load(); };
   }
 
@@ -85,7 +86,8 @@ class Interruptible {
     if (stop_) return;
     py::gil_scoped_acquire acquire;
     try {
-      if (!progress_.is_none()) progress_(report.iteration, report.cost, report.seconds);
+      if (!progress_.is_none())
+        progress_(report.iteration, report.cost, report.seconds);
       if (PyErr_CheckSignals() != 0) throw py::error_already_set();
     } catch (py::error_already_set& e) {
       error_.emplace(std::move(e));
@@ -101,11 +103,12 @@ class Interruptible {
 py::object NrsfmWarning() {
   static py::object* type = nullptr;
   if (type == nullptr) {
-    type = new py::object(py::reinterpret_steal<py::object>(
-        PyErr_NewExceptionWithDoc("nrsfm.NrsfmWarning",
-                                  "Warnings of nrsfm about a result: points or frames left "
-                                  "out, little rotation, an unusable refinement.",
-                                  PyExc_UserWarning, nullptr)));
+    type = new py::object(
+        py::reinterpret_steal<py::object>(PyErr_NewExceptionWithDoc(
+            "nrsfm.NrsfmWarning",
+            "Warnings of nrsfm about a result: points or frames left "
+            "out, little rotation, an unusable refinement.",
+            PyExc_UserWarning, nullptr)));
   }
   return *type;
 }
@@ -120,7 +123,8 @@ void Warn(const std::vector<std::string>& warnings) {
 
 // ValueError(message) with .result = `result`: an unusable refinement.
 [[noreturn]] void ThrowUnusable(const std::string& message, py::object result) {
-  py::object error = py::module_::import("builtins").attr("ValueError")(message);
+  py::object error =
+      py::module_::import("builtins").attr("ValueError")(message);
   error.attr("result") = result;
   PyErr_SetObject(PyExc_ValueError, error.ptr());
   throw py::error_already_set();
@@ -133,8 +137,9 @@ py::dict JsonToDict(const std::string& text) {
 // ---------------------------------------------------------------------------
 // The functions.
 
-Reconstruction Reconstruct(py::handle w, py::handle k, py::handle mask, int cameras,
-                           py::object progress, py::handle observation_weights,
+Reconstruction Reconstruct(py::handle w, py::handle k, py::handle mask,
+                           int cameras, py::object progress,
+                           py::handle observation_weights,
                            const py::kwargs& kwargs) {
   CommandFlags flags;
   ApplyKeywords(ReconstructOptionsOf(), "reconstruct", kwargs, &flags);
@@ -147,18 +152,22 @@ Reconstruction Reconstruct(py::handle w, py::handle k, py::handle mask, int came
   tools::FlagTargets targets;
   Check(tools::ApplyFlags(flags, &targets));
   const Measurements measurements = MeasurementsOf(w, mask, cameras);
-  Check(tools::ArrayReconstructOptions(measurements, ObservationWeightsOf(observation_weights),
-                                       &flags, &targets));
+  Check(tools::ArrayReconstructOptions(
+      measurements, ObservationWeightsOf(observation_weights), &flags,
+      &targets));
 
   Interruptible interruptible(std::move(progress));
   interruptible.Configure(&targets.reconstruct.solver);
   tools::ReconstructionRun run;
-  Check(interruptible.Run(
-      [&] { return tools::RunReconstruction(targets, measurements, "", &run); }));
+  Check(interruptible.Run([&] {
+    return tools::RunReconstruction(targets, measurements, "", &run);
+  }));
 
-  const ReconstructionReport report = tools::MakeReport(flags, "", run, nullptr);
+  const ReconstructionReport report =
+      tools::MakeReport(flags, "", run, nullptr);
   Reconstruction result = FromModel(run.result.model);
-  result.summary = JsonToDict(ReconstructionJson(measurements, run.result.model, report));
+  result.summary =
+      JsonToDict(ReconstructionJson(measurements, run.result.model, report));
   if (run.auto_k) {
     py::list curve;
     for (const NumBasesCandidate& c : run.selection.curve) {
@@ -189,8 +198,9 @@ Reconstruction Reconstruct(py::handle w, py::handle k, py::handle mask, int came
   return result;
 }
 
-Reconstruction Refine(py::handle w, py::handle model_object, py::handle mask, int cameras,
-                      py::object progress, py::handle observation_weights,
+Reconstruction Refine(py::handle w, py::handle model_object, py::handle mask,
+                      int cameras, py::object progress,
+                      py::handle observation_weights,
                       const py::kwargs& kwargs) {
   CommandFlags flags;
   ApplyKeywords(RefineOptionsOf(), "refine", kwargs, &flags);
@@ -199,15 +209,17 @@ Reconstruction Refine(py::handle w, py::handle model_object, py::handle mask, in
   Check(tools::ApplyFlags(flags, &targets));
   ReconstructOptions& options = targets.reconstruct;
   const Measurements measurements = MeasurementsOf(w, mask, cameras);
-  Check(tools::ArrayReconstructOptions(measurements, ObservationWeightsOf(observation_weights),
-                                       &flags, &targets));
+  Check(tools::ArrayReconstructOptions(
+      measurements, ObservationWeightsOf(observation_weights), &flags,
+      &targets));
   Model model = ModelFromPython(model_object, measurements);
 
   Interruptible interruptible(std::move(progress));
   interruptible.Configure(&options.solver);
   RefineSummary summary;
   Check(interruptible.Run([&] {
-    return nrsfm::Refine(options.problem, options.solver, measurements, &model, &summary);
+    return nrsfm::Refine(options.problem, options.solver, measurements, &model,
+                         &summary);
   }));
   Reconstruction result = FromModel(model);
   py::dict s;
@@ -224,22 +236,24 @@ Reconstruction Refine(py::handle w, py::handle model_object, py::handle mask, in
   s["linear_solver"] = summary.linear_solver;
   s["seconds"] = summary.seconds;
   py::dict weights;
-  for (const auto& [name, weight] : options.problem.term_weights) weights[py::str(name)] = weight;
+  for (const auto& [name, weight] : options.problem.term_weights)
+    weights[py::str(name)] = weight;
   s["term_weights"] = weights;
   py::dict used;
   const CommandFlags& f = flags;
-  for (const Flag* flag : RefineOptionsOf().flags) used[py::str(flag->name())] = flag->get(f);
+  for (const Flag* flag : RefineOptionsOf().flags)
+    used[py::str(flag->name())] = flag->get(f);
   s["options"] = used;
   s["observation_weights"] = options.problem.observation_weights.size() > 0;
   result.summary = s;
   if (!summary.usable) {
-    ThrowUnusable("the refinement did not give a usable solution (" + summary.message +
-                      "); the exception's .result holds the model given, unchanged",
-                  py::cast(result));
+    ThrowUnusable(
+        "the refinement did not give a usable solution (" + summary.message +
+            "); the exception's .result holds the model given, unchanged",
+        py::cast(result));
   }
   return result;
 }
-
 
 Tracks TracksOf(const Measurements& m) {
   Tracks tracks;
@@ -262,13 +276,16 @@ Tracks Read(py::handle path_object, const py::kwargs& kwargs) {
   InputDetails details;
   const Status status = ReadMeasurements(path, input, &m, &details);
   // A folder is an input (OpenPose's) unless a file's format is asked for.
-  const std::string extension = std::filesystem::path(path).extension().string();
-  const bool folder_input = input.format == InputFormat::kOpenPose ||
-                            (input.format == InputFormat::kAuto && extension != ".mat");
+  const std::string extension =
+      std::filesystem::path(path).extension().string();
+  const bool folder_input =
+      input.format == InputFormat::kOpenPose ||
+      (input.format == InputFormat::kAuto && extension != ".mat");
   if (!status.ok()) ThrowFileError(path, status, folder_input);
   Tracks tracks = TracksOf(m);
   if (details.confidence.size() > 0) {
-    Array confidence = NewArray({details.confidence.rows(), details.confidence.cols()});
+    Array confidence =
+        NewArray({details.confidence.rows(), details.confidence.cols()});
     auto a = confidence.mutable_unchecked<2>();
     for (Eigen::Index i = 0; i < details.confidence.rows(); ++i) {
       for (Eigen::Index j = 0; j < details.confidence.cols(); ++j) {
@@ -299,8 +316,9 @@ Tracks Synth(const py::kwargs& kwargs) {
     // Its truth is an object frame with rotations (S + Rs), read back from
     // the file by evaluate(), so the file is needed.
     if (flags.output.empty()) {
-      ThrowValueError("synth: dataset 'reproject' needs output= (a .mat path): its truth "
-                      "(S and Rs) is scored from that file");
+      ThrowValueError(
+          "synth: dataset 'reproject' needs output= (a .mat path): its truth "
+          "(S and Rs) is scored from that file");
     }
     ReprojectedSequence reprojected;
     std::vector<MatVariable> variables;
@@ -313,7 +331,8 @@ Tracks Synth(const py::kwargs& kwargs) {
   }
   SyntheticSequence sequence;
   Check(tools::Synthesize(flags, &sequence));
-  const std::vector<MatVariable> variables = tools::SyntheticVariables(sequence);
+  const std::vector<MatVariable> variables =
+      tools::SyntheticVariables(sequence);
   if (!flags.output.empty()) {
     const Status status = WriteMat(flags.output, MatVersion::kV5, variables);
     if (!status.ok()) ThrowFileError(flags.output, status);
@@ -327,7 +346,8 @@ Tracks Synth(const py::kwargs& kwargs) {
     Array p3 = NewArray({variable.value.rows(), variable.value.cols()});
     auto a = p3.mutable_unchecked<2>();
     for (Eigen::Index i = 0; i < variable.value.rows(); ++i) {
-      for (Eigen::Index j = 0; j < variable.value.cols(); ++j) a(i, j) = variable.value(i, j);
+      for (Eigen::Index j = 0; j < variable.value.cols(); ++j)
+        a(i, j) = variable.value(i, j);
     }
     tracks.P3_gt = p3;
   }
@@ -335,10 +355,12 @@ Tracks Synth(const py::kwargs& kwargs) {
 }
 
 // Shapes (F, 3, P) as a camera-frame GroundTruth.
-std::vector<Eigen::Matrix3Xd> ShapesOf(py::handle object, const std::string& name) {
+std::vector<Eigen::Matrix3Xd> ShapesOf(py::handle object,
+                                       const std::string& name) {
   const auto array = AsDoubleArray(object, name);
   if (array.ndim() != 3 || array.shape(1) != 3) {
-    ThrowValueError(name + " has shape " + ShapeString(array) + ", expected (F, 3, P)");
+    ThrowValueError(name + " has shape " + ShapeString(array) +
+                    ", expected (F, 3, P)");
   }
   const auto a = array.unchecked<3>();
   std::vector<Eigen::Matrix3Xd> shapes;
@@ -353,19 +375,23 @@ std::vector<Eigen::Matrix3Xd> ShapesOf(py::handle object, const std::string& nam
 }
 
 // Camera 0 of points_camera (F, M, 3, P).
-std::vector<Eigen::Matrix3Xd> CameraZeroOf(py::handle object, const std::string& name) {
+std::vector<Eigen::Matrix3Xd> CameraZeroOf(py::handle object,
+                                           const std::string& name) {
   const auto array = AsDoubleArray(object, name);
   if (array.ndim() != 4 || array.shape(1) < 1 || array.shape(2) != 3) {
-    ThrowValueError(name + " has shape " + ShapeString(array) + ", expected (F, M, 3, P)");
+    ThrowValueError(name + " has shape " + ShapeString(array) +
+                    ", expected (F, M, 3, P)");
   }
-  py::object first = array[py::make_tuple(py::slice(py::none(), py::none(), py::none()), 0)];
+  py::object first =
+      array[py::make_tuple(py::slice(py::none(), py::none(), py::none()), 0)];
   return ShapesOf(first, name + "[:, 0]");
 }
 
 // The truth or the estimate of evaluate: a path (as --truth / --result), an
 // array (F, 3, P) of camera-frame shapes, or an object with points_camera
 // (and, for the estimate, points_object and rotations: its object frame).
-GroundTruth ShapesForEvaluation(py::handle object, bool is_truth, const std::string& variable) {
+GroundTruth ShapesForEvaluation(py::handle object, bool is_truth,
+                                const std::string& variable) {
   GroundTruth shapes;
   if (IsPath(object)) {
     const std::string path = PathOf(object, is_truth ? "truth" : "result");
@@ -385,23 +411,31 @@ GroundTruth ShapesForEvaluation(py::handle object, bool is_truth, const std::str
   // The Tracks of synth carry their truth.
   if (is_truth && py::isinstance<Tracks>(object)) {
     py::object truth = object.cast<const Tracks&>().truth;
-    if (truth.is_none()) ThrowValueError("truth: these Tracks have no truth (only synth's do)");
+    if (truth.is_none())
+      ThrowValueError("truth: these Tracks have no truth (only synth's do)");
     return ShapesForEvaluation(truth, is_truth, variable);
   }
-  if (py::hasattr(object, "points_camera") || py::isinstance<py::dict>(object)) {
+  if (py::hasattr(object, "points_camera") ||
+      py::isinstance<py::dict>(object)) {
     py::object points_camera = Field(object, "points_camera");
-    if (points_camera.is_none()) ThrowValueError(name + " has no points_camera");
-    shapes.points_in_camera = CameraZeroOf(points_camera, name + ".points_camera");
+    if (points_camera.is_none())
+      ThrowValueError(name + " has no points_camera");
+    shapes.points_in_camera =
+        CameraZeroOf(points_camera, name + ".points_camera");
     shapes.source = "points_camera";
     py::object points_object = Field(object, "points_object");
     py::object rotations = Field(object, "rotations");
     if (!is_truth && !points_object.is_none() && !rotations.is_none()) {
-      shapes.points_in_object = ShapesOf(points_object, name + ".points_object");
+      shapes.points_in_object =
+          ShapesOf(points_object, name + ".points_object");
       const auto r = AsDoubleArray(rotations, name + ".rotations");
-      if (r.ndim() != 4 || r.shape(0) != static_cast<py::ssize_t>(shapes.points_in_camera.size()) ||
+      if (r.ndim() != 4 ||
+          r.shape(0) !=
+              static_cast<py::ssize_t>(shapes.points_in_camera.size()) ||
           r.shape(1) < 1 || r.shape(2) != 3 || r.shape(3) != 3) {
-        ThrowValueError(name + ".rotations has shape " + ShapeString(r) + ", expected (" +
-                        std::to_string(shapes.points_in_camera.size()) + ", M, 3, 3)");
+        ThrowValueError(
+            name + ".rotations has shape " + ShapeString(r) + ", expected (" +
+            std::to_string(shapes.points_in_camera.size()) + ", M, 3, 3)");
       }
       auto a = r.unchecked<4>();
       for (py::ssize_t t = 0; t < a.shape(0); ++t) {
@@ -420,17 +454,20 @@ GroundTruth ShapesForEvaluation(py::handle object, bool is_truth, const std::str
   return shapes;
 }
 
-py::dict Evaluate(py::handle truth_object, py::handle result_object, const py::kwargs& kwargs) {
+py::dict Evaluate(py::handle truth_object, py::handle result_object,
+                  const py::kwargs& kwargs) {
   CommandFlags flags;
   ApplyKeywords(EvaluateOptionsOf(), "evaluate", kwargs, &flags);
-  const GroundTruth truth = ShapesForEvaluation(truth_object, true, flags.truth_var);
+  const GroundTruth truth =
+      ShapesForEvaluation(truth_object, true, flags.truth_var);
   const GroundTruth estimate = ShapesForEvaluation(result_object, false, "");
   ShapeErrors errors;
   Check(EvaluateShapes(truth, estimate, &errors));
   // The rank-K floor beside an object-frame e3D, K from a result's weights.
   int num_bases = 0;
   double floor = -1.0;
-  if (errors.e3d_frame == EvaluationFrame::kObject && py::hasattr(result_object, "weights")) {
+  if (errors.e3d_frame == EvaluationFrame::kObject &&
+      py::hasattr(result_object, "weights")) {
     const py::array weights = py::array::ensure(result_object.attr("weights"));
     if (weights && weights.ndim() == 2 && weights.shape(1) >= 1) {
       num_bases = static_cast<int>(weights.shape(1));

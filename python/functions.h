@@ -26,21 +26,24 @@ struct Tracks {
   // (FM, P), NaN in frames with no person; else None.
   py::object confidence = py::none();
   py::object truth = py::none();  // synth: a Reconstruction of the truth
-  py::object P3_gt = py::none();  // synth: camera 0's truth, (3F, P) block layout
+  py::object P3_gt =
+      py::none();  // synth: camera 0's truth, (3F, P) block layout
 };
 
 // nrsfm.NrsfmWarning, the category of the warnings about a result.
 py::object NrsfmWarning();
 
-Reconstruction Reconstruct(py::handle w, py::handle k, py::handle mask, int cameras,
-                           py::object progress, py::handle observation_weights,
+Reconstruction Reconstruct(py::handle w, py::handle k, py::handle mask,
+                           int cameras, py::object progress,
+                           py::handle observation_weights,
                            const py::kwargs& kwargs);
-Reconstruction Refine(py::handle w, py::handle model_object, py::handle mask, int cameras,
-                      py::object progress, py::handle observation_weights,
-                      const py::kwargs& kwargs);
+Reconstruction Refine(py::handle w, py::handle model_object, py::handle mask,
+                      int cameras, py::object progress,
+                      py::handle observation_weights, const py::kwargs& kwargs);
 Tracks Read(py::handle path_object, const py::kwargs& kwargs);
 Tracks Synth(const py::kwargs& kwargs);
-py::dict Evaluate(py::handle truth_object, py::handle result_object, const py::kwargs& kwargs);
+py::dict Evaluate(py::handle truth_object, py::handle result_object,
+                  const py::kwargs& kwargs);
 
 }  // namespace python
 }  // namespace nrsfm

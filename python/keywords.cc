@@ -1,9 +1,12 @@
 #include "python/keywords.h"
 
+#include <glog/logging.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <Eigen/Core>
+#include <Eigen/LU>
 #include <atomic>
 #include <cmath>
 #include <filesystem>
@@ -17,10 +20,6 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Core>
-#include <Eigen/LU>
-#include <glog/logging.h>
-
 #include "core/ground_truth.h"
 #include "core/mat_io.h"
 #include "core/metrics.h"
@@ -29,13 +28,12 @@
 #include "core/result_writer.h"
 #include "core/rotation.h"
 #include "problems/extra_terms.h"
+#include "python/convert.h"
 #include "solvers/refine.h"
 #include "tools/command_flags.h"
 #include "tools/flag_table.h"
 #include "tools/reconstruction_steps.h"
 #include "tools/synth_steps.h"
-
-#include "python/convert.h"
 
 namespace py = pybind11;
 
@@ -53,16 +51,18 @@ struct FlagType;
 template <>
 struct FlagType<std::string> {
   static constexpr const char* kName = "str";
-  static py::object ToPython(const std::string& value) { return py::str(value); }
+  static py::object ToPython(const std::string& value) {
+    return py::str(value);
+  }
   static std::string FromPython(py::handle value, const std::string& name) {
     if (!py::isinstance<py::str>(value)) {
-      throw py::type_error(name + " must be a str, got " +
-                           std::string(py::str(py::type::of(value).attr("__name__"))));
+      throw py::type_error(
+          name + " must be a str, got " +
+          std::string(py::str(py::type::of(value).attr("__name__"))));
     }
     return value.cast<std::string>();
   }
 };
-
 
 template <>
 struct FlagType<int> {
@@ -71,7 +71,8 @@ struct FlagType<int> {
   static int FromPython(py::handle value, const std::string& name) {
     const long long v = IntegerFromPython(value, name);
     if (v < -1000000000LL || v > 1000000000LL) {
-      throw py::value_error(name + " is out of range, got " + std::to_string(v));
+      throw py::value_error(name + " is out of range, got " +
+                            std::to_string(v));
     }
     return static_cast<int>(v);
   }
@@ -83,10 +84,12 @@ struct FlagType<std::uint64_t> {
   static py::object ToPython(std::uint64_t value) { return py::int_(value); }
   static std::uint64_t FromPython(py::handle value, const std::string& name) {
     if (py::isinstance<py::bool_>(value) || !PyIndex_Check(value.ptr())) {
-      throw py::type_error(name + " must be an int, got " +
-                           std::string(py::str(py::type::of(value).attr("__name__"))));
+      throw py::type_error(
+          name + " must be an int, got " +
+          std::string(py::str(py::type::of(value).attr("__name__"))));
     }
-    py::int_ index = py::reinterpret_steal<py::int_>(PyNumber_Index(value.ptr()));
+    py::int_ index =
+        py::reinterpret_steal<py::int_>(PyNumber_Index(value.ptr()));
     const unsigned long long v = PyLong_AsUnsignedLongLong(index.ptr());
     if (PyErr_Occurred()) {
       PyErr_Clear();
@@ -104,8 +107,9 @@ struct FlagType<double> {
     if (py::isinstance<py::bool_>(value) ||
         !(PyFloat_Check(value.ptr()) || PyIndex_Check(value.ptr()) ||
           py::hasattr(value, "__float__"))) {
-      throw py::type_error(name + " must be a float, got " +
-                           std::string(py::str(py::type::of(value).attr("__name__"))));
+      throw py::type_error(
+          name + " must be a float, got " +
+          std::string(py::str(py::type::of(value).attr("__name__"))));
     }
     const double v = PyFloat_AsDouble(value.ptr());
     if (PyErr_Occurred()) throw py::error_already_set();
@@ -119,13 +123,13 @@ struct FlagType<bool> {
   static py::object ToPython(bool value) { return py::bool_(value); }
   static bool FromPython(py::handle value, const std::string& name) {
     if (!py::isinstance<py::bool_>(value)) {
-      throw py::type_error(name + " must be a bool, got " +
-                           std::string(py::str(py::type::of(value).attr("__name__"))));
+      throw py::type_error(
+          name + " must be a bool, got " +
+          std::string(py::str(py::type::of(value).attr("__name__"))));
     }
     return value.cast<bool>();
   }
 };
-
 
 // Every flag of the tool (tools::CommandFlagTable(), in its order: the
 // flags of NRSFM_COMMAND_FLAGS, then one per extra term).
@@ -133,11 +137,13 @@ const std::vector<Flag>& Flags() {
   static const std::vector<Flag> flags = [] {
     const std::vector<tools::FlagInfo>& table = tools::CommandFlagTable();
     std::vector<Flag> list;
-#define NRSFM_PYTHON_FLAG(type, flag_name, value, role, bind, help)                          \
-  list.push_back({&table[list.size()], FlagType<type>::kName,                                 \
-                  [](const CommandFlags& f) { return FlagType<type>::ToPython(f.flag_name); }, \
-                  [](CommandFlags* f, py::handle v) {                                         \
-                    f->flag_name = FlagType<type>::FromPython(v, #flag_name);                 \
+#define NRSFM_PYTHON_FLAG(type, flag_name, value, role, bind, help)           \
+  list.push_back({&table[list.size()], FlagType<type>::kName,                 \
+                  [](const CommandFlags& f) {                                 \
+                    return FlagType<type>::ToPython(f.flag_name);             \
+                  },                                                          \
+                  [](CommandFlags* f, py::handle v) {                         \
+                    f->flag_name = FlagType<type>::FromPython(v, #flag_name); \
                   }});
     NRSFM_COMMAND_FLAGS(NRSFM_PYTHON_FLAG)
 #undef NRSFM_PYTHON_FLAG
@@ -148,22 +154,25 @@ const std::vector<Flag>& Flags() {
                         return py::object(py::float_(f.term_weights[i]));
                       },
                       [i, name = info->name](CommandFlags* f, py::handle v) {
-                        f->term_weights[i] = FlagType<double>::FromPython(v, name);
+                        f->term_weights[i] =
+                            FlagType<double>::FromPython(v, name);
                       }});
     }
-    for (const Flag& flag : list) CHECK_EQ(flag.type, flag.info->type) << flag.name();
+    for (const Flag& flag : list)
+      CHECK_EQ(flag.type, flag.info->type) << flag.name();
     return list;
   }();
   return flags;
 }
 
-
-FunctionOptions MakeOptions(tools::Command command, std::set<tools::FlagRole> roles,
+FunctionOptions MakeOptions(tools::Command command,
+                            std::set<tools::FlagRole> roles,
                             std::set<std::string> left_out = {}) {
   FunctionOptions options;
   options.command = command;
   for (const Flag& flag : Flags()) {
-    if (!flag.info->Serves(command) || roles.count(flag.info->role) == 0) continue;
+    if (!flag.info->Serves(command) || roles.count(flag.info->role) == 0)
+      continue;
     if (left_out.count(flag.name()) > 0) continue;
     options.flags.push_back(&flag);
   }
@@ -183,21 +192,24 @@ const FunctionOptions& ReconstructOptionsOf() {
 
 // refine: the options of the problem and the solver.
 const FunctionOptions& RefineOptionsOf() {
-  static const FunctionOptions options = MakeOptions(tools::kReconstruct, {Role::kOption});
+  static const FunctionOptions options =
+      MakeOptions(tools::kReconstruct, {Role::kOption});
   return options;
 }
 
 // read(path, **options): how reconstruct and view read their input.
 const FunctionOptions& ReadOptionsOf() {
-  static const FunctionOptions options = MakeOptions(tools::kReconstruct, {Role::kInput});
+  static const FunctionOptions options =
+      MakeOptions(tools::kReconstruct, {Role::kInput});
   return options;
 }
 
 // synth(**options): every synth flag; output optional (writes the .mat).
 const FunctionOptions& SynthOptionsOf() {
   static const FunctionOptions options =
-      MakeOptions(tools::kSynth, {Role::kInput, Role::kWeights, Role::kNumBases, Role::kStart,
-                                  Role::kOption, Role::kSynthesis, Role::kTool});
+      MakeOptions(tools::kSynth,
+                  {Role::kInput, Role::kWeights, Role::kNumBases, Role::kStart,
+                   Role::kOption, Role::kSynthesis, Role::kTool});
   return options;
 }
 
@@ -222,8 +234,9 @@ void ApplyKeywords(const FunctionOptions& options, const char* function,
       if (candidate->name() == name) flag = candidate;
     }
     if (flag == nullptr) {
-      throw py::type_error(std::string(function) + "() got an unexpected keyword argument '" +
-                           name + "'");
+      throw py::type_error(std::string(function) +
+                           "() got an unexpected keyword argument '" + name +
+                           "'");
     }
     flag->set(flags, value);
   }
@@ -241,7 +254,8 @@ std::string KeywordDoc(const FunctionOptions& options) {
       continue;
     }
     doc << "    " << flag->name() << ": " << flag->type << " = "
-        << std::string(py::repr(flag->get(defaults))) << "\n        " << help << "\n";
+        << std::string(py::repr(flag->get(defaults))) << "\n        " << help
+        << "\n";
   }
   return doc.str();
 }

@@ -1,9 +1,9 @@
 #include "solvers/alternation.h"
 
+#include <glog/logging.h>
+
 #include <cmath>
 #include <string>
-
-#include <glog/logging.h>
 
 #include "core/metrics.h"
 #include "core/option_checker.h"
@@ -67,8 +67,8 @@ Status CheckAlternationInput(const Measurements& centered, int num_bases,
   const int p = centered.num_points;
   if (num_bases < 1 || 2 * f < 3 || p < 4) {
     return Status::Error("needs K >= 1, 2F >= 3 and P >= 4; got K = " +
-                         std::to_string(num_bases) + ", F = " + std::to_string(f) +
-                         ", P = " + std::to_string(p));
+                         std::to_string(num_bases) + ", F = " +
+                         std::to_string(f) + ", P = " + std::to_string(p));
   }
   return Status::OK();
 }
@@ -99,7 +99,8 @@ void AlternateFromRigid(const Measurements& centered, int num_bases,
     model->SetRotation(t, 0, rotations[t]);
     model->weights(0, t) = scales[t];
     for (int b = 1; b < k; ++b) {
-      model->weights(b, t) = options.initial_deformation * random.NormalUnpaired();
+      model->weights(b, t) =
+          options.initial_deformation * random.NormalUnpaired();
     }
   }
   model->SetBasisShape(0, rigid_shape);
@@ -122,7 +123,8 @@ void AlternateFromRigid(const Measurements& centered, int num_bases,
     if (!(previous - cost > kStopRelativeDecrease * previous)) break;
   }
   VLOG(1) << "alternation: K = " << k << ", rigid RMS " << summary->rigid_rms
-          << ", after " << rounds << " rounds " << std::sqrt(cost / centered.NumVisible());
+          << ", after " << rounds << " rounds "
+          << std::sqrt(cost / centered.NumVisible());
 }
 
 }  // namespace nrsfm

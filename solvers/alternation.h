@@ -22,15 +22,14 @@
 //      1e-10 (relative).
 // Every step is an exact minimiser or a step kept only when it helps, so the
 // cost never increases: the returned model's RMS is at most rigid_rms (up to
-// the 1e-12 relative damping of the linear solves). δT_t corrects the centring of frames with
-// missing entries; it stays 0 for a frame that sees every point.
+// the 1e-12 relative damping of the linear solves). δT_t corrects the centring
+// of frames with missing entries; it stays 0 for a frame that sees every point.
 #ifndef NRSFM_SOLVERS_ALTERNATION_H_
 #define NRSFM_SOLVERS_ALTERNATION_H_
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "core/measurements.h"
 #include "core/model.h"
@@ -39,14 +38,16 @@
 namespace nrsfm {
 
 struct AlternationOptions {
-  int rounds = 20;                    // rounds of step 2, ≥ 0 (0 = the model of step 1)
-  double initial_deformation = 0.01;  // std of the random initial l_tk, k ≥ 2, finite, ≥ 0
+  int rounds = 20;  // rounds of step 2, ≥ 0 (0 = the model of step 1)
+  double initial_deformation =
+      0.01;  // std of the random initial l_tk, k ≥ 2, finite, ≥ 0
 
   Status Check() const;
 };
 
 struct AlternationSummary {
-  double rigid_rms = 0.0;  // RMS over visible entries of the step-1 model, input units
+  double rigid_rms =
+      0.0;  // RMS over visible entries of the step-1 model, input units
 };
 
 // What every start built on the alternation needs: one camera (CHECKed),

@@ -17,8 +17,8 @@ constexpr int kGroupGrain = 8;
 // m × wa and m × wb row-major blocks A, B (row strides stride_a, stride_b),
 // as plain loops: Eigen's general kernels cost more in dispatch than in
 // arithmetic at these sizes (m is 2 or 3 here).
-inline void AddAtB(const double* a, int m, int wa, int stride_a, const double* b, int wb,
-                   int stride_b, double* out, int ld) {
+inline void AddAtB(const double* a, int m, int wa, int stride_a,
+                   const double* b, int wb, int stride_b, double* out, int ld) {
   for (int r = 0; r < m; ++r) {
     const double* ar = a + r * stride_a;
     const double* br = b + r * stride_b;
@@ -33,7 +33,8 @@ inline void AddAtB(const double* a, int m, int wa, int stride_a, const double* b
 }  // namespace
 
 BandPreconditioner::BandPreconditioner(const StructuredBlocks& blocks,
-                                       const StructuredJacobian& jacobian, int num_threads)
+                                       const StructuredJacobian& jacobian,
+                                       int num_threads)
     : blocks_(blocks), jacobian_(jacobian), num_threads_(num_threads) {}
 
 void BandPreconditioner::Build(double mu, const Eigen::VectorXd& d_reduced) {
@@ -47,7 +48,8 @@ void BandPreconditioner::Build(double mu, const Eigen::VectorXd& d_reduced) {
   ParallelFor(num_groups, num_threads_, kGroupGrain, [&](int begin, int end) {
     for (int g = begin; g < end; ++g) {
       for (int d = 0; d <= band && g - d >= 0; ++d) {
-        band_[g][d] = Eigen::MatrixXd::Zero(blocks_.GroupSize(g), blocks_.GroupSize(g - d));
+        band_[g][d] = Eigen::MatrixXd::Zero(blocks_.GroupSize(g),
+                                            blocks_.GroupSize(g - d));
       }
       for (const Ref& ref : blocks_.group_refs[g]) {
         const Residual& r = blocks_.residuals[ref.residual];
@@ -60,18 +62,21 @@ void BandPreconditioner::Build(double mu, const Eigen::VectorXd& d_reduced) {
         const int row_a = a.col - group_offset[g];
         for (const Segment& b : r.reduced) {
           if (b.group < 0) {
-            AddAtB(j + a.jcol, r.m, a.width, r.width, j + b.jcol, b.width, r.width,
-                   &border_(a.col, b.col - num_group_columns), border_.rows());
+            AddAtB(j + a.jcol, r.m, a.width, r.width, j + b.jcol, b.width,
+                   r.width, &border_(a.col, b.col - num_group_columns),
+                   border_.rows());
             continue;
           }
           const int d = g - b.group;
           if (d < 0) continue;  // the lower triangle of the band only
           Eigen::MatrixXd& block = band_[g][d];
-          AddAtB(j + a.jcol, r.m, a.width, r.width, j + b.jcol, b.width, r.width,
-                 &block(row_a, b.col - group_offset[b.group]), block.rows());
+          AddAtB(j + a.jcol, r.m, a.width, r.width, j + b.jcol, b.width,
+                 r.width, &block(row_a, b.col - group_offset[b.group]),
+                 block.rows());
         }
       }
-      band_[g][0].diagonal() += mu * d_reduced.segment(group_offset[g], blocks_.GroupSize(g));
+      band_[g][0].diagonal() +=
+          mu * d_reduced.segment(group_offset[g], blocks_.GroupSize(g));
     }
   });
   Eigen::MatrixXd corner = Eigen::MatrixXd::Zero(num_shared, num_shared);
@@ -81,7 +86,8 @@ void BandPreconditioner::Build(double mu, const Eigen::VectorXd& d_reduced) {
       // The corner's column of slot k's block, or -1 when it is not shared.
       const auto corner_column = [&](std::size_t k) {
         const int block = r.slot_block[k];
-        if (block < 0 || blocks_.blocks[block].eliminated || blocks_.blocks[block].group >= 0) {
+        if (block < 0 || blocks_.blocks[block].eliminated ||
+            blocks_.blocks[block].group >= 0) {
           return -1;
         }
         return blocks_.blocks[block].offset - num_group_columns;
@@ -92,8 +98,9 @@ void BandPreconditioner::Build(double mu, const Eigen::VectorXd& d_reduced) {
         for (std::size_t kb = 0; kb < r.parameters.size(); ++kb) {
           const int ib = corner_column(kb);
           if (ib < 0) continue;
-          r.product->AddGram(r.parameters.data(), static_cast<int>(ka), static_cast<int>(kb),
-                             &corner(ia, ib), static_cast<int>(corner.rows()));
+          r.product->AddGram(r.parameters.data(), static_cast<int>(ka),
+                             static_cast<int>(kb), &corner(ia, ib),
+                             static_cast<int>(corner.rows()));
         }
       }
       continue;
@@ -102,9 +109,11 @@ void BandPreconditioner::Build(double mu, const Eigen::VectorXd& d_reduced) {
       if (a.group >= 0) continue;
       for (const Segment& b : r.reduced) {
         if (b.group >= 0) continue;
-        corner.block(a.col - num_group_columns, b.col - num_group_columns, a.width, b.width)
-            .noalias() +=
-            jacobian_.Cols(r, a.jcol, a.width).transpose() * jacobian_.Cols(r, b.jcol, b.width);
+        corner
+            .block(a.col - num_group_columns, b.col - num_group_columns,
+                   a.width, b.width)
+            .noalias() += jacobian_.Cols(r, a.jcol, a.width).transpose() *
+                          jacobian_.Cols(r, b.jcol, b.width);
       }
     }
   }
@@ -116,8 +125,10 @@ void BandPreconditioner::Build(double mu, const Eigen::VectorXd& d_reduced) {
       for (int e = d + 1; e <= band && g - e >= 0; ++e) {
         m.noalias() -= band_[g][e] * band_[g - d][e - d].transpose();
       }
-      band_[g][d] =
-          band_[g - d][0].triangularView<Eigen::Lower>().solve(m.transpose()).transpose();
+      band_[g][d] = band_[g - d][0]
+                        .triangularView<Eigen::Lower>()
+                        .solve(m.transpose())
+                        .transpose();
     }
     Eigen::MatrixXd m = band_[g][0];
     for (int d = 1; d <= band && g - d >= 0; ++d) {
@@ -126,7 +137,8 @@ void BandPreconditioner::Build(double mu, const Eigen::VectorXd& d_reduced) {
     Eigen::LLT<Eigen::MatrixXd> llt(m);
     if (llt.info() != Eigen::Success) {
       // A preconditioner only needs to be positive definite.
-      m.diagonal().array() += 1e-10 * m.diagonal().cwiseAbs().maxCoeff() + 1e-300;
+      m.diagonal().array() +=
+          1e-10 * m.diagonal().cwiseAbs().maxCoeff() + 1e-300;
       llt.compute(m);
     }
     band_[g][0] = llt.matrixL();
@@ -143,14 +155,16 @@ void BandPreconditioner::AddGram(const Residual& r, const Segment& a, int g) {
   for (std::size_t ka = 0; ka < r.parameters.size(); ++ka) {
     if (r.slot_block[ka] < 0) continue;
     const Block& ba = blocks_.blocks[r.slot_block[ka]];
-    if (ba.eliminated || ba.offset < a.col || ba.offset >= a.col + a.width) continue;
+    if (ba.eliminated || ba.offset < a.col || ba.offset >= a.col + a.width)
+      continue;
     const int row_a = ba.offset - blocks_.group_offset[g];
     for (std::size_t kb = 0; kb < r.parameters.size(); ++kb) {
       if (r.slot_block[kb] < 0) continue;
       const Block& bb = blocks_.blocks[r.slot_block[kb]];
       if (bb.eliminated) continue;
       if (bb.group < 0) {
-        r.product->AddGram(r.parameters.data(), static_cast<int>(ka), static_cast<int>(kb),
+        r.product->AddGram(r.parameters.data(), static_cast<int>(ka),
+                           static_cast<int>(kb),
                            &border_(ba.offset, bb.offset - num_group_columns),
                            static_cast<int>(border_.rows()));
         continue;
@@ -158,9 +172,10 @@ void BandPreconditioner::AddGram(const Residual& r, const Segment& a, int g) {
       const int d = g - bb.group;
       if (d < 0) continue;  // the lower triangle of the band only
       Eigen::MatrixXd& block = band_[g][d];
-      r.product->AddGram(r.parameters.data(), static_cast<int>(ka), static_cast<int>(kb),
-                         &block(row_a, bb.offset - blocks_.group_offset[bb.group]),
-                         static_cast<int>(block.rows()));
+      r.product->AddGram(
+          r.parameters.data(), static_cast<int>(ka), static_cast<int>(kb),
+          &block(row_a, bb.offset - blocks_.group_offset[bb.group]),
+          static_cast<int>(block.rows()));
     }
   }
 }
@@ -173,21 +188,24 @@ void BandPreconditioner::BandSolve(Matrix* x) const {
   for (int g = 0; g < num_groups; ++g) {
     auto xg = x->middleRows(group_offset[g], blocks_.GroupSize(g));
     for (int d = 1; d <= band && g - d >= 0; ++d) {
-      xg.noalias() -= band_[g][d] * x->middleRows(group_offset[g - d], blocks_.GroupSize(g - d));
+      xg.noalias() -= band_[g][d] * x->middleRows(group_offset[g - d],
+                                                  blocks_.GroupSize(g - d));
     }
     band_[g][0].triangularView<Eigen::Lower>().solveInPlace(xg);
   }
   for (int g = num_groups - 1; g >= 0; --g) {
     auto xg = x->middleRows(group_offset[g], blocks_.GroupSize(g));
     for (int d = 1; d <= band && g + d < num_groups; ++d) {
-      xg.noalias() -= band_[g + d][d].transpose() *
-                      x->middleRows(group_offset[g + d], blocks_.GroupSize(g + d));
+      xg.noalias() -=
+          band_[g + d][d].transpose() *
+          x->middleRows(group_offset[g + d], blocks_.GroupSize(g + d));
     }
     band_[g][0].transpose().triangularView<Eigen::Upper>().solveInPlace(xg);
   }
 }
 
-void BandPreconditioner::Apply(const Eigen::VectorXd& in, Eigen::VectorXd* out) const {
+void BandPreconditioner::Apply(const Eigen::VectorXd& in,
+                               Eigen::VectorXd* out) const {
   const int num_group_columns = blocks_.num_group_columns;
   const int num_shared = blocks_.num_shared();
   Eigen::VectorXd x = in.head(num_group_columns);
@@ -198,7 +216,8 @@ void BandPreconditioner::Apply(const Eigen::VectorXd& in, Eigen::VectorXd* out) 
     return;
   }
   // [A B; Bᵀ C]: y = (C − Bᵀ A⁻¹ B)⁻¹ (b − Bᵀ A⁻¹ a), x = A⁻¹ a − A⁻¹ B y.
-  const Eigen::VectorXd y = corner_llt_.solve(in.tail(num_shared) - border_.transpose() * x);
+  const Eigen::VectorXd y =
+      corner_llt_.solve(in.tail(num_shared) - border_.transpose() * x);
   out->head(num_group_columns) = x.col(0) - border_solved_ * y;
   out->tail(num_shared) = y;
 }

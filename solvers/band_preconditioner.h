@@ -18,10 +18,9 @@
 #ifndef NRSFM_SOLVERS_BAND_PRECONDITIONER_H_
 #define NRSFM_SOLVERS_BAND_PRECONDITIONER_H_
 
-#include <vector>
-
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <vector>
 
 #include "solvers/structured_jacobian.h"
 #include "solvers/structured_layout.h"
@@ -32,8 +31,8 @@ namespace structured {
 class BandPreconditioner {
  public:
   // `blocks` and `jacobian` must outlive this.
-  BandPreconditioner(const StructuredBlocks& blocks, const StructuredJacobian& jacobian,
-                     int num_threads);
+  BandPreconditioner(const StructuredBlocks& blocks,
+                     const StructuredJacobian& jacobian, int num_threads);
 
   // Forms and factorises M for JᵀJ + μ diag(d_reduced) (one value per
   // reduced column).

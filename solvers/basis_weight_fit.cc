@@ -1,9 +1,9 @@
 #include "solvers/basis_weight_fit.h"
 
-#include <vector>
+#include <glog/logging.h>
 
 #include <Eigen/Cholesky>
-#include <glog/logging.h>
+#include <vector>
 
 namespace nrsfm {
 namespace {
@@ -12,7 +12,8 @@ Eigen::VectorXd SolveDamped(Eigen::MatrixXd normal, const Eigen::VectorXd& rhs,
                             double damping) {
   const double trace = normal.trace();
   const double n = static_cast<double>(normal.rows());
-  normal.diagonal().array() += damping * (trace > 0.0 ? trace / n : 1.0) + 1e-300;
+  normal.diagonal().array() +=
+      damping * (trace > 0.0 ? trace / n : 1.0) + 1e-300;
   return normal.ldlt().solve(rhs);
 }
 
@@ -52,7 +53,8 @@ void FitBasisGivenMotion(const Measurements& centered, double damping,
     for (int p = 0; p < num_points; ++p) {
       observed.block<2, 1>(2 * t, p) =
           centered.visible(t, p)
-              ? Eigen::Vector2d(centered.Observation(t, 0, p) - model->translations.col(t))
+              ? Eigen::Vector2d(centered.Observation(t, 0, p) -
+                                model->translations.col(t))
               : Eigen::Vector2d::Zero();
     }
   }
@@ -61,7 +63,8 @@ void FitBasisGivenMotion(const Measurements& centered, double damping,
     Eigen::MatrixXd normal = all_frames;
     for (int t = 0; t < f; ++t) {
       if (centered.visible(t, p)) continue;
-      normal.noalias() -= q.middleRows<2>(2 * t).transpose() * q.middleRows<2>(2 * t);
+      normal.noalias() -=
+          q.middleRows<2>(2 * t).transpose() * q.middleRows<2>(2 * t);
     }
     model->basis.col(p) = SolveDamped(std::move(normal), rhs.col(p), damping);
   }

@@ -3,9 +3,10 @@
 namespace nrsfm {
 namespace structured {
 
-int ConjugateGradients(const ConjugateGradientsOptions& options, const LinearOperator& apply_a,
-                       const LinearOperator& apply_preconditioner, const Eigen::VectorXd& b,
-                       Eigen::VectorXd* solution) {
+int ConjugateGradients(const ConjugateGradientsOptions& options,
+                       const LinearOperator& apply_a,
+                       const LinearOperator& apply_preconditioner,
+                       const Eigen::VectorXd& b, Eigen::VectorXd* solution) {
   Eigen::VectorXd x = Eigen::VectorXd::Zero(b.size()), residual = b, z, p, q;
   apply_preconditioner(residual, &z);
   p = z;

@@ -8,15 +8,15 @@
 #ifndef NRSFM_SOLVERS_CONJUGATE_GRADIENTS_H_
 #define NRSFM_SOLVERS_CONJUGATE_GRADIENTS_H_
 
-#include <functional>
-
 #include <Eigen/Core>
+#include <functional>
 
 namespace nrsfm {
 namespace structured {
 
 // out = A in, or out = M⁻¹ in.
-using LinearOperator = std::function<void(const Eigen::VectorXd& in, Eigen::VectorXd* out)>;
+using LinearOperator =
+    std::function<void(const Eigen::VectorXd& in, Eigen::VectorXd* out)>;
 
 struct ConjugateGradientsOptions {
   double relative_tolerance = 0.1;  // ||b − A x|| ≤ this · ||b||
@@ -24,9 +24,10 @@ struct ConjugateGradientsOptions {
 };
 
 // Returns the iterations done (products with A).
-int ConjugateGradients(const ConjugateGradientsOptions& options, const LinearOperator& apply_a,
-                       const LinearOperator& apply_preconditioner, const Eigen::VectorXd& b,
-                       Eigen::VectorXd* x);
+int ConjugateGradients(const ConjugateGradientsOptions& options,
+                       const LinearOperator& apply_a,
+                       const LinearOperator& apply_preconditioner,
+                       const Eigen::VectorXd& b, Eigen::VectorXd* x);
 
 }  // namespace structured
 }  // namespace nrsfm

@@ -1,5 +1,9 @@
 #include "solvers/corrective_triple.h"
 
+#include <ceres/problem.h>
+#include <ceres/solver.h>
+#include <glog/logging.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -7,17 +11,13 @@
 #include <string>
 #include <vector>
 
-#include <ceres/problem.h>
-#include <ceres/solver.h>
-#include <glog/logging.h>
-
 #include "core/model.h"
 #include "core/parallel_for.h"
 #include "core/random.h"
 #include "core/svd.h"
+#include "problems/orthonormality_error.h"
 #include "solvers/basis_weight_fit.h"
 #include "solvers/metric_upgrade.h"
-#include "problems/orthonormality_error.h"
 #include "solvers/pose_fit.h"
 #include "solvers/solver_options.h"
 
@@ -73,9 +73,11 @@ Eigen::MatrixXd FrameSubset(const Eigen::MatrixXd& q_hat, int max_frames) {
   Eigen::MatrixXd rows(2 * count, q_hat.cols());
   for (int i = 0; i < count; ++i) {
     // Frames 0 and F − 1 and evenly between.
-    const int t = count == 1 ? 0
-                             : static_cast<int>((static_cast<long>(i) * (num_frames - 1)) /
-                                                (count - 1));
+    const int t =
+        count == 1
+            ? 0
+            : static_cast<int>((static_cast<long>(i) * (num_frames - 1)) /
+                               (count - 1));
     rows.middleRows<2>(2 * i) = q_hat.middleRows<2>(2 * t);
   }
   return rows;
@@ -87,7 +89,8 @@ Eigen::MatrixXd FrameSubset(const Eigen::MatrixXd& q_hat, int max_frames) {
 double SolveTriple(const Eigen::MatrixXd& rows, int max_iterations, bool exact,
                    Eigen::MatrixXd* g) {
   ceres::Problem problem;
-  problem.AddResidualBlock(OrthonormalityError::Create(rows), nullptr, g->data());
+  problem.AddResidualBlock(OrthonormalityError::Create(rows), nullptr,
+                           g->data());
   ceres::Solver::Summary summary;
   const Status status = SolveCeres(
       TripleSolverOptions(max_iterations),
@@ -112,7 +115,8 @@ double ScaleMargin(const Eigen::MatrixXd& q_hat, const Eigen::MatrixXd& g) {
   for (std::size_t t = 0; t < squared_scales.size(); ++t) {
     squared_scales[t] = a.middleRows<2>(2 * t).squaredNorm();
   }
-  const double smallest = *std::min_element(squared_scales.begin(), squared_scales.end());
+  const double smallest =
+      *std::min_element(squared_scales.begin(), squared_scales.end());
   std::nth_element(squared_scales.begin(),
                    squared_scales.begin() + squared_scales.size() / 2,
                    squared_scales.end());
@@ -168,8 +172,9 @@ Status SolveCorrectiveTriple(const Eigen::MatrixXd& q_hat, std::uint64_t seed,
   std::vector<std::pair<double, int>> screened(kTripleStarts);
   ParallelFor(kTripleStarts, num_threads, /*grain=*/1, [&](int begin, int end) {
     for (int start = begin; start < end; ++start) {
-      screened[start] = {
-          SolveTriple(screen_rows, kTripleScreenIterations, /*exact=*/false, &starts[start]), start};
+      screened[start] = {SolveTriple(screen_rows, kTripleScreenIterations,
+                                     /*exact=*/false, &starts[start]),
+                         start};
     }
   });
   // Ties (several starts in one minimum) keep the earlier start.
@@ -182,9 +187,8 @@ Status SolveCorrectiveTriple(const Eigen::MatrixXd& q_hat, std::uint64_t seed,
   ParallelFor(kept, num_threads, /*grain=*/1, [&](int begin, int end) {
     for (int i = begin; i < end; ++i) {
       if (std::isfinite(screened[i].first)) {
-        costs[i] =
-            SolveTriple(polish_rows, kTripleMaxIterations, /*exact=*/false,
-                        &starts[screened[i].second]);
+        costs[i] = SolveTriple(polish_rows, kTripleMaxIterations,
+                               /*exact=*/false, &starts[screened[i].second]);
       }
     }
   });
@@ -196,33 +200,38 @@ Status SolveCorrectiveTriple(const Eigen::MatrixXd& q_hat, std::uint64_t seed,
   int best_start = -1;
   double best_margin = -1.0;
   for (int i = 0; i < kept; ++i) {
-    const double margin =
-        std::isfinite(costs[i]) ? ScaleMargin(q_hat, starts[screened[i].second]) : -1.0;
-    VLOG(2) << "corrective triple start " << screened[i].second << ": screened cost "
-            << screened[i].first << ", polished cost per frame " << costs[i]
-            << ", scale margin " << margin;
+    const double margin = std::isfinite(costs[i])
+                              ? ScaleMargin(q_hat, starts[screened[i].second])
+                              : -1.0;
+    VLOG(2) << "corrective triple start " << screened[i].second
+            << ": screened cost " << screened[i].first
+            << ", polished cost per frame " << costs[i] << ", scale margin "
+            << margin;
     if (costs[i] <= best_cost + kTripleEqualCost && margin > best_margin) {
       best_margin = margin;
       best_start = screened[i].second;
     }
   }
   if (best_start >= 0) {
-    best_cost = SolveTriple(q_hat, kTripleMaxIterations, /*exact=*/true, &starts[best_start]);
+    best_cost = SolveTriple(q_hat, kTripleMaxIterations, /*exact=*/true,
+                            &starts[best_start]);
     if (!std::isfinite(best_cost)) best_start = -1;
   }
   if (best_start >= 0) *g = starts[best_start];
   if (best_start < 0) {
-    return Status::Error("corrective triple: no start converged to a finite solution");
+    return Status::Error(
+        "corrective triple: no start converged to a finite solution");
   }
-  VLOG(1) << "corrective triple: kept start " << best_start << ", cost per frame "
-          << best_cost;
+  VLOG(1) << "corrective triple: kept start " << best_start
+          << ", cost per frame " << best_cost;
   return Status::OK();
 }
 
 Status RotationsFromTriple(const Measurements& centered, int num_bases,
                            std::uint64_t seed, int num_threads,
                            std::vector<Eigen::Matrix3d>* rotations,
-                           Eigen::VectorXd* scales, Eigen::Matrix3Xd* rigid_shape,
+                           Eigen::VectorXd* scales,
+                           Eigen::Matrix3Xd* rigid_shape,
                            CorrectiveTripleSummary* summary) {
   CHECK(rotations != nullptr && scales != nullptr && rigid_shape != nullptr &&
         summary != nullptr);
@@ -231,8 +240,8 @@ Status RotationsFromTriple(const Measurements& centered, int num_bases,
   const int r = 3 * num_bases;
   if (num_bases < 1 || r > 2 * f || r > centered.num_points) {
     std::ostringstream msg;
-    msg << "corrective triple: needs 3K <= 2F and 3K <= P; got K = " << num_bases
-        << ", F = " << f << ", P = " << centered.num_points;
+    msg << "corrective triple: needs 3K <= 2F and 3K <= P; got K = "
+        << num_bases << ", F = " << f << ", P = " << centered.num_points;
     return Status::Error(msg.str());
   }
   const ThinSvd svd = ComputeThinSvd(centered.W, SingularVectors::kLeft);
@@ -253,11 +262,13 @@ Status RotationsFromTriple(const Measurements& centered, int num_bases,
   // Signs (header): link consecutive frames whose rotations are clearly
   // closer with one relative sign than with the other, when the sequence is
   // ordered in time; then one sign per linked segment by the rigid fit.
-  const Eigen::Matrix3d half_turn = Eigen::Vector3d(-1.0, -1.0, 1.0).asDiagonal();
+  const Eigen::Matrix3d half_turn =
+      Eigen::Vector3d(-1.0, -1.0, 1.0).asDiagonal();
   // Σ of the products of the first two rows of frames t and t − 1; its
   // magnitude does not change when either frame is turned.
   const auto alignment = [rotations](int t) {
-    return ((*rotations)[t].topRows<2>().cwiseProduct((*rotations)[t - 1].topRows<2>()))
+    return ((*rotations)[t].topRows<2>().cwiseProduct(
+                (*rotations)[t - 1].topRows<2>()))
         .sum();
   };
   int links = 0;
@@ -287,7 +298,8 @@ Status RotationsFromTriple(const Measurements& centered, int num_bases,
         const double denominator = projected.squaredNorm();
         if (!(denominator > 0.0)) continue;
         const double scale =
-            (centered.W.middleRows(2 * t, 2).array() * projected.array()).sum() /
+            (centered.W.middleRows(2 * t, 2).array() * projected.array())
+                .sum() /
             denominator;
         scale_sum += scale;
         // The frame's scale against the rigid shape (its sign is the

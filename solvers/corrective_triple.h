@@ -16,14 +16,14 @@
 // sequence, runs the kTripleKept lowest of them to convergence on at most
 // kTriplePolishFrames frames, and the lowest of those on every frame. Costs
 // within kTripleEqualCost per frame of the lowest count as equal (every
-// exact triple of noise-free data does, docs/factorization.md): of those the triple
-// whose scale c_t stays furthest from zero is kept (a triple whose weight
-// passes near zero in some frame gives a poorly determined rotation there).
-// The screening relies on a start bound for the global minimum converging in
-// far fewer iterations than one bound for a local minimum, so that it is
-// among the lowest after the screening (measured on the real sequences in
-// docs/factorization.md, section 5). G is found up to G → α G U (scale,
-// rotation, reflection: the global gauges).
+// exact triple of noise-free data does, docs/factorization.md): of those the
+// triple whose scale c_t stays furthest from zero is kept (a triple whose
+// weight passes near zero in some frame gives a poorly determined rotation
+// there). The screening relies on a start bound for the global minimum
+// converging in far fewer iterations than one bound for a local minimum, so
+// that it is among the lowest after the screening (measured on the real
+// sequences in docs/factorization.md, section 5). G is found up to G → α G U
+// (scale, rotation, reflection: the global gauges).
 //
 // The sign of c_t is not fixed by the constraints (−Π R_t is Π R'_t for R_t
 // turned by 180° about the optical axis, the frame reversed in depth).
@@ -36,10 +36,9 @@
 #ifndef NRSFM_SOLVERS_CORRECTIVE_TRIPLE_H_
 #define NRSFM_SOLVERS_CORRECTIVE_TRIPLE_H_
 
+#include <Eigen/Core>
 #include <cstdint>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "core/measurements.h"
 #include "core/status.h"
@@ -81,7 +80,8 @@ Status SolveCorrectiveTriple(const Eigen::MatrixXd& q_hat, std::uint64_t seed,
 Status RotationsFromTriple(const Measurements& centered, int num_bases,
                            std::uint64_t seed, int num_threads,
                            std::vector<Eigen::Matrix3d>* rotations,
-                           Eigen::VectorXd* scales, Eigen::Matrix3Xd* rigid_shape,
+                           Eigen::VectorXd* scales,
+                           Eigen::Matrix3Xd* rigid_shape,
                            CorrectiveTripleSummary* summary);
 
 }  // namespace nrsfm

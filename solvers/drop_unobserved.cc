@@ -1,10 +1,10 @@
 #include "solvers/drop_unobserved.h"
 
+#include <glog/logging.h>
+
 #include <algorithm>
 #include <limits>
 #include <sstream>
-
-#include <glog/logging.h>
 
 namespace nrsfm {
 namespace {
@@ -13,8 +13,9 @@ constexpr int kMaxListed = 20;
 
 // The least number of kept points a view of frame t sees, and that view's
 // camera.
-int FewestPointsOfFrame(const Measurements& m, const std::vector<bool>& point_kept,
-                        int t, int* camera) {
+int FewestPointsOfFrame(const Measurements& m,
+                        const std::vector<bool>& point_kept, int t,
+                        int* camera) {
   int fewest = std::numeric_limits<int>::max();
   for (int c = 0; c < m.num_cameras; ++c) {
     int count = 0;
@@ -48,9 +49,7 @@ int MinViewsPerPoint(int num_bases) {
   return std::max(2, (3 * num_bases + 1) / 2);
 }
 
-int MinPointsPerView(int num_bases) {
-  return std::max(4, (num_bases + 6) / 2);
-}
+int MinPointsPerView(int num_bases) { return std::max(4, (num_bases + 6) / 2); }
 
 Status FindUnobserved(const Measurements& measurements, int num_bases,
                       Unobserved* unobserved) {
@@ -69,7 +68,8 @@ Status FindUnobserved(const Measurements& measurements, int num_bases,
   const int needed_points = MinPointsPerView(num_bases);
   const int needed_views = MinViewsPerPoint(num_bases);
   const int needed_for_k = 3 * num_bases + 1;
-  std::vector<bool> point_kept(m.num_points, true), frame_kept(m.num_frames, true);
+  std::vector<bool> point_kept(m.num_points, true),
+      frame_kept(m.num_frames, true);
   for (bool changed = true; changed;) {
     changed = false;
     for (int p = 0; p < m.num_points; ++p) {
@@ -77,7 +77,8 @@ Status FindUnobserved(const Measurements& measurements, int num_bases,
       int views = 0;
       for (int t = 0; t < m.num_frames; ++t) {
         if (!frame_kept[t]) continue;
-        for (int c = 0; c < m.num_cameras; ++c) views += m.visible(m.View(t, c), p);
+        for (int c = 0; c < m.num_cameras; ++c)
+          views += m.visible(m.View(t, c), p);
       }
       if (views < needed_views) point_kept[p] = false, changed = true;
     }
@@ -96,16 +97,20 @@ Status FindUnobserved(const Measurements& measurements, int num_bases,
   for (int t = 0; t < m.num_frames; ++t) {
     if (!frame_kept[t]) unobserved->frames.push_back(t);
   }
-  const int kept_frames = m.num_frames - static_cast<int>(unobserved->frames.size());
-  const int kept_points = m.num_points - static_cast<int>(unobserved->points.size());
-  if (kept_frames < 2 || 2 * kept_frames < needed_for_k || kept_points < needed_for_k) {
+  const int kept_frames =
+      m.num_frames - static_cast<int>(unobserved->frames.size());
+  const int kept_points =
+      m.num_points - static_cast<int>(unobserved->points.size());
+  if (kept_frames < 2 || 2 * kept_frames < needed_for_k ||
+      kept_points < needed_for_k) {
     std::ostringstream msg;
     msg << "initialize: too few observations for K = " << num_bases
-        << ": leaving out the " << unobserved->points.size() << " points seen in fewer than "
-        << needed_views << " views and the " << unobserved->frames.size()
-        << " frames whose views see fewer than " << needed_points
-        << " points leaves F = " << kept_frames << ", P = " << kept_points
-        << " (K = " << num_bases << " needs F >= 2, 2F >= " << needed_for_k
+        << ": leaving out the " << unobserved->points.size()
+        << " points seen in fewer than " << needed_views << " views and the "
+        << unobserved->frames.size() << " frames whose views see fewer than "
+        << needed_points << " points leaves F = " << kept_frames
+        << ", P = " << kept_points << " (K = " << num_bases
+        << " needs F >= 2, 2F >= " << needed_for_k
         << " and P >= " << needed_for_k << ")";
     return Status::Error(msg.str());
   }
@@ -126,8 +131,10 @@ Measurements WithoutUnobserved(const Measurements& measurements,
   for (int i = 0; i < kept.num_frames; ++i) {
     for (int c = 0; c < m.num_cameras; ++c) {
       for (int j = 0; j < kept.num_points; ++j) {
-        kept.W.block<2, 1>(kept.Row(i, c), j) = m.W.block<2, 1>(m.Row(frames[i], c), points[j]);
-        kept.visible(kept.View(i, c), j) = m.visible(m.View(frames[i], c), points[j]);
+        kept.W.block<2, 1>(kept.Row(i, c), j) =
+            m.W.block<2, 1>(m.Row(frames[i], c), points[j]);
+        kept.visible(kept.View(i, c), j) =
+            m.visible(m.View(frames[i], c), points[j]);
       }
     }
   }
@@ -138,17 +145,20 @@ Eigen::ArrayXXd WithoutUnobserved(const Eigen::ArrayXXd& per_observation,
                                   const Measurements& measurements,
                                   const Unobserved& unobserved) {
   const Measurements& m = measurements;
-  if (per_observation.rows() != m.NumViews() || per_observation.cols() != m.num_points) {
+  if (per_observation.rows() != m.NumViews() ||
+      per_observation.cols() != m.num_points) {
     return per_observation;
   }
   const std::vector<int> frames = KeptIndices(m.num_frames, unobserved.frames);
   const std::vector<int> points = KeptIndices(m.num_points, unobserved.points);
   const int num_cameras = m.num_cameras;
-  Eigen::ArrayXXd kept(static_cast<int>(frames.size()) * num_cameras, points.size());
+  Eigen::ArrayXXd kept(static_cast<int>(frames.size()) * num_cameras,
+                       points.size());
   for (std::size_t i = 0; i < frames.size(); ++i) {
     for (int c = 0; c < num_cameras; ++c) {
       for (std::size_t j = 0; j < points.size(); ++j) {
-        kept(i * num_cameras + c, j) = per_observation(m.View(frames[i], c), points[j]);
+        kept(i * num_cameras + c, j) =
+            per_observation(m.View(frames[i], c), points[j]);
       }
     }
   }
@@ -169,20 +179,24 @@ Model ExpandModel(const Model& kept, const Measurements& measurements,
   model.rig_rotations = kept.rig_rotations;
   model.rig_scales = kept.rig_scales;
   for (int t = 0, i = 0, k = 0; t < m.num_frames; ++t) {
-    if (i < static_cast<int>(unobserved.frames.size()) && unobserved.frames[i] == t) {
+    if (i < static_cast<int>(unobserved.frames.size()) &&
+        unobserved.frames[i] == t) {
       ++i;
       continue;
     }
     for (int c = 0; c < m.num_cameras; ++c) {
-      model.rotations.col(model.View(t, c)) = kept.rotations.col(kept.View(k, c));
-      model.translations.col(model.View(t, c)) = kept.translations.col(kept.View(k, c));
+      model.rotations.col(model.View(t, c)) =
+          kept.rotations.col(kept.View(k, c));
+      model.translations.col(model.View(t, c)) =
+          kept.translations.col(kept.View(k, c));
       model.scales(model.View(t, c)) = kept.scales(kept.View(k, c));
     }
     model.weights.col(t) = kept.weights.col(k);
     ++k;
   }
   for (int p = 0, i = 0, k = 0; p < m.num_points; ++p) {
-    if (i < static_cast<int>(unobserved.points.size()) && unobserved.points[i] == p) {
+    if (i < static_cast<int>(unobserved.points.size()) &&
+        unobserved.points[i] == p) {
       ++i;
       continue;
     }
@@ -196,17 +210,20 @@ std::string UnobservedWarning(const Measurements& measurements,
   const Measurements& m = measurements;
   std::ostringstream out;
   out << "left out of the reconstruction (K = " << unobserved.num_bases
-      << " needs every point seen in at least " << MinViewsPerPoint(unobserved.num_bases)
+      << " needs every point seen in at least "
+      << MinViewsPerPoint(unobserved.num_bases)
       << " views and every frame's views to see at least "
-      << MinPointsPerView(unobserved.num_bases) << " points), NaN in the result:";
+      << MinPointsPerView(unobserved.num_bases)
+      << " points), NaN in the result:";
   const Eigen::VectorXi per_point = m.VisiblePerPoint();
   const int num_points = static_cast<int>(unobserved.points.size());
   for (int i = 0; i < num_points && i < kMaxListed; ++i) {
     const int p = unobserved.points[i];
-    out << (i == 0 ? " " : ", ") << "point " << p << " (seen in " << per_point(p)
-        << (per_point(p) == 1 ? " view)" : " views)");
+    out << (i == 0 ? " " : ", ") << "point " << p << " (seen in "
+        << per_point(p) << (per_point(p) == 1 ? " view)" : " views)");
   }
-  if (num_points > kMaxListed) out << " and " << num_points - kMaxListed << " more points";
+  if (num_points > kMaxListed)
+    out << " and " << num_points - kMaxListed << " more points";
   if (num_points > 0 && !unobserved.frames.empty()) out << ";";
   std::vector<bool> point_kept(m.num_points, true);
   for (int p : unobserved.points) point_kept[p] = false;
@@ -221,7 +238,8 @@ std::string UnobservedWarning(const Measurements& measurements,
     if (!unobserved.points.empty()) out << " of those kept";
     out << ")";
   }
-  if (num_frames > kMaxListed) out << " and " << num_frames - kMaxListed << " more frames";
+  if (num_frames > kMaxListed)
+    out << " and " << num_frames - kMaxListed << " more frames";
   return out.str();
 }
 

@@ -23,8 +23,8 @@
 // bases). So a point seen in too few views to be determined is left out
 // rather than lowering K' for the whole start (what a K' lowered by one
 // rarely seen point once cost on the shoe is in docs/factorization.md,
-// section 1), while data that are sparse everywhere (30 % of a 41-point sequence
-// missing at K = 12: each view sees ~29 < 37 points) still start with
+// section 1), while data that are sparse everywhere (30 % of a 41-point
+// sequence missing at K = 12: each view sees ~29 < 37 points) still start with
 // K' < K.
 // Leaving out a frame takes views away from the points and leaving out a
 // point takes points away from the views, so the two are applied in turn
@@ -43,10 +43,9 @@
 #ifndef NRSFM_SOLVERS_DROP_UNOBSERVED_H_
 #define NRSFM_SOLVERS_DROP_UNOBSERVED_H_
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "core/measurements.h"
 #include "core/model.h"

@@ -1,11 +1,11 @@
 #include "solvers/factorization_start.h"
 
-#include <sstream>
-#include <vector>
+#include <glog/logging.h>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
-#include <glog/logging.h>
+#include <sstream>
+#include <vector>
 
 #include "core/svd.h"
 #include "solvers/metric_upgrade.h"
@@ -23,8 +23,9 @@ Status FactorizationStart(const Measurements& centered, int num_bases,
   const int r = 3 * k;
   if (k < 1 || r > 2 * f || r + 1 > p) {
     std::ostringstream msg;
-    msg << "factorisation start: K = " << k << " needs K >= 1, 3K <= 2F and 3K + 1 <= P; got F = "
-        << f << ", P = " << p;
+    msg << "factorisation start: K = " << k
+        << " needs K >= 1, 3K <= 2F and 3K + 1 <= P; got F = " << f
+        << ", P = " << p;
     return Status::Error(msg.str());
   }
   *summary = FactorizationStartSummary();
@@ -34,7 +35,8 @@ Status FactorizationStart(const Measurements& centered, int num_bases,
                             .WithContext("factorisation start"));
   const Eigen::VectorXd root = svd.singular_values.head(r).cwiseSqrt();
   const Eigen::MatrixXd q_hat = svd.u.leftCols(r) * root.asDiagonal();
-  const Eigen::MatrixXd b_hat = root.asDiagonal() * svd.v.leftCols(r).transpose();
+  const Eigen::MatrixXd b_hat =
+      root.asDiagonal() * svd.v.leftCols(r).transpose();
 
   // Step 2: rank-1 factorisation of every reordered block.
   Eigen::MatrixXd l_hat(k, f);
@@ -46,7 +48,8 @@ Status FactorizationStart(const Measurements& centered, int num_bases,
       reordered.block<1, 3>(b, 0) = q_hat.block<1, 3>(2 * t, 3 * b);
       reordered.block<1, 3>(b, 3) = q_hat.block<1, 3>(2 * t + 1, 3 * b);
     }
-    const ThinSvd block_svd = ComputeJacobiSvd(reordered, SingularVectors::kBoth);
+    const ThinSvd block_svd =
+        ComputeJacobiSvd(reordered, SingularVectors::kBoth);
     const Eigen::VectorXd& s = block_svd.singular_values;
     l_hat.col(t) = s(0) * block_svd.u.col(0);
     const Eigen::VectorXd v = block_svd.v.col(0);
@@ -69,13 +72,14 @@ Status FactorizationStart(const Measurements& centered, int num_bases,
 
   // Step 3: metric upgrade.
   MetricUpgrade upgrade;
-  NRSFM_RETURN_IF_ERROR(SolveMetricUpgrade(blocks, &upgrade)
-                            .WithContext("factorisation start"));
+  NRSFM_RETURN_IF_ERROR(
+      SolveMetricUpgrade(blocks, &upgrade).WithContext("factorisation start"));
   summary->metric_upgrade_was_indefinite = upgrade.was_indefinite;
 
   model->Resize(f, 1, p, k);
   for (int t = 0; t < f; ++t) {
-    const Eigen::Matrix<double, 2, 3> m = blocks.middleRows<2>(2 * t) * upgrade.g;
+    const Eigen::Matrix<double, 2, 3> m =
+        blocks.middleRows<2>(2 * t) * upgrade.g;
     Eigen::Matrix3d rotation;
     double scale = 0.0;
     ScaledRotationFromTwoRows(m, &rotation, &scale);
@@ -86,7 +90,8 @@ Status FactorizationStart(const Measurements& centered, int num_bases,
   for (int b = 0; b < k; ++b) {
     model->SetBasisShape(b, g_inverse * b_hat.middleRows(3 * b, 3));
   }
-  VLOG(1) << "factorisation start: K = " << k << ", mean sub-block rank-1 defect "
+  VLOG(1) << "factorisation start: K = " << k
+          << ", mean sub-block rank-1 defect "
           << summary->mean_subblock_rank1_defect;
   return Status::OK();
 }

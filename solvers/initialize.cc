@@ -1,11 +1,11 @@
 #include "solvers/initialize.h"
 
+#include <glog/logging.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
-
-#include <glog/logging.h>
 
 #include "core/enum_names.h"
 #include "core/metrics.h"
@@ -86,15 +86,17 @@ int StartBases(int num_bases, const Measurements& data) {
 // the refinement's Jacobian reaches them and grows the ones the data need.
 void ExtendBases(int num_bases, std::uint64_t seed, Model* model) {
   const int k = model->num_bases;
-  const double scale = 0.01 * std::sqrt(model->weights.squaredNorm() /
-                                        std::max<Eigen::Index>(1, model->weights.size()));
+  const double scale =
+      0.01 * std::sqrt(model->weights.squaredNorm() /
+                       std::max<Eigen::Index>(1, model->weights.size()));
   Model extended = *model;
   extended.num_bases = num_bases;
   extended.weights.resize(num_bases, model->num_frames);
   extended.weights.topRows(k) = model->weights;
   Random random(seed, /*stream=*/0xB45E5);
   for (int t = 0; t < model->num_frames; ++t) {
-    for (int b = k; b < num_bases; ++b) extended.weights(b, t) = scale * random.NormalUnpaired();
+    for (int b = k; b < num_bases; ++b)
+      extended.weights(b, t) = scale * random.NormalUnpaired();
   }
   extended.basis = Eigen::MatrixXd::Zero(3 * num_bases, model->num_points);
   extended.basis.topRows(3 * k) = model->basis;
@@ -125,8 +127,8 @@ Status CenterData(const StartOptions& options, const Measurements& data,
     filled = std::move(completion.completed);
     row_translations = std::move(completion.translations);
   }
-  centered->translations =
-      Eigen::Map<const Eigen::Matrix2Xd>(row_translations.data(), 2, data.NumViews());
+  centered->translations = Eigen::Map<const Eigen::Matrix2Xd>(
+      row_translations.data(), 2, data.NumViews());
   centered->all_cameras = data;
   centered->all_cameras.W = filled.colwise() - row_translations;
 
@@ -153,30 +155,32 @@ struct CameraZeroStart {
   int sign_segments = -1;               // triple start only
 };
 
-Status StartOnCameraZero(const StartOptions& options, const Measurements& camera0,
-                         int num_threads, CameraZeroStart* start) {
+Status StartOnCameraZero(const StartOptions& options,
+                         const Measurements& camera0, int num_threads,
+                         CameraZeroStart* start) {
   switch (options.method) {
     case StartMethod::kFactorization: {
       FactorizationStartSummary summary;
-      NRSFM_RETURN_IF_ERROR(
-          FactorizationStart(camera0, options.num_bases, &start->model, &summary));
+      NRSFM_RETURN_IF_ERROR(FactorizationStart(camera0, options.num_bases,
+                                               &start->model, &summary));
       start->indefinite = summary.metric_upgrade_was_indefinite;
       start->subblock_rank1_defect = summary.mean_subblock_rank1_defect;
       return Status::OK();
     }
     case StartMethod::kRigid: {
       RigidStartSummary summary;
-      NRSFM_RETURN_IF_ERROR(RigidStart(camera0, options.num_bases, options.alternation,
-                                       options.seed, &start->model, &summary));
+      NRSFM_RETURN_IF_ERROR(RigidStart(camera0, options.num_bases,
+                                       options.alternation, options.seed,
+                                       &start->model, &summary));
       start->indefinite = summary.metric_upgrade_was_indefinite;
       start->rigid_rms = summary.alternation.rigid_rms;
       return Status::OK();
     }
     case StartMethod::kTriple: {
       TripleStartSummary summary;
-      NRSFM_RETURN_IF_ERROR(TripleStart(camera0, options.num_bases, options.alternation,
-                                        options.seed, num_threads, &start->model,
-                                        &summary));
+      NRSFM_RETURN_IF_ERROR(TripleStart(camera0, options.num_bases,
+                                        options.alternation, options.seed,
+                                        num_threads, &start->model, &summary));
       start->rigid_rms = summary.alternation.rigid_rms;
       start->sign_segments = summary.triple.sign_segments;
       return Status::OK();
@@ -190,7 +194,9 @@ Status StartOnCameraZero(const StartOptions& options, const Measurements& camera
 
 }  // namespace
 
-const char* StartMethodName(StartMethod m) { return NameOf(kStartMethodNames, m); }
+const char* StartMethodName(StartMethod m) {
+  return NameOf(kStartMethodNames, m);
+}
 
 Status ParseStartMethod(const std::string& s, StartMethod* m) {
   CHECK(m != nullptr);
@@ -226,11 +232,14 @@ Status Initialize(const StartOptions& options, const Measurements& measurements,
   reduced.num_bases = StartBases(options.num_bases, measurements);
   if (reduced.num_bases < options.num_bases) {
     std::ostringstream msg;
-    msg << "the missing entries allow a start with at most K = " << reduced.num_bases
-        << " (a view sees only " << measurements.VisiblePerView().minCoeff()
-        << " points, a point is seen in only " << measurements.VisiblePerPoint().minCoeff()
-        << " views; K = " << options.num_bases << " needs " << 3 * options.num_bases + 1
-        << " and " << (3 * options.num_bases + 1) / 2
+    msg << "the missing entries allow a start with at most K = "
+        << reduced.num_bases << " (a view sees only "
+        << measurements.VisiblePerView().minCoeff()
+        << " points, a point is seen in only "
+        << measurements.VisiblePerPoint().minCoeff()
+        << " views; K = " << options.num_bases << " needs "
+        << 3 * options.num_bases + 1 << " and "
+        << (3 * options.num_bases + 1) / 2
         << "): the start has K = " << reduced.num_bases << " and "
         << options.num_bases - reduced.num_bases
         << " more bases, zero at first, that the refinement fits";
@@ -239,9 +248,9 @@ Status Initialize(const StartOptions& options, const Measurements& measurements,
   CenteredData centered;
   NRSFM_RETURN_IF_ERROR(CenterData(reduced, measurements, &centered, summary));
   CameraZeroStart start;
-  NRSFM_RETURN_IF_ERROR(
-      StartOnCameraZero(reduced, centered.camera0, std::max(1, num_threads), &start)
-          .WithContext("initialize"));
+  NRSFM_RETURN_IF_ERROR(StartOnCameraZero(reduced, centered.camera0,
+                                          std::max(1, num_threads), &start)
+                            .WithContext("initialize"));
   if (reduced.num_bases < options.num_bases) {
     ExtendBases(options.num_bases, options.seed, &start.model);
   }
@@ -249,15 +258,17 @@ Status Initialize(const StartOptions& options, const Measurements& measurements,
   const Eigen::Matrix2Xd camera0_translations = result.translations;
   if (measurements.num_cameras > 1) {
     Model cameras;
-    NRSFM_RETURN_IF_ERROR(ExtendToCameras(centered.all_cameras, result, &cameras)
-                              .WithContext("initialize"));
+    NRSFM_RETURN_IF_ERROR(
+        ExtendToCameras(centered.all_cameras, result, &cameras)
+            .WithContext("initialize"));
     result = std::move(cameras);
   }
   // The start's translations correct the centring of camera 0 (the
   // alternation's δT; zero for the factorisation start).
   result.translations = centered.translations;
   for (int t = 0; t < measurements.num_frames; ++t) {
-    result.translations.col(measurements.View(t, 0)) += camera0_translations.col(t);
+    result.translations.col(measurements.View(t, 0)) +=
+        camera0_translations.col(t);
   }
   NRSFM_RETURN_IF_ERROR(result.Validate().WithContext("initialize"));
 
@@ -266,15 +277,19 @@ Status Initialize(const StartOptions& options, const Measurements& measurements,
   summary->subblock_rank1_defect = start.subblock_rank1_defect;
   summary->rigid_rms = start.rigid_rms;
   summary->triple_sign_segments = start.sign_segments;
-  if (start.sign_segments > 1 && start.sign_segments < measurements.num_frames) {
-    summary->warnings.push_back(
-        "triple start: the frames link into " + std::to_string(start.sign_segments) +
-        " time segments whose rotation signs were chosen separately; the depth of a "
-        "segment may be reversed relative to the others (solvers/corrective_triple.h)");
+  if (start.sign_segments > 1 &&
+      start.sign_segments < measurements.num_frames) {
+    summary->warnings.push_back("triple start: the frames link into " +
+                                std::to_string(start.sign_segments) +
+                                " time segments whose rotation signs were "
+                                "chosen separately; the depth of a "
+                                "segment may be reversed relative to the "
+                                "others (solvers/corrective_triple.h)");
   }
   if (start.indefinite) {
     summary->warnings.push_back(
-        std::string("metric upgrade of the ") + StartMethodName(options.method) +
+        std::string("metric upgrade of the ") +
+        StartMethodName(options.method) +
         " start: H was (nearly) indefinite and was clamped to positive "
         "definite; the depth of the start is unreliable");
   }

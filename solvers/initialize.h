@@ -57,15 +57,18 @@ struct StartOptions {
   int num_bases = 1;                        // K ≥ 1
   LowRankCompletionOptions completion;      // step 1 (its rank is 3K)
   AlternationOptions alternation;           // the rigid and triple starts
-  std::uint64_t seed = 1;  // random initial weights (rigid, triple) and the triple's random starts
+  std::uint64_t seed = 1;  // random initial weights (rigid, triple) and the
+                           // triple's random starts
 
   Status Check() const;
 };
 
 struct StartSummary {
   StartMethod method = StartMethod::kFactorization;  // the start computed
-  double reprojection_rms = 0;  // RMS 2-D distance over visible entries, input units
-  double completion_rms = -1;   // fit residual RMS of the low-rank completion on visible entries, -1 if data complete
+  double reprojection_rms =
+      0;  // RMS 2-D distance over visible entries, input units
+  double completion_rms = -1;  // fit residual RMS of the low-rank completion on
+                               // visible entries, -1 if data complete
   // Factorization start: mean σ₂/σ₁ of the reordered per-frame blocks, how
   // much its rank-1 step discards (solvers/factorization_start.h); -1 for
   // the other starts.

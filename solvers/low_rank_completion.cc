@@ -1,13 +1,13 @@
 #include "solvers/low_rank_completion.h"
 
+#include <glog/logging.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <vector>
-
-#include <Eigen/Cholesky>
-#include <Eigen/QR>
-#include <glog/logging.h>
 
 #include "core/option_checker.h"
 #include "core/svd.h"
@@ -31,7 +31,8 @@ Eigen::MatrixXd SolveDamped(Eigen::MatrixXd normal, const Eigen::MatrixXd& rhs,
                             double damping, double ridge, int penalised) {
   const double n = static_cast<double>(normal.rows());
   const double trace = normal.trace();
-  normal.diagonal().array() += damping * (trace > 0.0 ? trace / n : 1.0) + 1e-300;
+  normal.diagonal().array() +=
+      damping * (trace > 0.0 ? trace / n : 1.0) + 1e-300;
   normal.diagonal().head(penalised).array() += ridge;
   return normal.ldlt().solve(rhs);
 }
@@ -103,7 +104,8 @@ void SolveColumns(const Eigen::MatrixXd& w, const VisibleIndex& index,
 }
 
 // Step 3: centre and orthonormalise the rows of B, keeping A B + t 1ᵀ.
-void NormalizeGauge(Eigen::MatrixXd* a, Eigen::VectorXd* t, Eigen::MatrixXd* b) {
+void NormalizeGauge(Eigen::MatrixXd* a, Eigen::VectorXd* t,
+                    Eigen::MatrixXd* b) {
   const Eigen::VectorXd mean = b->rowwise().mean();
   b->colwise() -= mean;
   *t += (*a) * mean;
@@ -159,9 +161,9 @@ Status CompleteLowRankAffine(const Measurements& measurements, int rank,
   const int num_cameras = measurements.num_cameras;
   if (num_points < r + 1 || num_rows < r + 1) {
     std::ostringstream msg;
-    msg << "low-rank completion: a rank-" << r + 1 << " affine fit needs at least "
-        << r + 1 << " points and " << r + 1 << " rows of W; got P = "
-        << num_points << ", " << num_rows << " rows";
+    msg << "low-rank completion: a rank-" << r + 1
+        << " affine fit needs at least " << r + 1 << " points and " << r + 1
+        << " rows of W; got P = " << num_points << ", " << num_rows << " rows";
     return Status::Error(msg.str());
   }
   const VisibleIndex index = IndexVisible(measurements.visible);
@@ -219,8 +221,7 @@ Status CompleteLowRankAffine(const Measurements& measurements, int rank,
     const double floor_rms = options.ridge_floor * data_rms;
     const double noise_variance =
         0.5 * std::max(residual * residual, floor_rms * floor_rms);
-    SolveColumns(w, index, a, t, kDamping, noise_variance * num_points,
-                 &b);
+    SolveColumns(w, index, a, t, kDamping, noise_variance * num_points, &b);
     NormalizeGauge(&a, &t, &b);
     const double a_mean_square = a.squaredNorm() / (num_rows * r);
     SolveRows(w, index, b, kDamping,
@@ -238,8 +239,8 @@ Status CompleteLowRankAffine(const Measurements& measurements, int rank,
   completion->completed = w;
   completion->translations = t;
   for (int v = 0; v < measurements.NumViews(); ++v) {
-    const bool complete = static_cast<int>(index.points_of_view[v].size()) ==
-                          num_points;
+    const bool complete =
+        static_cast<int>(index.points_of_view[v].size()) == num_points;
     for (int row = 0; row < 2; ++row) {
       const int i = 2 * v + row;
       if (complete) {

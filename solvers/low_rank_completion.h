@@ -56,8 +56,9 @@
 namespace nrsfm {
 
 struct LowRankCompletionOptions {
-  int max_iterations = 500;     // ALS rounds (steps 1-3 above)
-  double ridge_floor = 5e-4;    // floor of the ridge's noise RMS, relative to the data RMS, ≥ 0
+  int max_iterations = 500;  // ALS rounds (steps 1-3 above)
+  double ridge_floor =
+      5e-4;  // floor of the ridge's noise RMS, relative to the data RMS, ≥ 0
 
   Status Check() const;
 };
@@ -70,9 +71,9 @@ struct LowRankCompletion {
   // that sees every point it is the plain mean of its two rows (the
   // Tomasi-Kanade centring); otherwise the affine term t_i of the fit.
   Eigen::VectorXd translations;
-  double residual_rms = 0.0;       // RMS of W − (A B + t 1ᵀ) over visible entries
-  int iterations = 0;              // ALS rounds run
-  bool converged = false;          // stopped by a tolerance, not the limit
+  double residual_rms = 0.0;  // RMS of W − (A B + t 1ᵀ) over visible entries
+  int iterations = 0;         // ALS rounds run
+  bool converged = false;     // stopped by a tolerance, not the limit
 };
 
 // Completes `measurements.W` with a rank-`rank` (r ≥ 1; 3K for K basis

@@ -1,10 +1,10 @@
 #include "solvers/metric_upgrade.h"
 
-#include <cmath>
-#include <sstream>
+#include <glog/logging.h>
 
 #include <Eigen/Eigenvalues>
-#include <glog/logging.h>
+#include <cmath>
+#include <sstream>
 
 #include "core/svd.h"
 
@@ -24,7 +24,8 @@ Eigen::Matrix<double, 1, 6> BilinearRow(const Eigen::RowVector3d& a,
 
 Status CheckRotationObservable(const Eigen::VectorXd& singular_values) {
   if (singular_values.size() < 3 ||
-      !(singular_values(2) >= kMinThirdSingularValueRatio * singular_values(0)) ||
+      !(singular_values(2) >=
+        kMinThirdSingularValueRatio * singular_values(0)) ||
       !(singular_values(0) > 0.0)) {
     std::ostringstream msg;
     msg << "the centred 2D tracks have rank < 3 (sigma_3 / sigma_1 = "
@@ -39,7 +40,8 @@ Status CheckRotationObservable(const Eigen::VectorXd& singular_values) {
   return Status::OK();
 }
 
-Status SolveMetricUpgrade(const Eigen::MatrixX3d& blocks, MetricUpgrade* upgrade) {
+Status SolveMetricUpgrade(const Eigen::MatrixX3d& blocks,
+                          MetricUpgrade* upgrade) {
   CHECK(upgrade != nullptr);
   CHECK_EQ(blocks.rows() % 2, 0);
   const int n = static_cast<int>(blocks.rows() / 2);
@@ -48,7 +50,8 @@ Status SolveMetricUpgrade(const Eigen::MatrixX3d& blocks, MetricUpgrade* upgrade
                          std::to_string(n));
   }
   Eigen::MatrixXd equations(2 * n, 6);
-  Eigen::Matrix<double, 1, 6> normalisation = Eigen::Matrix<double, 1, 6>::Zero();
+  Eigen::Matrix<double, 1, 6> normalisation =
+      Eigen::Matrix<double, 1, 6>::Zero();
   int used = 0;
   for (int i = 0; i < n; ++i) {
     Eigen::Matrix<double, 2, 3> m = blocks.middleRows<2>(2 * i);
@@ -58,8 +61,8 @@ Status SolveMetricUpgrade(const Eigen::MatrixX3d& blocks, MetricUpgrade* upgrade
       continue;
     }
     m /= norm;
-    equations.row(2 * i) = BilinearRow(m.row(0), m.row(0)) -
-                           BilinearRow(m.row(1), m.row(1));
+    equations.row(2 * i) =
+        BilinearRow(m.row(0), m.row(0)) - BilinearRow(m.row(1), m.row(1));
     equations.row(2 * i + 1) = BilinearRow(m.row(0), m.row(1));
     normalisation += 0.5 * (BilinearRow(m.row(0), m.row(0)) +
                             BilinearRow(m.row(1), m.row(1)));

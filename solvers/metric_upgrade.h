@@ -56,7 +56,8 @@ Status CheckRotationObservable(const Eigen::VectorXd& singular_values);
 // `blocks` is 2N × 3, rows 2n and 2n + 1 the block M_n (N ≥ 3). Errors when
 // the conditioning is below kMinMetricConditioning (no or too little rotation
 // in the sequence) or when the normalisation is not positive.
-Status SolveMetricUpgrade(const Eigen::MatrixX3d& blocks, MetricUpgrade* upgrade);
+Status SolveMetricUpgrade(const Eigen::MatrixX3d& blocks,
+                          MetricUpgrade* upgrade);
 
 }  // namespace nrsfm
 

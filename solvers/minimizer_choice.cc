@@ -2,7 +2,8 @@
 
 namespace nrsfm {
 
-MinimizerChoice ChooseMinimizer(LinearSolverChoice requested, ProblemBuilder* builder) {
+MinimizerChoice ChooseMinimizer(LinearSolverChoice requested,
+                                ProblemBuilder* builder) {
   const bool automatic = requested == LinearSolverChoice::kAuto;
   const LinearSolverChoice choice =
       automatic ? ChooseLinearSolver(DescribeProblem(builder)) : requested;

@@ -33,7 +33,8 @@ struct MinimizerChoice {
 
 // `requested` is SolverOptions::linear_solver; the problem's structure is
 // looked at (DescribeProblem) only for kAuto.
-MinimizerChoice ChooseMinimizer(LinearSolverChoice requested, ProblemBuilder* builder);
+MinimizerChoice ChooseMinimizer(LinearSolverChoice requested,
+                                ProblemBuilder* builder);
 
 }  // namespace nrsfm
 

@@ -1,8 +1,8 @@
 #include "solvers/multi_camera_start.h"
 
-#include <vector>
-
 #include <glog/logging.h>
+
+#include <vector>
 
 #include "core/rotation.h"
 #include "solvers/pose_fit.h"
@@ -20,7 +20,7 @@ struct ViewPose {
 
 // Step 1 for every view of cameras c ≥ 1 against the shapes of `camera0`.
 void FitExtraCameras(const Measurements& centered, const Model& camera0,
-                       std::vector<ViewPose>* poses) {
+                     std::vector<ViewPose>* poses) {
   const int m = centered.num_cameras;
   poses->assign(centered.NumViews(), ViewPose());
   for (int t = 0; t < centered.num_frames; ++t) {
@@ -98,8 +98,8 @@ Status ExtendToCameras(const Measurements& centered, const Model& camera0,
       }
     }
   }
-  VLOG(1) << "multi-camera start: " << m << " cameras, views posed from the rig "
-          << views_from_rig;
+  VLOG(1) << "multi-camera start: " << m
+          << " cameras, views posed from the rig " << views_from_rig;
   return Status::OK();
 }
 

@@ -1,7 +1,7 @@
 // Extends a monocular start of camera 0 to M synchronised cameras
-// (docs/factorization.md, section 6): the cameras of one frame share the weights
-// l_t, so the object-frame shape S_t of camera 0's model is the shape every
-// camera sees, w_tcp = s_tc Π R_tc S_t[:, p] (centred).
+// (docs/factorization.md, section 6): the cameras of one frame share the
+// weights l_t, so the object-frame shape S_t of camera 0's model is the shape
+// every camera sees, w_tcp = s_tc Π R_tc S_t[:, p] (centred).
 //   1. Per view (t, c ≥ 1) with at least 4 visible points that span 3D:
 //      s_tc, R_tc by FitWeakPerspectivePose (solvers/pose_fit.h) of its
 //      visible centred 2D points to S_t.

@@ -1,12 +1,12 @@
 #include "solvers/pose_fit.h"
 
-#include <cmath>
+#include <glog/logging.h>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <Eigen/SVD>
-#include <glog/logging.h>
+#include <cmath>
 
 #include "core/rotation.h"
 
@@ -29,8 +29,9 @@ void ScaledRotationFromTwoRows(const Eigen::Matrix<double, 2, 3>& m,
   *scale = 0.5 * (svd.singularValues()(0) + svd.singularValues()(1));
 }
 
-double PoseCost(const Eigen::Matrix2Xd& observed, const Eigen::Matrix3Xd& points,
-                double scale, const Eigen::Matrix3d& rotation) {
+double PoseCost(const Eigen::Matrix2Xd& observed,
+                const Eigen::Matrix3Xd& points, double scale,
+                const Eigen::Matrix3d& rotation) {
   CHECK_EQ(observed.cols(), points.cols());
   return (observed - scale * (rotation.topRows<2>() * points)).squaredNorm();
 }

@@ -22,8 +22,9 @@ void ScaledRotationFromTwoRows(const Eigen::Matrix<double, 2, 3>& m,
                                Eigen::Matrix3d* rotation, double* scale);
 
 // Sum of squared residuals Σ_p ||w_p − s Π R x_p||².
-double PoseCost(const Eigen::Matrix2Xd& observed, const Eigen::Matrix3Xd& points,
-                double scale, const Eigen::Matrix3d& rotation);
+double PoseCost(const Eigen::Matrix2Xd& observed,
+                const Eigen::Matrix3Xd& points, double scale,
+                const Eigen::Matrix3d& rotation);
 
 // Gauss-Newton on the rotation only (s fixed), linearised as Torresani et al.
 // 2001 do:

@@ -28,20 +28,24 @@ double Median(std::vector<double> values) {
 Status PriorRuleOptions::Check() const {
   OptionChecker check("prior rule options");
   check.Require(std::isfinite(min_track_order) && min_track_order > 1.0,
-                "min_track_order must be > 1 (frames in no order have a ratio near 1), got " +
+                "min_track_order must be > 1 (frames in no order have a ratio "
+                "near 1), got " +
                     std::to_string(min_track_order));
   check.FinitePositive("min_basis_fraction", min_basis_fraction);
   check.FinitePositive("temporal_shape_weight", temporal_shape_weight);
   check.FinitePositive("deformation_weight", deformation_weight);
-  check.FiniteAtLeast("max_path_acceleration_deg", max_path_acceleration_deg, 0.0);
-  check.FinitePositive("rotation_acceleration_weight", rotation_acceleration_weight);
+  check.FiniteAtLeast("max_path_acceleration_deg", max_path_acceleration_deg,
+                      0.0);
+  check.FinitePositive("rotation_acceleration_weight",
+                       rotation_acceleration_weight);
   check.Require(camera_rank_fraction > 0.0 && camera_rank_fraction < 1.0,
                 "camera_rank_fraction must be in (0, 1), got " +
                     std::to_string(camera_rank_fraction));
   check.FiniteAtLeast("camera_fit_threshold", camera_fit_threshold, 1.0);
-  check.Require(camera_function_tolerance > 0.0 && camera_function_tolerance < 1.0,
-                "camera_function_tolerance must be in (0, 1), got " +
-                    std::to_string(camera_function_tolerance));
+  check.Require(
+      camera_function_tolerance > 0.0 && camera_function_tolerance < 1.0,
+      "camera_function_tolerance must be in (0, 1), got " +
+          std::to_string(camera_function_tolerance));
   return check.status();
 }
 
@@ -56,7 +60,9 @@ double MedianTrackStep(const Measurements& measurements, int lag) {
       const int view = measurements.View(t, c);
       const int previous = measurements.View(t - lag, c);
       for (int p = 0; p < measurements.num_points; ++p) {
-        if (!measurements.visible(view, p) || !measurements.visible(previous, p)) continue;
+        if (!measurements.visible(view, p) ||
+            !measurements.visible(previous, p))
+          continue;
         sum += (measurements.W.block<2, 1>(2 * view, p) -
                 measurements.W.block<2, 1>(2 * previous, p))
                    .squaredNorm();
@@ -84,10 +90,10 @@ double MedianPathAccelerationDeg(const Model& model, int lag) {
   accelerations.reserve(model.num_frames - 2 * lag);
   const double lag2 = static_cast<double>(lag) * lag;
   for (int t = lag; t + lag < model.num_frames; ++t) {
-    const Eigen::Vector3d before =
-        RotationToAngleAxis(model.Rotation(t, 0) * model.Rotation(t - lag, 0).transpose());
-    const Eigen::Vector3d after =
-        RotationToAngleAxis(model.Rotation(t + lag, 0) * model.Rotation(t, 0).transpose());
+    const Eigen::Vector3d before = RotationToAngleAxis(
+        model.Rotation(t, 0) * model.Rotation(t - lag, 0).transpose());
+    const Eigen::Vector3d after = RotationToAngleAxis(
+        model.Rotation(t + lag, 0) * model.Rotation(t, 0).transpose());
     accelerations.push_back((after - before).norm() / lag2 * kDegreesPerRadian);
   }
   return Median(std::move(accelerations));
@@ -97,7 +103,8 @@ double PathAccelerationDeg(const Model& model) {
   constexpr int kLag = 4;
   const double long_lag = MedianPathAccelerationDeg(model, kLag);
   if (long_lag < 0.0) return -1.0;
-  return std::max(0.0, long_lag - MedianPathAccelerationDeg(model, 1) / (kLag * kLag));
+  return std::max(
+      0.0, long_lag - MedianPathAccelerationDeg(model, 1) / (kLag * kLag));
 }
 
 double TemporalNoiseRms(const Measurements& measurements) {
@@ -111,13 +118,15 @@ double TemporalNoiseRms(const Measurements& measurements) {
     for (int p = 0; p < measurements.num_points; ++p) {
       for (int t = 0; t + 3 < measurements.num_frames; ++t) {
         bool seen = true;
-        for (int i = 0; i < 4; ++i) seen &= measurements.visible(measurements.View(t + i, c), p);
+        for (int i = 0; i < 4; ++i)
+          seen &= measurements.visible(measurements.View(t + i, c), p);
         if (!seen) continue;
         for (int row = 0; row < 2; ++row) {
           const auto x = [&](int i) {
             return measurements.W(2 * measurements.View(t + i, c) + row, p);
           };
-          differences.push_back(std::abs(x(3) - 3.0 * x(2) + 3.0 * x(1) - x(0)));
+          differences.push_back(
+              std::abs(x(3) - 3.0 * x(2) + 3.0 * x(1) - x(0)));
         }
       }
     }
@@ -135,21 +144,27 @@ int LargestSupportedBases(const Measurements& measurements) {
   if (!measurements.IsComplete()) {
     const int fewest_points = measurements.VisiblePerView().minCoeff();
     const int fewest_views = measurements.VisiblePerPoint().minCoeff();
-    while (largest > 0 && (fewest_points < 3 * largest + 1 || 2 * fewest_views < 3 * largest)) {
+    while (largest > 0 && (fewest_points < 3 * largest + 1 ||
+                           2 * fewest_views < 3 * largest)) {
       --largest;
     }
   }
   return std::max(0, largest);
 }
 
-int CameraBasesCap(const PriorRuleOptions& options, const Measurements& measurements) {
-  const int smaller = std::min(measurements.num_points, 2 * measurements.NumViews());
-  return std::max(1, std::min({LargestSupportedBases(measurements), kMaxCameraBases,
-                               static_cast<int>(options.camera_rank_fraction * smaller / 3.0)}));
+int CameraBasesCap(const PriorRuleOptions& options,
+                   const Measurements& measurements) {
+  const int smaller =
+      std::min(measurements.num_points, 2 * measurements.NumViews());
+  return std::max(
+      1, std::min(
+             {LargestSupportedBases(measurements), kMaxCameraBases,
+              static_cast<int>(options.camera_rank_fraction * smaller / 3.0)}));
 }
 
-Status AnalyseTrackRank(const PriorRuleOptions& options, const Measurements& measurements,
-                        int num_bases, bool video, PriorDecision* decision) {
+Status AnalyseTrackRank(const PriorRuleOptions& options,
+                        const Measurements& measurements, int num_bases,
+                        bool video, PriorDecision* decision) {
   decision->model_explains_tracks = true;
   decision->camera_num_bases = num_bases;
   decision->noise_rms = -1.0;
@@ -171,26 +186,28 @@ Status AnalyseTrackRank(const PriorRuleOptions& options, const Measurements& mea
     sigma = ComputeThinSvd(centred, SingularVectors::kNone).singular_values;
     spread2 = centred.squaredNorm() / centred.size();
   } else {
-    spread2 = measurements.ImageSpreadRms() * measurements.ImageSpreadRms() / 2.0;
+    spread2 =
+        measurements.ImageSpreadRms() * measurements.ImageSpreadRms() / 2.0;
   }
-  const double n_total =
-      complete ? static_cast<double>(rows) * points : 2.0 * measurements.NumVisible();
+  const double n_total = complete ? static_cast<double>(rows) * points
+                                  : 2.0 * measurements.NumVisible();
   Status failed;
   const auto rss = [&](int r) {
     if (complete) {
-      return r < sigma.size() ? sigma.tail(sigma.size() - r).squaredNorm() : 0.0;
+      return r < sigma.size() ? sigma.tail(sigma.size() - r).squaredNorm()
+                              : 0.0;
     }
     LowRankCompletion completion;
-    const Status status =
-        CompleteLowRankAffine(measurements, r, LowRankCompletionOptions(), &completion);
+    const Status status = CompleteLowRankAffine(
+        measurements, r, LowRankCompletionOptions(), &completion);
     if (!status.ok()) failed = status;
     return completion.residual_rms * completion.residual_rms * n_total;
   };
   // n(r): the free parameters of a rank-r fit (a factor pair less its r × r
   // gauge, plus a translation per row).
   const auto parameters = [&](int r) {
-    return static_cast<double>(rows) * (r + 1) + static_cast<double>(points) * r -
-           static_cast<double>(r) * r;
+    return static_cast<double>(rows) * (r + 1) +
+           static_cast<double>(points) * r - static_cast<double>(r) * r;
   };
   // The noise per coordinate: for a video from the tracks' third
   // differences (TemporalNoiseRms), which the deformation does not enter;
@@ -218,12 +235,13 @@ Status AnalyseTrackRank(const PriorRuleOptions& options, const Measurements& mea
   const double floor_rms = (complete ? 1e-6 : 1e-4) * std::sqrt(2.0 * spread2);
   const auto explains = [&](int k) {
     const double rms = std::sqrt(2.0 * rss(3 * k) / n_total);
-    const double expected =
-        std::sqrt(variance * 2.0 * std::max(0.0, n_total - parameters(3 * k)) / n_total);
+    const double expected = std::sqrt(
+        variance * 2.0 * std::max(0.0, n_total - parameters(3 * k)) / n_total);
     return rms <= options.camera_fit_threshold * std::max(expected, floor_rms);
   };
   decision->model_explains_tracks = explains(num_bases);
-  if (decision->model_explains_tracks) return failed.WithContext("rank of the tracks");
+  if (decision->model_explains_tracks)
+    return failed.WithContext("rank of the tracks");
   const int cap = CameraBasesCap(options, measurements);
   for (int k = num_bases + 1; k <= cap; ++k) {
     decision->camera_num_bases = k;
@@ -232,18 +250,20 @@ Status AnalyseTrackRank(const PriorRuleOptions& options, const Measurements& mea
   return failed.WithContext("rank of the tracks");
 }
 
-Status DecidePriors(const PriorRuleOptions& options, const Measurements& measurements,
-                    int num_bases, PriorDecision* decision) {
+Status DecidePriors(const PriorRuleOptions& options,
+                    const Measurements& measurements, int num_bases,
+                    PriorDecision* decision) {
   decision->track_step = MedianTrackStep(measurements);
   decision->track_order = TrackOrder(measurements);
   decision->video = decision->track_order >= options.min_track_order;
-  NRSFM_RETURN_IF_ERROR(
-      AnalyseTrackRank(options, measurements, num_bases, decision->video, decision));
+  NRSFM_RETURN_IF_ERROR(AnalyseTrackRank(options, measurements, num_bases,
+                                         decision->video, decision));
   const bool basis_absorbs_rotation =
       3.0 * num_bases >= options.min_basis_fraction * measurements.num_points;
   if (!decision->model_explains_tracks || basis_absorbs_rotation) {
     if (decision->video) {
-      decision->term_weights[kTemporalShapeTerm] = options.temporal_shape_weight;
+      decision->term_weights[kTemporalShapeTerm] =
+          options.temporal_shape_weight;
     } else {
       decision->term_weights[kDeformationTerm] = options.deformation_weight;
     }
@@ -268,11 +288,13 @@ double LargestViewAngleDeg(const Model& model) {
   // The angle of R_t R_sᵀ from its trace, 1 + 2 cos θ = Σ_ij (R_t)_ij (R_s)_ij:
   // ample precision for the tens of degrees this is about, O(F²) cheap.
   std::vector<Eigen::Matrix3d> rotations(model.num_frames);
-  for (int t = 0; t < model.num_frames; ++t) rotations[t] = model.Rotation(t, 0);
+  for (int t = 0; t < model.num_frames; ++t)
+    rotations[t] = model.Rotation(t, 0);
   double smallest_cosine = 1.0;
   for (int s = 0; s < model.num_frames; ++s) {
     for (int t = s + 1; t < model.num_frames; ++t) {
-      const double cosine = 0.5 * (rotations[t].cwiseProduct(rotations[s]).sum() - 1.0);
+      const double cosine =
+          0.5 * (rotations[t].cwiseProduct(rotations[s]).sum() - 1.0);
       smallest_cosine = std::min(smallest_cosine, cosine);
     }
   }

@@ -38,11 +38,11 @@
 //    the temporal_shape term is on (2.). The start's camera path (camera 0):
 //    with a_L the median over t of
 //      |log(R_(t+L) R_tᵀ) − log(R_t R_(t−L)ᵀ)| / L²   (degrees per frame²),
-//    the path's acceleration is a_4 − a_1 / 16, clamped at 0: jitter of the start's
-//    rotations from frame to frame (noise in the tracks) adds about a_1 to
-//    a_1 and a_1 / L² to a_L, so the difference keeps the acceleration of the
-//    path itself. When it is below max_path_acceleration_deg (a turntable or
-//    an orbiting rig; the starts' values on constant and real camera paths,
+//    the path's acceleration is a_4 − a_1 / 16, clamped at 0: jitter of the
+//    start's rotations from frame to frame (noise in the tracks) adds about a_1
+//    to a_1 and a_1 / L² to a_L, so the difference keeps the acceleration of
+//    the path itself. When it is below max_path_acceleration_deg (a turntable
+//    or an orbiting rig; the starts' values on constant and real camera paths,
 //    with and without noise, are measured in docs/priors.md), the refinement
 //    keeps it constant with the rotation_acceleration term at
 //    rotation_acceleration_weight, strong enough to act as a constraint.
@@ -67,10 +67,10 @@
 //    explains the tracks when
 //    sqrt(2 RSS(r) / N) ≤ camera_fit_threshold · max(σ̂ sqrt(2 (N − n(r)) / N),
 //    f · spread), f = 10⁻⁶ (10⁻⁴ with missing entries: what the completion
-//    reaches on exact data). When rank 3K does not (misfit), the camera is estimated
-//    with K_cam > K bases and the K-basis shapes are then fitted with those
-//    rotations held (solvers/reconstruct.h): a model that cannot explain the
-//    tracks bends the rotations to absorb what it cannot fit. K_cam is the
+//    reaches on exact data). When rank 3K does not (misfit), the camera is
+//    estimated with K_cam > K bases and the K-basis shapes are then fitted with
+//    those rotations held (solvers/reconstruct.h): a model that cannot explain
+//    the tracks bends the rotations to absorb what it cannot fit. K_cam is the
 //    smallest K' > K whose rank explains the tracks, at most the largest K'
 //    with 3K' ≤ camera_rank_fraction · min(P, 2FM) and K' ≤ kMaxCameraBases
 //    (with more, the camera's own extra bases absorb rotation:
@@ -89,14 +89,15 @@
 namespace nrsfm {
 
 struct PriorRuleOptions {
-  double min_track_order = 1.25;            // > 1, dimensionless (motion ratio m_L / m_1)
-  double min_basis_fraction = 0.5;          // > 0, 3K / P from which the basis absorbs rotation
-  double temporal_shape_weight = 1.0;       // > 0, λ of temporal_shape for a video
-  double deformation_weight = 1.0;          // > 0, λ of deformation otherwise
-  double max_path_acceleration_deg = 0.1;   // ≥ 0, degrees per frame²; 0 = never
+  double min_track_order = 1.25;  // > 1, dimensionless (motion ratio m_L / m_1)
+  double min_basis_fraction =
+      0.5;  // > 0, 3K / P from which the basis absorbs rotation
+  double temporal_shape_weight = 1.0;  // > 0, λ of temporal_shape for a video
+  double deformation_weight = 1.0;     // > 0, λ of deformation otherwise
+  double max_path_acceleration_deg = 0.1;  // ≥ 0, degrees per frame²; 0 = never
   double rotation_acceleration_weight = 1e6;  // > 0, λ of rotation_acceleration
-  double camera_rank_fraction = 0.75;       // in (0, 1): 3K_cam ≤ this · min(P, 2FM)
-  double camera_fit_threshold = 1.1;        // ≥ 1, factor over the noise residual
+  double camera_rank_fraction = 0.75;  // in (0, 1): 3K_cam ≤ this · min(P, 2FM)
+  double camera_fit_threshold = 1.1;  // ≥ 1, factor over the noise residual
   // The camera stage's function tolerance (relative cost decrease of an
   // accepted step), in (0, 1): it needs the rotations, which settle first;
   // the slow decrease after them is the extra bases absorbing rotation.
@@ -107,10 +108,13 @@ struct PriorRuleOptions {
 
 // What the rule measured and chose.
 struct PriorDecision {
-  double track_step = -1;   // m_1 / spread; -1 when F < 2 or no frame pair shares a point
-  double track_order = -1;  // max_L m_L / m_1; -1 when F < 8 or m_1 is not defined or 0
-  bool video = false;        // track_order ≥ min_track_order
-  double path_acceleration_deg = -1;  // a_4 − a_1 / 16 of the start; -1 when not measured (no temporal_shape, F < 9)
+  double track_step =
+      -1;  // m_1 / spread; -1 when F < 2 or no frame pair shares a point
+  double track_order =
+      -1;  // max_L m_L / m_1; -1 when F < 8 or m_1 is not defined or 0
+  bool video = false;                 // track_order ≥ min_track_order
+  double path_acceleration_deg = -1;  // a_4 − a_1 / 16 of the start; -1 when
+                                      // not measured (no temporal_shape, F < 9)
   // Fact 4: whether the K-basis model explains the tracks, the bases the
   // camera is estimated with (K when it does, or without a larger cap), and
   // the noise RMS per coordinate estimated (-1 when not estimated).
@@ -124,8 +128,8 @@ struct PriorDecision {
 };
 
 // Diagnostic (track_step for L = 1): m_L / spread, the median track motion
-// between frames L apart over the image spread; -1 when no such pair of frames shares a visible
-// point or the spread is 0.
+// between frames L apart over the image spread; -1 when no such pair of frames
+// shares a visible point or the spread is 0.
 double MedianTrackStep(const Measurements& measurements, int lag = 1);
 // Fact 1: max over L = 2, 4, 8, … ≤ F / 2 of m_L / m_1; -1 when F < 8 or
 // m_1 ≤ 0.
@@ -143,8 +147,9 @@ inline constexpr int kMaxCameraBases = 16;
 // Facts 1, 2 and 4 for K = num_bases: the shape prior's weight
 // (decision->term_weights), model_explains_tracks, camera_num_bases and
 // noise_rms. Errors only when the low-rank completion of fact 4 fails.
-Status DecidePriors(const PriorRuleOptions& options, const Measurements& measurements,
-                    int num_bases, PriorDecision* decision);
+Status DecidePriors(const PriorRuleOptions& options,
+                    const Measurements& measurements, int num_bases,
+                    PriorDecision* decision);
 
 // The largest K' whose rank-3K' fit the tracks support (3K' + 1 ≤ min(P,
 // 2FM); with missing entries a view with 3K' + 1 points and a point in
@@ -155,12 +160,14 @@ int LargestSupportedBases(const Measurements& measurements);
 // K' ≤ LargestSupportedBases, ≥ 1. Fact 3 is measured on a start with at
 // most this many bases (with more the start's path is not reliable:
 // docs/priors.md).
-int CameraBasesCap(const PriorRuleOptions& options, const Measurements& measurements);
+int CameraBasesCap(const PriorRuleOptions& options,
+                   const Measurements& measurements);
 
 // Fact 4 alone (fills the three fact-4 fields of `decision`); `video` (fact
 // 1) chooses the noise estimate.
-Status AnalyseTrackRank(const PriorRuleOptions& options, const Measurements& measurements,
-                        int num_bases, bool video, PriorDecision* decision);
+Status AnalyseTrackRank(const PriorRuleOptions& options,
+                        const Measurements& measurements, int num_bases,
+                        bool video, PriorDecision* decision);
 // The noise of the tracks per coordinate from their third differences in
 // time (a video: the motion is smooth, white noise is not): 1.4826 · the
 // median |x_(t+3) − 3x_(t+2) + 3x_(t+1) − x_t| / √20 over every coordinate

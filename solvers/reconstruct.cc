@@ -1,11 +1,10 @@
 #include "solvers/reconstruct.h"
 
+#include <glog/logging.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-
-#include <glog/logging.h>
-
 #include <iomanip>
 #include <sstream>
 #include <string>
@@ -26,7 +25,9 @@ constexpr EnumName<PriorMode> kPriorModeNames[] = {
 
 }  // namespace
 
-const char* PriorModeName(PriorMode mode) { return NameOf(kPriorModeNames, mode); }
+const char* PriorModeName(PriorMode mode) {
+  return NameOf(kPriorModeNames, mode);
+}
 
 Status ParsePriorMode(const std::string& name, PriorMode* mode) {
   return ParseName(kPriorModeNames, name, "prior mode", mode);
@@ -39,7 +40,8 @@ Status ReconstructOptions::Check() const {
   check.Nested(solver.Check());
   check.Nested(prior_rule.Check());
   bool any_weight = false;
-  for (const auto& [name, weight] : problem.term_weights) any_weight |= weight != 0.0;
+  for (const auto& [name, weight] : problem.term_weights)
+    any_weight |= weight != 0.0;
   check.Require(priors == PriorMode::kManual || !any_weight,
                 "term weights are given but priors = auto chooses them; set "
                 "priors = manual to use your own");
@@ -51,16 +53,16 @@ namespace {
 // One start followed by its refinement. With priors = auto the start's
 // camera path decides the path prior (`decision` holds the rule's other facts).
 Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
-                      const Measurements& measurements, const PriorDecision& decision,
+                      const Measurements& measurements,
+                      const PriorDecision& decision,
                       ReconstructResult* result) {
   if (options.solver.stop_requested && options.solver.stop_requested()) {
     return Status::Error("stopped on request");
   }
   StartOptions start = options.start;
   start.method = method;
-  NRSFM_RETURN_IF_ERROR(
-      Initialize(start, measurements, &result->model, &result->start,
-                 options.solver.num_threads));
+  NRSFM_RETURN_IF_ERROR(Initialize(start, measurements, &result->model,
+                                   &result->start, options.solver.num_threads));
   ProblemOptions problem = options.problem;
   result->priors = decision;
   if (options.priors == PriorMode::kAuto) {
@@ -69,11 +71,13 @@ Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
     Model reference;
     const Model* path = &result->model;
     const int cap = CameraBasesCap(options.prior_rule, measurements);
-    if (result->priors.term_weights.count(kTemporalShapeTerm) > 0 && start.num_bases > cap) {
+    if (result->priors.term_weights.count(kTemporalShapeTerm) > 0 &&
+        start.num_bases > cap) {
       StartOptions fewer = start;
       fewer.num_bases = cap;
       StartSummary unused;
-      if (Initialize(fewer, measurements, &reference, &unused, options.solver.num_threads)
+      if (Initialize(fewer, measurements, &reference, &unused,
+                     options.solver.num_threads)
               .ok()) {
         path = &reference;
       }
@@ -93,19 +97,23 @@ Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
 // num_threads / 2 threads), in turns with one. Inputs of more than
 // kMaxObservationsForTwoAtOnce observations, whose two problems would not
 // both fit in memory, refine one start after the other on every thread.
-void RefineBothStarts(const ReconstructOptions& options, const Measurements& measurements,
-                      const PriorDecision& decision, ReconstructResult* factorization,
+void RefineBothStarts(const ReconstructOptions& options,
+                      const Measurements& measurements,
+                      const PriorDecision& decision,
+                      ReconstructResult* factorization,
                       Status* factorization_status, ReconstructResult* rigid,
                       Status* rigid_status) {
   if (measurements.NumVisible() > kMaxObservationsForTwoAtOnce) {
     *factorization_status =
-        StartAndRefine(options, StartMethod::kFactorization, measurements, decision, factorization);
-    *rigid_status = StartAndRefine(options, StartMethod::kRigid, measurements, decision, rigid);
+        StartAndRefine(options, StartMethod::kFactorization, measurements,
+                       decision, factorization);
+    *rigid_status = StartAndRefine(options, StartMethod::kRigid, measurements,
+                                   decision, rigid);
     return;
   }
-  const auto lane = [&options, &measurements, &decision](StartMethod method,
-                                                      ReconstructResult* result,
-                                                      Status* status) -> RaceRefinement {
+  const auto lane = [&options, &measurements, &decision](
+                        StartMethod method, ReconstructResult* result,
+                        Status* status) -> RaceRefinement {
     return [&options, &measurements, &decision, method, result,
             status](const SolverOptions& solver) {
       ReconstructOptions own = options;
@@ -122,9 +130,10 @@ void RefineBothStarts(const ReconstructOptions& options, const Measurements& mea
   };
   SolverOptions each = options.solver;
   each.num_threads = std::max(1, options.solver.num_threads / 2);
-  RunTwoRefinements(each, /*concurrent=*/options.solver.num_threads >= 2,
-                    lane(StartMethod::kFactorization, factorization, factorization_status),
-                    lane(StartMethod::kRigid, rigid, rigid_status));
+  RunTwoRefinements(
+      each, /*concurrent=*/options.solver.num_threads >= 2,
+      lane(StartMethod::kFactorization, factorization, factorization_status),
+      lane(StartMethod::kRigid, rigid, rigid_status));
 }
 
 // Whether refined result `a` is better than `b`: a usable solution beats an
@@ -141,7 +150,8 @@ bool IsBetter(const ReconstructResult& a, const ReconstructResult& b) {
 // becomes the shape stage's, result->model its model (the reduced model when
 // that refinement is not usable).
 Status RefineWithCameraHeld(const ReconstructOptions& options,
-                            const Measurements& measurements, ReconstructResult* result) {
+                            const Measurements& measurements,
+                            ReconstructResult* result) {
   result->camera_stage = true;
   result->camera_refine = result->refine;
   if (!result->camera_refine.usable) {
@@ -161,7 +171,8 @@ Status RefineWithCameraHeld(const ReconstructOptions& options,
   problem.term_weights.erase(kRotationAccelerationTerm);
   problem.constant_rotations = true;
   result->refine = RefineSummary();
-  return Refine(problem, options.solver, measurements, &result->model, &result->refine);
+  return Refine(problem, options.solver, measurements, &result->model,
+                &result->refine);
 }
 
 }  // namespace
@@ -196,7 +207,8 @@ namespace {
 // which are absolute; Reconstruct() therefore calls it on tracks of unit
 // spread. Reconstruct() has checked the options and the measurements.
 Status ReconstructInUnits(const ReconstructOptions& options,
-                          const Measurements& measurements, ReconstructResult* result) {
+                          const Measurements& measurements,
+                          ReconstructResult* result) {
   const auto start = std::chrono::steady_clock::now();
   *result = ReconstructResult();
   Unobserved unobserved;
@@ -205,27 +217,30 @@ Status ReconstructInUnits(const ReconstructOptions& options,
   if (!unobserved.empty()) {
     // The options that index observations or frames follow the kept ones.
     ReconstructOptions kept = options;
-    kept.problem.observation_weights =
-        WithoutUnobserved(options.problem.observation_weights, measurements, unobserved);
+    kept.problem.observation_weights = WithoutUnobserved(
+        options.problem.observation_weights, measurements, unobserved);
     int& reference = kept.problem.smoothness_edges.reference_frame;
     if (reference >= 0) {
       const auto& dropped = unobserved.frames;
       if (std::binary_search(dropped.begin(), dropped.end(), reference)) {
-        reference = -1;  // a left-out frame: the default choice among the kept ones
+        reference =
+            -1;  // a left-out frame: the default choice among the kept ones
       } else {
         reference -= static_cast<int>(
-            std::lower_bound(dropped.begin(), dropped.end(), reference) - dropped.begin());
+            std::lower_bound(dropped.begin(), dropped.end(), reference) -
+            dropped.begin());
       }
     }
-    NRSFM_RETURN_IF_ERROR(
-        ReconstructInUnits(kept, WithoutUnobserved(measurements, unobserved), result));
+    NRSFM_RETURN_IF_ERROR(ReconstructInUnits(
+        kept, WithoutUnobserved(measurements, unobserved), result));
     result->model = ExpandModel(result->model, measurements, unobserved);
     result->dropped_points = unobserved.points;
     result->dropped_frames = unobserved.frames;
     result->warnings.insert(result->warnings.begin(),
                             UnobservedWarning(measurements, unobserved));
-    result->total_seconds = std::chrono::duration<double>(
-        std::chrono::steady_clock::now() - start).count();
+    result->total_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+            .count();
     return Status::OK();
   }
   PriorDecision decision;
@@ -240,15 +255,16 @@ Status ReconstructInUnits(const ReconstructOptions& options,
   const bool two_stages = !decision.term_weights.empty();
   if (two_stages) {
     camera.start.num_bases = std::max(num_bases, decision.camera_num_bases);
-    camera.solver.function_tolerance = std::max(
-        options.solver.function_tolerance, options.prior_rule.camera_function_tolerance);
+    camera.solver.function_tolerance =
+        std::max(options.solver.function_tolerance,
+                 options.prior_rule.camera_function_tolerance);
   }
   if (options.start.method != StartMethod::kAuto) {
     NRSFM_RETURN_IF_ERROR(StartAndRefine(camera, options.start.method,
                                          measurements, decision, result));
   } else if (decision.term_weights.count(kTemporalShapeTerm) > 0) {
-    NRSFM_RETURN_IF_ERROR(
-        StartAndRefine(camera, StartMethod::kTriple, measurements, decision, result));
+    NRSFM_RETURN_IF_ERROR(StartAndRefine(camera, StartMethod::kTriple,
+                                         measurements, decision, result));
   } else {
     // Both starts are refined and the lower refined cost is kept: a start's
     // own reprojection error does not tell which basin it is in (the rigid
@@ -256,8 +272,8 @@ Status ReconstructInUnits(const ReconstructOptions& options,
     // converge to a depth-degenerate solution).
     ReconstructResult factorization, rigid;
     Status factorization_status, rigid_status;
-    RefineBothStarts(camera, measurements, decision, &factorization, &factorization_status,
-                     &rigid, &rigid_status);
+    RefineBothStarts(camera, measurements, decision, &factorization,
+                     &factorization_status, &rigid, &rigid_status);
     if (!factorization_status.ok() && !rigid_status.ok()) {
       return Status::Error("both starts failed: factorization: " +
                            factorization_status.message() +
@@ -280,7 +296,8 @@ Status ReconstructInUnits(const ReconstructOptions& options,
     NRSFM_RETURN_IF_ERROR(RefineWithCameraHeld(options, measurements, result));
   }
   const bool at_limit =
-      (result->refine.usable && !result->refine.converged && !result->refine.stopped &&
+      (result->refine.usable && !result->refine.converged &&
+       !result->refine.stopped &&
        result->refine.iterations >= options.solver.max_iterations) ||
       (result->camera_refine.usable && !result->camera_refine.converged &&
        !result->camera_refine.stopped &&
@@ -289,18 +306,20 @@ Status ReconstructInUnits(const ReconstructOptions& options,
     result->warnings.push_back(
         "the refinement stopped at its iteration limit (" +
         std::to_string(options.solver.max_iterations) +
-        ") before its tolerances were met; more iterations (max_iterations) may "
+        ") before its tolerances were met; more iterations (max_iterations) "
+        "may "
         "still change the result");
   }
   result->depth_ratio = DepthRatio(result->model);
   if (result->depth_ratio > kLargeDepthRatio) {
     std::ostringstream warning;
-    warning << std::fixed << std::setprecision(1)
-            << "deep shapes: the depth of the result is " << result->depth_ratio
-            << " times its extent in the image (above " << kLargeDepthRatio
-            << "), as when the shapes were stretched along the view direction; "
-               "the data may not determine the depth (with priors = manual, try "
-               "priors = auto)";
+    warning
+        << std::fixed << std::setprecision(1)
+        << "deep shapes: the depth of the result is " << result->depth_ratio
+        << " times its extent in the image (above " << kLargeDepthRatio
+        << "), as when the shapes were stretched along the view direction; "
+           "the data may not determine the depth (with priors = manual, try "
+           "priors = auto)";
     result->warnings.push_back(warning.str());
   }
   result->largest_view_angle_deg = LargestViewAngleDeg(result->model);
@@ -309,8 +328,7 @@ Status ReconstructInUnits(const ReconstructOptions& options,
     warning << std::fixed << std::setprecision(1)
             << "little rotation: the camera turns at most "
             << result->largest_view_angle_deg
-            << " degrees between any two frames; below "
-            << kLittleRotationDeg
+            << " degrees between any two frames; below " << kLittleRotationDeg
             << " degrees the data fix the depth of a deforming shape poorly, "
                "so the depth (z) of this result may be far off";
     result->warnings.push_back(warning.str());
@@ -326,7 +344,8 @@ Status ReconstructInUnits(const ReconstructOptions& options,
 // the RMS values and costs, the noise estimate; the term weights given in
 // `options` are returned as given (the rule's own weights are
 // dimensionless).
-void ToInputUnits(const ReconstructOptions& options, double spread, ReconstructResult* result) {
+void ToInputUnits(const ReconstructOptions& options, double spread,
+                  ReconstructResult* result) {
   result->model.translations *= spread;
   result->model.basis *= spread;
   result->start.reprojection_rms *= spread;
@@ -348,7 +367,8 @@ void ToInputUnits(const ReconstructOptions& options, double spread, ReconstructR
 }  // namespace
 
 Status Reconstruct(const ReconstructOptions& options,
-                   const Measurements& measurements, ReconstructResult* result) {
+                   const Measurements& measurements,
+                   ReconstructResult* result) {
   CHECK(result != nullptr);
   *result = ReconstructResult();
   NRSFM_RETURN_IF_ERROR(options.Check());
@@ -364,7 +384,8 @@ Status Reconstruct(const ReconstructOptions& options,
   scaled.problem.robust_scale /= spread;
   for (const ExtraTerm& term : ExtraTerms()) {
     const auto it = scaled.problem.term_weights.find(term.name);
-    if (term.weight_in_squared_input_units && it != scaled.problem.term_weights.end()) {
+    if (term.weight_in_squared_input_units &&
+        it != scaled.problem.term_weights.end()) {
       it->second /= spread * spread;
     }
   }

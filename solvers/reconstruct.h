@@ -32,7 +32,7 @@ Status ParsePriorMode(const std::string& name, PriorMode* mode);
 // pipeline the project recommends for any input (docs/priors.md has what
 // it was measured on).
 struct ReconstructOptions {
-  StartOptions start;      // the closed-form start, including K (start.num_bases)
+  StartOptions start;  // the closed-form start, including K (start.num_bases)
   ProblemOptions problem;  // what the Ceres problem holds and refines
   SolverOptions solver;    // how it is solved
   PriorMode priors = PriorMode::kAuto;
@@ -44,9 +44,9 @@ struct ReconstructOptions {
 };
 
 struct ReconstructResult {
-  Model model;               // the refined model (the start if refine.usable is false)
-  StartSummary start;        // the start kept: method, its RMS, its time
-  RefineSummary refine;      // the (last) refinement: costs, RMS, iterations, times
+  Model model;  // the refined model (the start if refine.usable is false)
+  StartSummary start;    // the start kept: method, its RMS, its time
+  RefineSummary refine;  // the (last) refinement: costs, RMS, iterations, times
   // Whether the refinement ran in two stages (priors = auto with a shape
   // prior: the camera stage, then the shape stage with its rotations held),
   // and the camera stage's refinement (with priors.camera_num_bases bases).
@@ -136,8 +136,8 @@ inline constexpr int kMaxObservationsForTwoAtOnce = 1000000;
 // Points and frames with too few observations for the model with K bases
 // are first left out (solvers/drop_unobserved.h; observation_weights and
 // smoothness_edges.reference_frame follow the kept ones, a left-out
-// reference frame becomes the default choice): the rest is reconstructed as above and
-// the left-out ones are NaN in result->model, listed in
+// reference frame becomes the default choice): the rest is reconstructed as
+// above and the left-out ones are NaN in result->model, listed in
 // result->dropped_points / dropped_frames and named in a warning.
 // Units: everything above runs on the tracks divided by their spread
 // (Measurements::ImageSpreadRms), with robust_scale and the λ of terms

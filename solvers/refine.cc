@@ -1,15 +1,15 @@
 #include "solvers/refine.h"
 
+#include <ceres/iteration_callback.h>
+#include <ceres/solver.h>
+#include <glog/logging.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <ceres/iteration_callback.h>
-#include <ceres/solver.h>
-#include <glog/logging.h>
 
 #include "core/metrics.h"
 #include "problems/extra_terms.h"
@@ -58,7 +58,8 @@ class ProgressCallback : public ceres::IterationCallback {
                                  summary.cumulative_time_in_seconds};
     if (options_.verbosity >= 1) {
       VLOG(1) << "refine: iteration " << report.iteration << " cost "
-              << report.cost << (summary.step_is_successful ? "" : " (rejected)")
+              << report.cost
+              << (summary.step_is_successful ? "" : " (rejected)")
               << " linear solver iterations "
               << summary.linear_solver_iterations << " time " << report.seconds
               << " s";
@@ -104,8 +105,8 @@ bool SolveWithStructuredSolver(const SolverOptions& options,
   structured.solver = options;
   structured.solver.progress = [&options](const IterationReport& report) {
     if (options.verbosity >= 1) {
-      VLOG(1) << "refine: iteration " << report.iteration << " cost " << report.cost
-              << " time " << report.seconds << " s";
+      VLOG(1) << "refine: iteration " << report.iteration << " cost "
+              << report.cost << " time " << report.seconds << " s";
     }
     if (options.progress) options.progress(report);
   };
@@ -121,7 +122,8 @@ bool SolveWithStructuredSolver(const SolverOptions& options,
   summary->final_cost = result.final_cost;
   summary->iterations = result.iterations;
   summary->residual_seconds = result.evaluate_seconds;
-  summary->linear_solver_seconds = result.preconditioner_seconds + result.cg_seconds;
+  summary->linear_solver_seconds =
+      result.preconditioner_seconds + result.cg_seconds;
   summary->minimizer_seconds = result.total_seconds;
   summary->usable = result.usable;
   std::ostringstream report;
@@ -139,29 +141,30 @@ bool SolveWithStructuredSolver(const SolverOptions& options,
 
 // Runs Ceres' own minimiser with `linear_solver` (not kAuto or kStructured);
 // build_seconds is the time since `start` when the solver is configured.
-Status SolveWithCeres(const SolverOptions& options, LinearSolverChoice linear_solver,
-                      Clock::time_point start, ProblemBuilder* builder,
-                      RefineSummary* summary) {
+Status SolveWithCeres(const SolverOptions& options,
+                      LinearSolverChoice linear_solver, Clock::time_point start,
+                      ProblemBuilder* builder, RefineSummary* summary) {
   ProgressCallback callback(options);
   ceres::Solver::Summary ceres_summary;
   NRSFM_RETURN_IF_ERROR(
-      SolveCeres(options,
-                 [&](ceres::Solver::Options* solver_options) {
-                   solver_options->callbacks.push_back(&callback);
-                   LinearSolverChoice used = LinearSolverChoice::kAuto;
-                   NRSFM_RETURN_IF_ERROR(
-                       ConfigureLinearSolver(linear_solver, builder, solver_options, &used));
-                   summary->linear_solver = LinearSolverName(used);
-                   summary->build_seconds = SecondsSince(start);
-                   return Status::OK();
-                 },
-                 builder->problem(), &ceres_summary)
+      SolveCeres(
+          options,
+          [&](ceres::Solver::Options* solver_options) {
+            solver_options->callbacks.push_back(&callback);
+            LinearSolverChoice used = LinearSolverChoice::kAuto;
+            NRSFM_RETURN_IF_ERROR(ConfigureLinearSolver(linear_solver, builder,
+                                                        solver_options, &used));
+            summary->linear_solver = LinearSolverName(used);
+            summary->build_seconds = SecondsSince(start);
+            return Status::OK();
+          },
+          builder->problem(), &ceres_summary)
           .WithContext("refine"));
   callback.ReportRemaining(ceres_summary);
 
   summary->stopped = callback.stopped();
-  summary->message =
-      summary->stopped ? std::string("stopped on request") : ceres_summary.message;
+  summary->message = summary->stopped ? std::string("stopped on request")
+                                      : ceres_summary.message;
   summary->converged = ceres_summary.termination_type == ceres::CONVERGENCE;
   summary->initial_cost = ceres_summary.initial_cost;
   summary->final_cost = ceres_summary.final_cost;
@@ -188,7 +191,8 @@ Status Refine(const ProblemOptions& problem, const SolverOptions& solver,
   *summary = RefineSummary();
   NRSFM_RETURN_IF_ERROR(solver.Check().WithContext("refine"));
   ProblemBuilder builder(&measurements, model);
-  NRSFM_RETURN_IF_ERROR(builder.AddReprojectionTerms(problem).WithContext("refine"));
+  NRSFM_RETURN_IF_ERROR(
+      builder.AddReprojectionTerms(problem).WithContext("refine"));
   NRSFM_RETURN_IF_ERROR(AddExtraTerms(problem, &builder).WithContext("refine"));
   const double build_seconds = SecondsSince(start);
   NRSFM_RETURN_IF_ERROR(SolveProblem(solver, &builder, summary));
@@ -207,7 +211,8 @@ Status SolveProblem(const SolverOptions& caller, ProblemBuilder* builder,
   double callback_seconds = 0.0;
   SolverOptions options = caller;
   if (caller.progress) {
-    options.progress = [&caller, &callback_seconds](const IterationReport& report) {
+    options.progress = [&caller,
+                        &callback_seconds](const IterationReport& report) {
       const Clock::time_point begin = Clock::now();
       caller.progress(report);
       callback_seconds += SecondsSince(begin);
@@ -228,7 +233,8 @@ Status SolveProblem(const SolverOptions& caller, ProblemBuilder* builder,
   summary->num_residual_blocks = builder->num_reprojection_terms();
   summary->initial_reprojection_rms = ReprojectionRms(measurements, *model);
 
-  const MinimizerChoice choice = ChooseMinimizer(options.linear_solver, builder);
+  const MinimizerChoice choice =
+      ChooseMinimizer(options.linear_solver, builder);
   bool solved = false;
   if (choice.minimizer == Minimizer::kStructured) {
     std::string error;
@@ -242,12 +248,13 @@ Status SolveProblem(const SolverOptions& caller, ProblemBuilder* builder,
     // caller added that couples two points): Ceres' own solver runs instead.
   }
   if (!solved) {
-    NRSFM_RETURN_IF_ERROR(
-        SolveWithCeres(options, choice.ceres_linear_solver, start, builder, summary));
+    NRSFM_RETURN_IF_ERROR(SolveWithCeres(options, choice.ceres_linear_solver,
+                                         start, builder, summary));
   }
   if (summary->usable && !model->Validate().ok()) {
     summary->usable = false;
-    summary->message = "the refined model is not finite (" + summary->message + ")";
+    summary->message =
+        "the refined model is not finite (" + summary->message + ")";
   }
   // Ceres calls a solve usable when its cost overflowed to Inf (residuals of
   // ~1e155 or more); such a model fits nothing.
@@ -255,8 +262,10 @@ Status SolveProblem(const SolverOptions& caller, ProblemBuilder* builder,
       !(std::isfinite(summary->final_cost) &&
         std::isfinite(ReprojectionRms(measurements, *model)))) {
     summary->usable = false;
-    summary->message = "the cost or the reprojection error is not finite "
-                       "(values too large?) (" + summary->message + ")";
+    summary->message =
+        "the cost or the reprojection error is not finite "
+        "(values too large?) (" +
+        summary->message + ")";
   }
   if (!summary->usable) {
     *model = input;

@@ -1,7 +1,8 @@
 // Refine(): Levenberg–Marquardt refinement of a whole model against the
 // measurements, the one Ceres problem of docs/problem.md:
 //
-//   cost = ½ Σ_{visible (t, c, p)} w_obs ρ( ||s_tc Π R_tc S_t[:, p] + T_tc − w_tcp||² )
+//   cost = ½ Σ_{visible (t, c, p)} w_obs ρ( ||s_tc Π R_tc S_t[:, p] + T_tc −
+//   w_tcp||² )
 //          + Σ_terms λ · (the term's cost)
 //
 // over the blocks `problem` does not hold constant (ρ = identity, Huber or
@@ -24,20 +25,21 @@
 namespace nrsfm {
 
 struct RefineSummary {
-  bool usable = false;          // Ceres IsSolutionUsable() and a finite model
-  std::string message;          // the solver's termination message (or why not usable)
+  bool usable = false;  // Ceres IsSolutionUsable() and a finite model
+  std::string message;  // the solver's termination message (or why not usable)
   // Stopped by a tolerance (function, gradient or parameter), not by the
   // iteration or time limit.
   bool converged = false;
   // Ended because SolverOptions::stop_requested returned true.
   bool stopped = false;
-  double initial_cost = 0.0;    // Ceres cost ½ Σ ρ(‖r‖²) at the start
-  double final_cost = 0.0;      // … at the end (= initial_cost when not usable)
-  double initial_reprojection_rms = 0.0;  // Measurements-vs-model RMS (core/metrics.h), input units
-  double reprojection_rms = 0.0;          // … of the final model
-  int iterations = 0;           // LM iterations (successful and not)
-  int num_residual_blocks = 0;  // reprojection residual blocks (observations)
-  double seconds = 0.0;         // wall time of the whole Refine() call
+  double initial_cost = 0.0;  // Ceres cost ½ Σ ρ(‖r‖²) at the start
+  double final_cost = 0.0;    // … at the end (= initial_cost when not usable)
+  double initial_reprojection_rms =
+      0.0;  // Measurements-vs-model RMS (core/metrics.h), input units
+  double reprojection_rms = 0.0;  // … of the final model
+  int iterations = 0;             // LM iterations (successful and not)
+  int num_residual_blocks = 0;    // reprojection residual blocks (observations)
+  double seconds = 0.0;           // wall time of the whole Refine() call
   // Where the time went (seconds): building the problem, Ceres' preprocessing,
   // residual and Jacobian evaluation, linear solves, the minimizer as a whole.
   double build_seconds = 0.0;
@@ -51,8 +53,10 @@ struct RefineSummary {
   // starts wait for each other, solvers/two_starts.h): minimizer_seconds −
   // callback_seconds is the solver's own time.
   double callback_seconds = 0.0;
-  std::string linear_solver;    // name of the solver used ("iterative_schur", "structured", …)
-  std::string ceres_report;     // Ceres' FullReport(), or the structured solver's one-line report
+  std::string linear_solver;  // name of the solver used ("iterative_schur",
+                              // "structured", …)
+  std::string ceres_report;   // Ceres' FullReport(), or the structured solver's
+                              // one-line report
 };
 
 // Refines `model` in place from its current values. Errors (model unchanged)

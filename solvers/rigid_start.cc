@@ -1,9 +1,9 @@
 #include "solvers/rigid_start.h"
 
-#include <vector>
+#include <glog/logging.h>
 
 #include <Eigen/LU>
-#include <glog/logging.h>
+#include <vector>
 
 #include "core/svd.h"
 #include "solvers/metric_upgrade.h"
@@ -15,8 +15,8 @@ Status RigidStart(const Measurements& centered, int num_bases,
                   const AlternationOptions& options, std::uint64_t seed,
                   Model* model, RigidStartSummary* summary) {
   CHECK(model != nullptr && summary != nullptr);
-  NRSFM_RETURN_IF_ERROR(
-      CheckAlternationInput(centered, num_bases, options).WithContext("rigid start"));
+  NRSFM_RETURN_IF_ERROR(CheckAlternationInput(centered, num_bases, options)
+                            .WithContext("rigid start"));
   const int k = num_bases;
   *summary = RigidStartSummary();
 
@@ -26,16 +26,18 @@ Status RigidStart(const Measurements& centered, int num_bases,
       CheckRotationObservable(svd.singular_values).WithContext("rigid start"));
   const Eigen::Vector3d root = svd.singular_values.head<3>().cwiseSqrt();
   const Eigen::MatrixX3d q_hat = svd.u.leftCols<3>() * root.asDiagonal();
-  const Eigen::Matrix3Xd b_hat = root.asDiagonal() * svd.v.leftCols<3>().transpose();
+  const Eigen::Matrix3Xd b_hat =
+      root.asDiagonal() * svd.v.leftCols<3>().transpose();
   MetricUpgrade upgrade;
-  NRSFM_RETURN_IF_ERROR(SolveMetricUpgrade(q_hat, &upgrade).WithContext("rigid start"));
+  NRSFM_RETURN_IF_ERROR(
+      SolveMetricUpgrade(q_hat, &upgrade).WithContext("rigid start"));
   summary->metric_upgrade_was_indefinite = upgrade.was_indefinite;
   const int f = centered.num_frames;
   std::vector<Eigen::Matrix3d> rotations(f);
   Eigen::VectorXd scales(f);
   for (int t = 0; t < f; ++t) {
-    ScaledRotationFromTwoRows(q_hat.middleRows<2>(2 * t) * upgrade.g, &rotations[t],
-                              &scales[t]);
+    ScaledRotationFromTwoRows(q_hat.middleRows<2>(2 * t) * upgrade.g,
+                              &rotations[t], &scales[t]);
   }
   const Eigen::Matrix3Xd rigid_shape = upgrade.g.inverse() * b_hat;
 

@@ -27,7 +27,7 @@ namespace nrsfm {
 
 struct RigidStartSummary {
   bool metric_upgrade_was_indefinite = false;  // see solvers/metric_upgrade.h
-  AlternationSummary alternation;              // RMS of the rigid and the returned model
+  AlternationSummary alternation;  // RMS of the rigid and the returned model
 };
 
 // Fills `model` (Resize'd to F, 1, P, K; unit scales; translations = δT,

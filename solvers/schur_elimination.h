@@ -15,10 +15,9 @@
 #ifndef NRSFM_SOLVERS_SCHUR_ELIMINATION_H_
 #define NRSFM_SOLVERS_SCHUR_ELIMINATION_H_
 
-#include <vector>
-
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <vector>
 
 #include "solvers/structured_jacobian.h"
 #include "solvers/structured_layout.h"
@@ -29,8 +28,8 @@ namespace structured {
 class SchurElimination {
  public:
   // `blocks` and `jacobian` must outlive this.
-  SchurElimination(const StructuredBlocks& blocks, const StructuredJacobian& jacobian,
-                   int num_threads);
+  SchurElimination(const StructuredBlocks& blocks,
+                   const StructuredJacobian& jacobian, int num_threads);
 
   // J_pᵀ J_p per eliminated block, from the current Jacobian.
   void ComputeGram();
@@ -40,7 +39,8 @@ class SchurElimination {
   // out = C̃⁻¹ in (eliminated columns).
   void SolveEliminated(const Eigen::VectorXd& in, Eigen::VectorXd* out) const;
   // out = S v (reduced columns), D_f = diag(d_reduced).
-  void ApplyReduced(const Eigen::VectorXd& v, double mu, const Eigen::VectorXd& d_reduced,
+  void ApplyReduced(const Eigen::VectorXd& v, double mu,
+                    const Eigen::VectorXd& d_reduced,
                     Eigen::VectorXd* out) const;
   // rhs = −g_f + J_fᵀ J_p C̃⁻¹ g_p.
   void ReducedRightHandSide(const Eigen::VectorXd& gradient_reduced,
@@ -55,8 +55,8 @@ class SchurElimination {
   const StructuredBlocks& blocks_;
   const StructuredJacobian& jacobian_;
   const int num_threads_;
-  std::vector<Eigen::MatrixXd> gram_;                 // J_pᵀ J_p per eliminated block
-  std::vector<Eigen::LLT<Eigen::MatrixXd>> llt_;      // of C̃ per eliminated block
+  std::vector<Eigen::MatrixXd> gram_;  // J_pᵀ J_p per eliminated block
+  std::vector<Eigen::LLT<Eigen::MatrixXd>> llt_;  // of C̃ per eliminated block
 };
 
 }  // namespace structured

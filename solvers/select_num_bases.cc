@@ -50,10 +50,9 @@ Status SelectNumBases(const ReconstructOptions& options,
     --k_max;
   }
   if (k_max < 1) {
-    return Status::Error(
-        "K selection: the data supports no K >= 1 (P = " +
-        std::to_string(measurements.num_points) +
-        ", F = " + std::to_string(measurements.num_frames) + ")");
+    return Status::Error("K selection: the data supports no K >= 1 (P = " +
+                         std::to_string(measurements.num_points) + ", F = " +
+                         std::to_string(measurements.num_frames) + ")");
   }
 
   SelectNumBasesResult out;
@@ -80,7 +79,8 @@ Status SelectNumBases(const ReconstructOptions& options,
     if (!status.ok()) {
       candidate.message = status.message();
     } else if (!reconstruction.refine.usable) {
-      candidate.message = "refinement not usable: " + reconstruction.refine.message;
+      candidate.message =
+          "refinement not usable: " + reconstruction.refine.message;
     } else {
       candidate.ok = true;
       candidate.reprojection_rms = reconstruction.refine.reprojection_rms;
@@ -103,14 +103,16 @@ Status SelectNumBases(const ReconstructOptions& options,
                          " reconstructed; K = 1: " + out.curve[0].message);
   }
   const double n_obs = 2.0 * num_observations;
-  const double rss = n_obs * 0.5 * std::pow(out.curve[reference].reprojection_rms, 2);
+  const double rss =
+      n_obs * 0.5 * std::pow(out.curve[reference].reprojection_rms, 2);
   const double dof = n_obs - NumFreeParameters(measurements, reference + 1);
   out.noise_stddev = std::sqrt(rss / std::max(dof, 1.0));
   const double floor = kRelativeNoiseFloor * measurements.ImageSpreadRms();
 
   out.num_bases = reference + 1;
   for (auto& candidate : out.curve) {
-    const double dof_k = n_obs - NumFreeParameters(measurements, candidate.num_bases);
+    const double dof_k =
+        n_obs - NumFreeParameters(measurements, candidate.num_bases);
     candidate.expected_rms =
         out.noise_stddev * std::sqrt(2.0 * std::max(dof_k, 0.0) / n_obs);
   }
@@ -130,8 +132,9 @@ Status SelectNumBases(const ReconstructOptions& options,
        kCurveMaxIterations < options.solver.max_iterations)) {
     ReconstructOptions chosen = options;
     chosen.start.num_bases = out.num_bases;
-    NRSFM_RETURN_IF_ERROR(Reconstruct(chosen, measurements, &out.reconstruction)
-                              .WithContext("K = " + std::to_string(out.num_bases)));
+    NRSFM_RETURN_IF_ERROR(
+        Reconstruct(chosen, measurements, &out.reconstruction)
+            .WithContext("K = " + std::to_string(out.num_bases)));
   } else {
     out.reconstruction = std::move(reconstructions[out.num_bases - 1]);
   }

@@ -38,23 +38,23 @@
 namespace nrsfm {
 
 struct SelectNumBasesOptions {
-  int max_num_bases = 8;               // largest K tried, ≥ 2
-  double threshold = 1.1;              // factor over the expected noise RMS, ≥ 1
+  int max_num_bases = 8;   // largest K tried, ≥ 2
+  double threshold = 1.1;  // factor over the expected noise RMS, ≥ 1
   Status Check() const;
 };
 
 struct NumBasesCandidate {
-  int num_bases = 0;            // K
-  bool ok = false;              // Reconstruct() succeeded and the refinement is usable
-  std::string message;          // why not, when !ok
+  int num_bases = 0;    // K
+  bool ok = false;      // Reconstruct() succeeded and the refinement is usable
+  std::string message;  // why not, when !ok
   double reprojection_rms = 0;  // refined, input units (RMS 2D distance)
   double expected_rms = 0;      // e(K) of the rule above
   double seconds = 0;           // wall time of this K
 };
 
 struct SelectNumBasesResult {
-  int num_bases = 0;             // the chosen K
-  double noise_stddev = 0;       // σ̂, per coordinate, input units
+  int num_bases = 0;                     // the chosen K
+  double noise_stddev = 0;               // σ̂, per coordinate, input units
   std::vector<NumBasesCandidate> curve;  // K = 1 … max_num_bases, in order
   ReconstructResult reconstruction;      // of the chosen K
 };

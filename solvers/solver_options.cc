@@ -1,11 +1,10 @@
 #include "solvers/solver_options.h"
 
-#include <algorithm>
-#include <thread>
-
-#include <string>
-
 #include <glog/logging.h>
+
+#include <algorithm>
+#include <string>
+#include <thread>
 
 #include "core/option_checker.h"
 
@@ -23,7 +22,8 @@ Status SolverOptions::Check() const {
   check.AtLeast("parameter_tolerance", parameter_tolerance, 0.0);
   check.AtLeast("max_seconds", max_seconds, 0.0);
   check.AtLeast("num_threads", num_threads, 1);
-  check.FinitePositive("initial_trust_region_radius", initial_trust_region_radius);
+  check.FinitePositive("initial_trust_region_radius",
+                       initial_trust_region_radius);
   check.AtLeast("verbosity", verbosity, 0);
   check.Require(cg_relative_tolerance > 0.0 && cg_relative_tolerance < 1.0,
                 "cg_relative_tolerance must be in (0, 1), got " +
@@ -42,15 +42,17 @@ ceres::Solver::Options ToCeresOptions(const SolverOptions& options) {
     ceres_options.max_solver_time_in_seconds = options.max_seconds;
   }
   ceres_options.num_threads = options.num_threads;
-  ceres_options.initial_trust_region_radius = options.initial_trust_region_radius;
+  ceres_options.initial_trust_region_radius =
+      options.initial_trust_region_radius;
   ceres_options.logging_type = ceres::SILENT;
   ceres_options.minimizer_progress_to_stdout = false;
   return ceres_options;
 }
 
-Status SolveCeres(const SolverOptions& options,
-                  const std::function<Status(ceres::Solver::Options*)>& configure,
-                  ceres::Problem* problem, ceres::Solver::Summary* summary) {
+Status SolveCeres(
+    const SolverOptions& options,
+    const std::function<Status(ceres::Solver::Options*)>& configure,
+    ceres::Problem* problem, ceres::Solver::Summary* summary) {
   CHECK(problem != nullptr && summary != nullptr);
   ceres::Solver::Options ceres_options = ToCeresOptions(options);
   NRSFM_RETURN_IF_ERROR(configure(&ceres_options));

@@ -5,10 +5,10 @@
 #ifndef NRSFM_SOLVERS_SOLVER_OPTIONS_H_
 #define NRSFM_SOLVERS_SOLVER_OPTIONS_H_
 
-#include <functional>
-
 #include <ceres/problem.h>
 #include <ceres/solver.h>
+
+#include <functional>
 
 #include "core/status.h"
 #include "problems/linear_solver_choice.h"
@@ -33,9 +33,11 @@ struct SolverOptions {
   // itself (the reprojection RMS then changes by less than half of it), ≥ 0
   // (the choice of 1e-7 is measured in docs/performance.md).
   double function_tolerance = 1e-7;
-  double gradient_tolerance = 1e-12;   // stop when max|projected gradient| < this, ≥ 0
-  double parameter_tolerance = 1e-10;  // stop when |Δx| < this · (|x| + this), ≥ 0
-  double max_seconds = 0.0;            // wall-time limit of the solve, 0 = none, ≥ 0
+  double gradient_tolerance =
+      1e-12;  // stop when max|projected gradient| < this, ≥ 0
+  double parameter_tolerance =
+      1e-10;                 // stop when |Δx| < this · (|x| + this), ≥ 0
+  double max_seconds = 0.0;  // wall-time limit of the solve, 0 = none, ≥ 0
   // Threads, ≥ 1; by default every core (DefaultNumThreads()). The
   // structured solver (the default) gives the same bits for any count (its
   // sums are added in pieces fixed by the problem); Ceres 2.1's own solvers
@@ -55,7 +57,8 @@ struct SolverOptions {
   // solvers do not read them.
   double cg_relative_tolerance = 0.1;
   int max_cg_iterations = 500;
-  std::function<void(const IterationReport&)> progress;  // optional, per iteration
+  std::function<void(const IterationReport&)>
+      progress;  // optional, per iteration
   // Optional: asked after every LM iteration (after `progress`; also after
   // iteration 0, before the first step). Returning true ends the solve
   // there: Refine() keeps the last accepted iterate (usable as after any
@@ -81,9 +84,10 @@ ceres::Solver::Options ToCeresOptions(const SolverOptions& options);
 // callbacks, …): the options are checked (ceres::Solver::Options::IsValid)
 // before ceres::Solve. Errors with the error of `configure`, or "invalid
 // Ceres options: <reason>"; `summary` is Ceres' own.
-Status SolveCeres(const SolverOptions& options,
-                  const std::function<Status(ceres::Solver::Options*)>& configure,
-                  ceres::Problem* problem, ceres::Solver::Summary* summary);
+Status SolveCeres(
+    const SolverOptions& options,
+    const std::function<Status(ceres::Solver::Options*)>& configure,
+    ceres::Problem* problem, ceres::Solver::Summary* summary);
 
 }  // namespace nrsfm
 

@@ -54,7 +54,8 @@ class SlotPointers {
 
 }  // namespace
 
-StructuredJacobian::StructuredJacobian(const StructuredBlocks& blocks, int num_threads)
+StructuredJacobian::StructuredJacobian(const StructuredBlocks& blocks,
+                                       int num_threads)
     : blocks_(blocks), num_threads_(num_threads) {
   jacobian_.assign(blocks_.jacobian_size, 0.0);
   factors_.assign(blocks_.factors_size, 0.0);
@@ -65,83 +66,88 @@ bool StructuredJacobian::Evaluate(bool with_jacobian, double* cost) {
   const int n = static_cast<int>(blocks_.residuals.size());
   std::vector<double> partial(kReductionPieces, 0.0);
   std::vector<char> ok(kReductionPieces, 1);
-  ParallelForPieces(n, kReductionPieces, num_threads_, kGrain,
-                    [&](int begin, int end, int worker) {
-    std::vector<std::vector<double>> ambient;
-    std::vector<double*> jacobians;
-    double sum = 0.0;
-    for (int i = begin; i < end; ++i) {
-      const Residual& r = blocks_.residuals[i];
-      double* residual = r_.data() + r.row;
-      jacobians.assign(r.parameters.size(), nullptr);
-      if (ambient.size() < r.parameters.size()) ambient.resize(r.parameters.size());
-      const bool store = with_jacobian && !r.gram;
-      if (store) {
-        for (std::size_t k = 0; k < r.parameters.size(); ++k) {
-          if (r.slot_block[k] < 0 || r.slot_jcol[k] < 0) continue;
-          ambient[k].resize(static_cast<std::size_t>(r.m) *
-                            blocks_.blocks[r.slot_block[k]].ambient);
-          jacobians[k] = ambient[k].data();
-        }
-      }
-      const bool evaluated =
-          r.basis_factor != nullptr && store
-              ? r.basis_factor->EvaluateWithBasisFactor(r.parameters.data(), residual,
-                                                        jacobians.data(),
-                                                        factors_.data() + r.factor)
-              : r.cost->Evaluate(r.parameters.data(), residual,
-                                 store ? jacobians.data() : nullptr);
-      if (!evaluated) {
-        ok[worker] = 0;
-        return;
-      }
-      if (store) {
-        for (std::size_t k = 0; k < r.parameters.size(); ++k) {
-          if (r.slot_block[k] < 0 || r.slot_jcol[k] < 0) continue;
-          const Block& b = blocks_.blocks[r.slot_block[k]];
-          RowMap out(MutableJ(r) + r.slot_jcol[k], r.m, b.size, Eigen::OuterStride<>(r.width));
-          const Eigen::Map<const RowMatrix> in(ambient[k].data(), r.m, b.ambient);
-          if (b.manifold == nullptr) {
-            out = in;
-          } else {
-            RowMatrix plus(b.ambient, b.size);
-            b.manifold->PlusJacobian(b.values, plus.data());
-            out.noalias() = in * plus;
+  ParallelForPieces(
+      n, kReductionPieces, num_threads_, kGrain,
+      [&](int begin, int end, int worker) {
+        std::vector<std::vector<double>> ambient;
+        std::vector<double*> jacobians;
+        double sum = 0.0;
+        for (int i = begin; i < end; ++i) {
+          const Residual& r = blocks_.residuals[i];
+          double* residual = r_.data() + r.row;
+          jacobians.assign(r.parameters.size(), nullptr);
+          if (ambient.size() < r.parameters.size())
+            ambient.resize(r.parameters.size());
+          const bool store = with_jacobian && !r.gram;
+          if (store) {
+            for (std::size_t k = 0; k < r.parameters.size(); ++k) {
+              if (r.slot_block[k] < 0 || r.slot_jcol[k] < 0) continue;
+              ambient[k].resize(static_cast<std::size_t>(r.m) *
+                                blocks_.blocks[r.slot_block[k]].ambient);
+              jacobians[k] = ambient[k].data();
+            }
           }
+          const bool evaluated =
+              r.basis_factor != nullptr && store
+                  ? r.basis_factor->EvaluateWithBasisFactor(
+                        r.parameters.data(), residual, jacobians.data(),
+                        factors_.data() + r.factor)
+                  : r.cost->Evaluate(r.parameters.data(), residual,
+                                     store ? jacobians.data() : nullptr);
+          if (!evaluated) {
+            ok[worker] = 0;
+            return;
+          }
+          if (store) {
+            for (std::size_t k = 0; k < r.parameters.size(); ++k) {
+              if (r.slot_block[k] < 0 || r.slot_jcol[k] < 0) continue;
+              const Block& b = blocks_.blocks[r.slot_block[k]];
+              RowMap out(MutableJ(r) + r.slot_jcol[k], r.m, b.size,
+                         Eigen::OuterStride<>(r.width));
+              const Eigen::Map<const RowMatrix> in(ambient[k].data(), r.m,
+                                                   b.ambient);
+              if (b.manifold == nullptr) {
+                out = in;
+              } else {
+                RowMatrix plus(b.ambient, b.size);
+                b.manifold->PlusJacobian(b.values, plus.data());
+                out.noalias() = in * plus;
+              }
+            }
+          }
+          double squared = 0.0;
+          for (int j = 0; j < r.m; ++j) squared += residual[j] * residual[j];
+          if (r.loss == nullptr) {
+            sum += 0.5 * squared;
+            continue;
+          }
+          // Ceres' correction of residuals and Jacobians for a robust loss
+          // (Triggs et al.), so that JᵀJ and Jᵀr are its Gauss–Newton model.
+          double rho[3];
+          r.loss->Evaluate(squared, rho);
+          sum += 0.5 * rho[0];
+          const double sqrt_rho1 = std::sqrt(rho[1]);
+          double scaling = sqrt_rho1, alpha_sq_norm = 0.0;
+          if (squared > 0.0 && rho[2] > 0.0) {
+            const double alpha =
+                1.0 - std::sqrt(1.0 + 2.0 * squared * rho[2] / rho[1]);
+            scaling = sqrt_rho1 / (1.0 - alpha);
+            alpha_sq_norm = alpha / squared;
+          }
+          if (with_jacobian) {
+            Eigen::Map<RowMatrix> j(MutableJ(r), r.m, r.width);
+            if (alpha_sq_norm == 0.0) {
+              j *= sqrt_rho1;
+            } else {
+              const Eigen::Map<const Eigen::VectorXd> e(residual, r.m);
+              const Eigen::RowVectorXd ej = e.transpose() * j;
+              j = sqrt_rho1 * (j - alpha_sq_norm * e * ej);
+            }
+          }
+          for (int j = 0; j < r.m; ++j) residual[j] *= scaling;
         }
-      }
-      double squared = 0.0;
-      for (int j = 0; j < r.m; ++j) squared += residual[j] * residual[j];
-      if (r.loss == nullptr) {
-        sum += 0.5 * squared;
-        continue;
-      }
-      // Ceres' correction of residuals and Jacobians for a robust loss (Triggs
-      // et al.), so that JᵀJ and Jᵀr are its Gauss–Newton model.
-      double rho[3];
-      r.loss->Evaluate(squared, rho);
-      sum += 0.5 * rho[0];
-      const double sqrt_rho1 = std::sqrt(rho[1]);
-      double scaling = sqrt_rho1, alpha_sq_norm = 0.0;
-      if (squared > 0.0 && rho[2] > 0.0) {
-        const double alpha = 1.0 - std::sqrt(1.0 + 2.0 * squared * rho[2] / rho[1]);
-        scaling = sqrt_rho1 / (1.0 - alpha);
-        alpha_sq_norm = alpha / squared;
-      }
-      if (with_jacobian) {
-        Eigen::Map<RowMatrix> j(MutableJ(r), r.m, r.width);
-        if (alpha_sq_norm == 0.0) {
-          j *= sqrt_rho1;
-        } else {
-          const Eigen::Map<const Eigen::VectorXd> e(residual, r.m);
-          const Eigen::RowVectorXd ej = e.transpose() * j;
-          j = sqrt_rho1 * (j - alpha_sq_norm * e * ej);
-        }
-      }
-      for (int j = 0; j < r.m; ++j) residual[j] *= scaling;
-    }
-    partial[worker] += sum;
-  });
+        partial[worker] += sum;
+      });
   if (std::find(ok.begin(), ok.end(), 0) != ok.end()) return false;
   *cost = 0.0;
   for (double p : partial) *cost += p;
@@ -149,7 +155,8 @@ bool StructuredJacobian::Evaluate(bool with_jacobian, double* cost) {
 }
 
 void StructuredJacobian::AddResidualJx(const Residual& r, const double* reduced,
-                                       const double* eliminated, double* y) const {
+                                       const double* eliminated,
+                                       double* y) const {
   if (r.product != nullptr) {
     SlotPointers x(r.parameters.size());
     for (std::size_t k = 0; k < r.parameters.size(); ++k) {
@@ -182,11 +189,13 @@ void StructuredJacobian::AddResidualJx(const Residual& r, const double* reduced,
       AddAx(Factor(r), 2, 3, 3, u, y);
       return;
     }
-    AddAx(J(r) + r.eliminated_jcol, r.m, b.size, r.width, eliminated + b.offset, y);
+    AddAx(J(r) + r.eliminated_jcol, r.m, b.size, r.width, eliminated + b.offset,
+          y);
   }
 }
 
-void StructuredJacobian::AddResidualJty(const Residual& r, const double* y, double* reduced,
+void StructuredJacobian::AddResidualJty(const Residual& r, const double* y,
+                                        double* reduced,
                                         double* eliminated) const {
   if (r.product != nullptr) {
     SlotPointers out(r.parameters.size());
@@ -201,7 +210,9 @@ void StructuredJacobian::AddResidualJty(const Residual& r, const double* y, doub
         any = true;
       }
     }
-    if (any) r.product->AddJacobianTransposeProduct(r.parameters.data(), y, out.data());
+    if (any)
+      r.product->AddJacobianTransposeProduct(r.parameters.data(), y,
+                                             out.data());
     return;
   }
   if (reduced != nullptr) {
@@ -224,7 +235,8 @@ void StructuredJacobian::AddResidualJty(const Residual& r, const double* y, doub
       }
       return;
     }
-    AddAty(J(r) + r.eliminated_jcol, r.m, b.size, r.width, y, eliminated + b.offset);
+    AddAty(J(r) + r.eliminated_jcol, r.m, b.size, r.width, y,
+           eliminated + b.offset);
   }
 }
 
@@ -238,59 +250,74 @@ void StructuredJacobian::MultiplyJ(const Eigen::VectorXd* reduced,
                   const Residual& r = blocks_.residuals[i];
                   double* out = rows->data() + r.row;
                   std::fill(out, out + r.m, 0.0);
-                  AddResidualJx(r, reduced != nullptr ? reduced->data() : nullptr,
-                                eliminated != nullptr ? eliminated->data() : nullptr, out);
+                  AddResidualJx(
+                      r, reduced != nullptr ? reduced->data() : nullptr,
+                      eliminated != nullptr ? eliminated->data() : nullptr,
+                      out);
                 }
               });
 }
 
 void StructuredJacobian::MultiplyJtReduced(const Eigen::VectorXd& rows,
                                            Eigen::VectorXd* out) const {
-  SumOverResiduals(blocks_.num_reduced, [&](int i, double* sum) {
-    const Residual& r = blocks_.residuals[i];
-    AddResidualJty(r, rows.data() + r.row, sum, nullptr);
-  }, out);
+  SumOverResiduals(
+      blocks_.num_reduced,
+      [&](int i, double* sum) {
+        const Residual& r = blocks_.residuals[i];
+        AddResidualJty(r, rows.data() + r.row, sum, nullptr);
+      },
+      out);
 }
 
 void StructuredJacobian::MultiplyJtEliminated(const Eigen::VectorXd& rows,
                                               Eigen::VectorXd* out) const {
-  SumOverResiduals(blocks_.num_eliminated, [&](int i, double* sum) {
-    const Residual& r = blocks_.residuals[i];
-    AddResidualJty(r, rows.data() + r.row, nullptr, sum);
-  }, out);
+  SumOverResiduals(
+      blocks_.num_eliminated,
+      [&](int i, double* sum) {
+        const Residual& r = blocks_.residuals[i];
+        AddResidualJty(r, rows.data() + r.row, nullptr, sum);
+      },
+      out);
 }
 
-void StructuredJacobian::MultiplyJReducedAndJtEliminated(const Eigen::VectorXd& reduced,
-                                                         Eigen::VectorXd* rows,
-                                                         Eigen::VectorXd* projected) const {
+void StructuredJacobian::MultiplyJReducedAndJtEliminated(
+    const Eigen::VectorXd& reduced, Eigen::VectorXd* rows,
+    Eigen::VectorXd* projected) const {
   rows->resize(blocks_.num_rows);
-  SumOverResiduals(blocks_.num_eliminated, [&](int i, double* sum) {
-    const Residual& r = blocks_.residuals[i];
-    double* y = rows->data() + r.row;
-    std::fill(y, y + r.m, 0.0);
-    AddResidualJx(r, reduced.data(), nullptr, y);
-    if (r.eliminated >= 0) AddResidualJty(r, y, nullptr, sum);
-  }, projected);
+  SumOverResiduals(
+      blocks_.num_eliminated,
+      [&](int i, double* sum) {
+        const Residual& r = blocks_.residuals[i];
+        double* y = rows->data() + r.row;
+        std::fill(y, y + r.m, 0.0);
+        AddResidualJx(r, reduced.data(), nullptr, y);
+        if (r.eliminated >= 0) AddResidualJty(r, y, nullptr, sum);
+      },
+      projected);
 }
 
 void StructuredJacobian::SubtractJEliminatedAndMultiplyJtReduced(
-    const Eigen::VectorXd& eliminated, Eigen::VectorXd* rows, Eigen::VectorXd* out) const {
-  SumOverResiduals(blocks_.num_reduced, [&](int i, double* sum) {
-    const Residual& r = blocks_.residuals[i];
-    double* y = rows->data() + r.row;  // each residual's own rows: no race
-    if (r.eliminated >= 0) {
-      double correction[8] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-      std::vector<double> heap;
-      double* c = correction;
-      if (r.m > 8) {
-        heap.assign(r.m, 0.0);
-        c = heap.data();
-      }
-      AddResidualJx(r, nullptr, eliminated.data(), c);
-      for (int a = 0; a < r.m; ++a) y[a] -= c[a];
-    }
-    AddResidualJty(r, y, sum, nullptr);
-  }, out);
+    const Eigen::VectorXd& eliminated, Eigen::VectorXd* rows,
+    Eigen::VectorXd* out) const {
+  SumOverResiduals(
+      blocks_.num_reduced,
+      [&](int i, double* sum) {
+        const Residual& r = blocks_.residuals[i];
+        double* y = rows->data() + r.row;  // each residual's own rows: no race
+        if (r.eliminated >= 0) {
+          double correction[8] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+          std::vector<double> heap;
+          double* c = correction;
+          if (r.m > 8) {
+            heap.assign(r.m, 0.0);
+            c = heap.data();
+          }
+          AddResidualJx(r, nullptr, eliminated.data(), c);
+          for (int a = 0; a < r.m; ++a) y[a] -= c[a];
+        }
+        AddResidualJty(r, y, sum, nullptr);
+      },
+      out);
 }
 
 void StructuredJacobian::ColumnSquaredNorms(Eigen::VectorXd* reduced,
@@ -319,13 +346,17 @@ void StructuredJacobian::ColumnSquaredNorms(Eigen::VectorXd* reduced,
         for (int k = 0; k < r.num_bases; ++k) {
           const double l2 = r.weights[k] * r.weights[k];
           for (int i = 0; i < 3; ++i) {
-            (*eliminated)[b.offset + 3 * k + i] += l2 * (a[i] * a[i] + a[3 + i] * a[3 + i]);
+            (*eliminated)[b.offset + 3 * k + i] +=
+                l2 * (a[i] * a[i] + a[3 + i] * a[3 + i]);
           }
         }
         continue;
       }
       eliminated->segment(b.offset, b.size) +=
-          Cols(r, r.eliminated_jcol, b.size).colwise().squaredNorm().transpose();
+          Cols(r, r.eliminated_jcol, b.size)
+              .colwise()
+              .squaredNorm()
+              .transpose();
     }
   }
 }

@@ -20,10 +20,9 @@
 #ifndef NRSFM_SOLVERS_STRUCTURED_JACOBIAN_H_
 #define NRSFM_SOLVERS_STRUCTURED_JACOBIAN_H_
 
+#include <Eigen/Core>
 #include <utility>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "core/parallel_for.h"
 #include "solvers/structured_layout.h"
@@ -31,7 +30,8 @@
 namespace nrsfm {
 namespace structured {
 
-using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using RowMatrix =
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 using ConstRowMap = Eigen::Map<const RowMatrix, 0, Eigen::OuterStride<>>;
 
 // Loops are split over threads in pieces of at least this many items
@@ -56,8 +56,8 @@ class StructuredJacobian {
 
   // y (r.m values) += J_r x for the reduced and eliminated parts given
   // (null = zero), and the transposed products into the parts wanted.
-  void AddResidualJx(const Residual& r, const double* reduced, const double* eliminated,
-                     double* y) const;
+  void AddResidualJx(const Residual& r, const double* reduced,
+                     const double* eliminated, double* y) const;
   void AddResidualJty(const Residual& r, const double* y, double* reduced,
                       double* eliminated) const;
   // *out (size values) = Σ_i body(i, sum) over the residual blocks in storage
@@ -65,22 +65,27 @@ class StructuredJacobian {
   template <typename Body>
   void SumOverResiduals(int size, const Body& body, Eigen::VectorXd* out) const;
   // rows = J [reduced; eliminated] (null = zero).
-  void MultiplyJ(const Eigen::VectorXd* reduced, const Eigen::VectorXd* eliminated,
+  void MultiplyJ(const Eigen::VectorXd* reduced,
+                 const Eigen::VectorXd* eliminated,
                  Eigen::VectorXd* rows) const;
   // out = J_fᵀ rows, J_pᵀ rows.
-  void MultiplyJtReduced(const Eigen::VectorXd& rows, Eigen::VectorXd* out) const;
-  void MultiplyJtEliminated(const Eigen::VectorXd& rows, Eigen::VectorXd* out) const;
+  void MultiplyJtReduced(const Eigen::VectorXd& rows,
+                         Eigen::VectorXd* out) const;
+  void MultiplyJtEliminated(const Eigen::VectorXd& rows,
+                            Eigen::VectorXd* out) const;
   // The two passes of a product with the Schur complement
   // (solvers/schur_elimination.h), each one pass over the residual blocks in
   // storage order: rows = J_f reduced and projected = J_pᵀ rows; then
   // rows −= J_p eliminated and out = J_fᵀ rows.
-  void MultiplyJReducedAndJtEliminated(const Eigen::VectorXd& reduced, Eigen::VectorXd* rows,
+  void MultiplyJReducedAndJtEliminated(const Eigen::VectorXd& reduced,
+                                       Eigen::VectorXd* rows,
                                        Eigen::VectorXd* projected) const;
-  void SubtractJEliminatedAndMultiplyJtReduced(const Eigen::VectorXd& eliminated,
-                                               Eigen::VectorXd* rows,
-                                               Eigen::VectorXd* out) const;
+  void SubtractJEliminatedAndMultiplyJtReduced(
+      const Eigen::VectorXd& eliminated, Eigen::VectorXd* rows,
+      Eigen::VectorXd* out) const;
   // diag(JᵀJ), the columns' sums of squares, unclamped.
-  void ColumnSquaredNorms(Eigen::VectorXd* reduced, Eigen::VectorXd* eliminated) const;
+  void ColumnSquaredNorms(Eigen::VectorXd* reduced,
+                          Eigen::VectorXd* eliminated) const;
 
   // The stored Jacobian of `r`, and its columns [jcol, jcol + width).
   const double* J(const Residual& r) const { return jacobian_.data() + r.jac; }
@@ -88,7 +93,9 @@ class StructuredJacobian {
     return ConstRowMap(J(r) + jcol, r.m, width, Eigen::OuterStride<>(r.width));
   }
   // The 2 × 3 factor A (row-major) of a residual with a basis_factor.
-  const double* Factor(const Residual& r) const { return factors_.data() + r.factor; }
+  const double* Factor(const Residual& r) const {
+    return factors_.data() + r.factor;
+  }
 
  private:
   double* MutableJ(const Residual& r) { return jacobian_.data() + r.jac; }
@@ -96,7 +103,8 @@ class StructuredJacobian {
   const StructuredBlocks& blocks_;
   const int num_threads_;
   std::vector<double> jacobian_;
-  std::vector<double> factors_;  // A of the residuals with a basis_factor, 6 each
+  std::vector<double>
+      factors_;  // A of the residuals with a basis_factor, 6 each
   Eigen::VectorXd r_;
 };
 
@@ -105,8 +113,8 @@ void StructuredJacobian::SumOverResiduals(int size, const Body& body,
                                           Eigen::VectorXd* out) const {
   std::vector<Eigen::VectorXd> sums(kReductionPieces);
   const int pieces = ParallelForPieces(
-      static_cast<int>(blocks_.residuals.size()), kReductionPieces, num_threads_, kGrain,
-      [&](int begin, int end, int piece) {
+      static_cast<int>(blocks_.residuals.size()), kReductionPieces,
+      num_threads_, kGrain, [&](int begin, int end, int piece) {
         Eigen::VectorXd& sum = sums[piece];
         sum.setZero(size);
         for (int i = begin; i < end; ++i) body(i, sum.data());

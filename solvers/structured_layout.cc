@@ -12,14 +12,15 @@ bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
   *s = StructuredBlocks();
   std::unordered_map<const double*, int> index;
   auto add = [&](double* values, bool eliminated, int group) {
-    if (!problem->HasParameterBlock(values) || problem->IsParameterBlockConstant(values) ||
-        index.count(values)) {
+    if (!problem->HasParameterBlock(values) ||
+        problem->IsParameterBlockConstant(values) || index.count(values)) {
       return;
     }
     Block b;
     b.values = values;
     b.ambient = problem->ParameterBlockSize(values);
-    b.manifold = problem->HasManifold(values) ? problem->GetManifold(values) : nullptr;
+    b.manifold =
+        problem->HasManifold(values) ? problem->GetManifold(values) : nullptr;
     b.size = b.manifold != nullptr ? b.manifold->TangentSize() : b.ambient;
     b.eliminated = eliminated;
     b.group = group;
@@ -27,12 +28,14 @@ bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
     b.offset = counter;
     counter += b.size;
     index[values] = static_cast<int>(s->blocks.size());
-    if (eliminated) s->eliminated_blocks.push_back(static_cast<int>(s->blocks.size()));
+    if (eliminated)
+      s->eliminated_blocks.push_back(static_cast<int>(s->blocks.size()));
     s->blocks.push_back(b);
   };
   s->group_offset.push_back(0);
   for (std::size_t g = 0; g < layout.groups.size(); ++g) {
-    for (double* values : layout.groups[g]) add(values, false, static_cast<int>(g));
+    for (double* values : layout.groups[g])
+      add(values, false, static_cast<int>(g));
     s->group_offset.push_back(s->num_reduced);
   }
   s->num_group_columns = s->num_reduced;
@@ -49,7 +52,8 @@ bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
     r.cost = problem->GetCostFunctionForResidualBlock(id);
     r.loss = problem->GetLossFunctionForResidualBlock(id);
     const BasisJacobianFactor* basis_factor =
-        r.loss == nullptr ? dynamic_cast<const BasisJacobianFactor*>(r.cost) : nullptr;
+        r.loss == nullptr ? dynamic_cast<const BasisJacobianFactor*>(r.cost)
+                          : nullptr;
     r.m = r.cost->num_residuals();
     r.row = s->num_rows;
     s->num_rows += r.m;
@@ -89,7 +93,8 @@ bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
       } else {
         // Merge with the previous segment when the columns continue it
         // within the same group.
-        if (!r.reduced.empty() && b.group >= 0 && r.reduced.back().group == b.group &&
+        if (!r.reduced.empty() && b.group >= 0 &&
+            r.reduced.back().group == b.group &&
             r.reduced.back().col + r.reduced.back().width == b.offset &&
             r.reduced.back().jcol + r.reduced.back().width == r.width) {
           r.reduced.back().width += b.size;
@@ -111,7 +116,8 @@ bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
     if (r.loss == nullptr) {
       r.product = dynamic_cast<const JacobianProduct*>(r.cost);
       for (int block : r.slot_block) {
-        if (block >= 0 && s->blocks[block].manifold != nullptr) r.product = nullptr;
+        if (block >= 0 && s->blocks[block].manifold != nullptr)
+          r.product = nullptr;
       }
     }
     if (r.product != nullptr && r.product->ProvidesGram()) {

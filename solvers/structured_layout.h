@@ -1,5 +1,6 @@
-// The structured solver's view of a ceres::Problem (solvers/structured_solver.h):
-// its free parameter blocks as columns and its residual blocks as rows.
+// The structured solver's view of a ceres::Problem
+// (solvers/structured_solver.h): its free parameter blocks as columns and its
+// residual blocks as rows.
 //
 // Columns are tangent-space coordinates (a block with a manifold has
 // Manifold::TangentSize() columns). The reduced side holds one group of
@@ -17,14 +18,14 @@
 #ifndef NRSFM_SOLVERS_STRUCTURED_LAYOUT_H_
 #define NRSFM_SOLVERS_STRUCTURED_LAYOUT_H_
 
-#include <cstddef>
-#include <string>
-#include <vector>
-
 #include <ceres/cost_function.h>
 #include <ceres/loss_function.h>
 #include <ceres/manifold.h>
 #include <ceres/problem.h>
+
+#include <cstddef>
+#include <string>
+#include <vector>
 
 #include "problems/jacobian_product.h"
 #include "problems/reprojection_cost_function.h"
@@ -39,8 +40,8 @@ struct Block {
   int size = 0;     // tangent size: columns of the Jacobian
   const ceres::Manifold* manifold = nullptr;
   bool eliminated = false;
-  int group = -1;   // frame group of a reduced block, -1 for a shared one
-  int offset = 0;   // in the reduced or the eliminated vector
+  int group = -1;  // frame group of a reduced block, -1 for a shared one
+  int offset = 0;  // in the reduced or the eliminated vector
 };
 
 // Columns [col, col + width) of a residual block's Jacobian, which sit at
@@ -55,18 +56,19 @@ struct Segment {
 struct Residual {
   const ceres::CostFunction* cost = nullptr;
   const ceres::LossFunction* loss = nullptr;
-  int m = 0;          // residuals
-  int row = 0;        // first row in r
-  int width = 0;      // columns of the stored Jacobian
+  int m = 0;            // residuals
+  int row = 0;          // first row in r
+  int width = 0;        // columns of the stored Jacobian
   std::size_t jac = 0;  // start in the Jacobian buffer
   std::vector<double*> parameters;
-  std::vector<int> slot_block;  // Block index per parameter, -1 = constant
-  std::vector<int> slot_jcol;   // column of the slot in the stored Jacobian
+  std::vector<int> slot_block;   // Block index per parameter, -1 = constant
+  std::vector<int> slot_jcol;    // column of the slot in the stored Jacobian
   std::vector<Segment> reduced;  // merged per group
   int eliminated = -1;           // Block index, -1 = none
   int eliminated_jcol = 0;
-  // Products with its Jacobian from its parameters (problems/jacobian_product.h),
-  // used in the conjugate gradients instead of the stored Jacobian.
+  // Products with its Jacobian from its parameters
+  // (problems/jacobian_product.h), used in the conjugate gradients instead of
+  // the stored Jacobian.
   const JacobianProduct* product = nullptr;
   // A reprojection residual without a robust loss whose eliminated block is
   // its basis block: that block's Jacobian l_k · A is not stored, only A
@@ -98,7 +100,8 @@ struct Ref {
 
 struct StructuredBlocks {
   std::vector<Block> blocks;
-  std::vector<int> group_offset;  // columns of group g: [g_off[g], g_off[g + 1])
+  std::vector<int>
+      group_offset;  // columns of group g: [g_off[g], g_off[g + 1])
   int num_group_columns = 0, num_reduced = 0, num_eliminated = 0, num_rows = 0;
   // Largest distance between two groups whose blocks one residual block holds.
   int band = 0;
@@ -107,8 +110,8 @@ struct StructuredBlocks {
   // Per group, per eliminated block: the residual segments that touch it.
   std::vector<std::vector<Ref>> group_refs, eliminated_refs;
   std::vector<int> residuals_with_shared;  // residuals that hold a shared block
-  std::size_t jacobian_size = 0;  // values of the stored Jacobian
-  std::size_t factors_size = 0;   // values of the basis factors A, 6 each
+  std::size_t jacobian_size = 0;           // values of the stored Jacobian
+  std::size_t factors_size = 0;  // values of the basis factors A, 6 each
 
   int num_groups() const { return static_cast<int>(group_refs.size()); }
   int num_shared() const { return num_reduced - num_group_columns; }

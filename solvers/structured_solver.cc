@@ -1,11 +1,11 @@
 #include "solvers/structured_solver.h"
 
+#include <glog/logging.h>
+
+#include <Eigen/Core>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-
-#include <Eigen/Core>
-#include <glog/logging.h>
 
 #include "solvers/band_preconditioner.h"
 #include "solvers/conjugate_gradients.h"
@@ -43,7 +43,8 @@ class Solver {
   // g = Jᵀr, D and J_pᵀ J_p from the Jacobian of the last Evaluate(true).
   void ComputeGradientAndScaling();
   // The step for μ; returns the conjugate-gradient iterations.
-  int SolveStep(double mu, Eigen::VectorXd* step_reduced, Eigen::VectorXd* step_eliminated);
+  int SolveStep(double mu, Eigen::VectorXd* step_reduced,
+                Eigen::VectorXd* step_eliminated);
   std::vector<double> Save() const;
   void Restore(const std::vector<double>& saved);
   void Step(const std::vector<double>& saved, const Eigen::VectorXd& reduced,
@@ -55,8 +56,10 @@ class Solver {
   structured::StructuredJacobian jacobian_;
   structured::SchurElimination schur_;
   structured::BandPreconditioner preconditioner_;
-  Eigen::VectorXd gradient_reduced_, gradient_eliminated_, d_reduced_, d_eliminated_;
-  double evaluate_seconds_ = 0.0, preconditioner_seconds_ = 0.0, cg_seconds_ = 0.0;
+  Eigen::VectorXd gradient_reduced_, gradient_eliminated_, d_reduced_,
+      d_eliminated_;
+  double evaluate_seconds_ = 0.0, preconditioner_seconds_ = 0.0,
+         cg_seconds_ = 0.0;
 };
 
 bool Solver::Evaluate(bool with_jacobian, double* cost) {
@@ -92,7 +95,9 @@ int Solver::SolveStep(double mu, Eigen::VectorXd* step_reduced,
       [&](const Eigen::VectorXd& v, Eigen::VectorXd* out) {
         schur_.ApplyReduced(v, mu, d_reduced_, out);
       },
-      [&](const Eigen::VectorXd& v, Eigen::VectorXd* out) { preconditioner_.Apply(v, out); },
+      [&](const Eigen::VectorXd& v, Eigen::VectorXd* out) {
+        preconditioner_.Apply(v, out);
+      },
       rhs, step_reduced);
   schur_.BackSubstitute(*step_reduced, gradient_eliminated_, step_eliminated);
   cg_seconds_ += SecondsSince(start);
@@ -115,11 +120,13 @@ void Solver::Restore(const std::vector<double>& saved) {
   }
 }
 
-void Solver::Step(const std::vector<double>& saved, const Eigen::VectorXd& reduced,
+void Solver::Step(const std::vector<double>& saved,
+                  const Eigen::VectorXd& reduced,
                   const Eigen::VectorXd& eliminated) {
   std::size_t k = 0;
   for (const Block& b : blocks_.blocks) {
-    const double* delta = (b.eliminated ? eliminated : reduced).data() + b.offset;
+    const double* delta =
+        (b.eliminated ? eliminated : reduced).data() + b.offset;
     if (b.manifold != nullptr) {
       b.manifold->Plus(saved.data() + k, delta, b.values);
     } else {
@@ -146,16 +153,19 @@ bool Solver::Run(StructuredSolverSummary* summary) {
     return true;
   }
   summary->initial_cost = cost;
-  if (solver.progress) solver.progress(IterationReport{0, cost, SecondsSince(start)});
+  if (solver.progress)
+    solver.progress(IterationReport{0, cost, SecondsSince(start)});
   ComputeGradientAndScaling();
   double radius = solver.initial_trust_region_radius, decrease = 2.0;
   int iteration = 0;
   summary->message = "iteration limit";
   Eigen::VectorXd step_reduced, step_eliminated, j_step;
   while (true) {
-    const double gradient_max =
-        std::max(gradient_reduced_.size() ? gradient_reduced_.cwiseAbs().maxCoeff() : 0.0,
-                 gradient_eliminated_.size() ? gradient_eliminated_.cwiseAbs().maxCoeff() : 0.0);
+    const double gradient_max = std::max(
+        gradient_reduced_.size() ? gradient_reduced_.cwiseAbs().maxCoeff()
+                                 : 0.0,
+        gradient_eliminated_.size() ? gradient_eliminated_.cwiseAbs().maxCoeff()
+                                    : 0.0);
     if (gradient_max <= solver.gradient_tolerance) {
       summary->message = "gradient tolerance";
       summary->converged = true;
@@ -179,8 +189,10 @@ bool Solver::Run(StructuredSolverSummary* summary) {
     const double model_decrease =
         -(j_step.dot(jacobian_.residuals()) + 0.5 * j_step.squaredNorm());
     const std::vector<double> saved = Save();
-    const double step_norm = std::sqrt(step_reduced.squaredNorm() + step_eliminated.squaredNorm());
-    if (step_norm <= solver.parameter_tolerance * (ParameterNorm() + solver.parameter_tolerance)) {
+    const double step_norm =
+        std::sqrt(step_reduced.squaredNorm() + step_eliminated.squaredNorm());
+    if (step_norm <= solver.parameter_tolerance *
+                         (ParameterNorm() + solver.parameter_tolerance)) {
       summary->message = "parameter tolerance";
       summary->converged = true;
       break;
@@ -189,17 +201,23 @@ bool Solver::Run(StructuredSolverSummary* summary) {
     const Eigen::VectorXd saved_r = jacobian_.residuals();
     double new_cost = 0.0;
     const bool finite = Evaluate(false, &new_cost);
-    const double ratio = finite && model_decrease > 0.0 ? (cost - new_cost) / model_decrease : -1.0;
-    VLOG(3) << "structured LM " << iteration << ": cost " << cost << " -> " << new_cost
-            << " ratio " << ratio << " radius " << radius << " step " << step_norm;
+    const double ratio = finite && model_decrease > 0.0
+                             ? (cost - new_cost) / model_decrease
+                             : -1.0;
+    VLOG(3) << "structured LM " << iteration << ": cost " << cost << " -> "
+            << new_cost << " ratio " << ratio << " radius " << radius
+            << " step " << step_norm;
     if (ratio > 1e-3) {
       const double change = cost - new_cost;
       cost = new_cost;
-      radius = std::min(1e16, radius / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * ratio - 1.0, 3)));
+      radius = std::min(
+          1e16,
+          radius / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * ratio - 1.0, 3)));
       decrease = 2.0;
       Evaluate(true, &new_cost);
       ComputeGradientAndScaling();
-      if (solver.progress) solver.progress(IterationReport{iteration, cost, SecondsSince(start)});
+      if (solver.progress)
+        solver.progress(IterationReport{iteration, cost, SecondsSince(start)});
       if (change <= solver.function_tolerance * cost) {
         summary->message = "function tolerance";
         summary->converged = true;
@@ -210,7 +228,8 @@ bool Solver::Run(StructuredSolverSummary* summary) {
       jacobian_.set_residuals(saved_r);
       radius /= decrease;
       decrease *= 2.0;
-      if (solver.progress) solver.progress(IterationReport{iteration, cost, SecondsSince(start)});
+      if (solver.progress)
+        solver.progress(IterationReport{iteration, cost, SecondsSince(start)});
       if (radius < 1e-32) {
         summary->message = "trust region below 1e-32";
         break;
@@ -229,9 +248,9 @@ bool Solver::Run(StructuredSolverSummary* summary) {
 
 }  // namespace
 
-bool SolveStructured(const StructuredSolverOptions& options, const StructuredLayout& layout,
-                     ceres::Problem* problem, StructuredSolverSummary* summary,
-                     std::string* error) {
+bool SolveStructured(const StructuredSolverOptions& options,
+                     const StructuredLayout& layout, ceres::Problem* problem,
+                     StructuredSolverSummary* summary, std::string* error) {
   *summary = StructuredSolverSummary();
   StructuredBlocks blocks;
   if (!structured::LayOutBlocks(layout, problem, &blocks, error)) return false;

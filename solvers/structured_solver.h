@@ -21,12 +21,13 @@
 // (its JACOBI and SCHUR_JACOBI ignore the chain).
 //
 // The parts, one file each (namespace nrsfm::structured):
-//   solvers/structured_layout.h     the blocks as columns, residual blocks as rows
-//   solvers/structured_jacobian.h   evaluation, the stored Jacobian, products with it
-//   solvers/schur_elimination.h     the points' elimination, products with S
-//   solvers/band_preconditioner.h   the block-band preconditioner
-//   solvers/conjugate_gradients.h   preconditioned conjugate gradients
-//   this file's .cc                 the LM loop and the trust-region update
+//   solvers/structured_layout.h     the blocks as columns, residual blocks as
+//   rows solvers/structured_jacobian.h   evaluation, the stored Jacobian,
+//   products with it solvers/schur_elimination.h     the points' elimination,
+//   products with S solvers/band_preconditioner.h   the block-band
+//   preconditioner solvers/conjugate_gradients.h   preconditioned conjugate
+//   gradients this file's .cc                 the LM loop and the trust-region
+//   update
 //
 // Products with the Jacobian read the stored Jacobian in storage order, or,
 // for cost functions that provide them (problems/jacobian_product.h), are
@@ -42,11 +43,11 @@
 #ifndef NRSFM_SOLVERS_STRUCTURED_SOLVER_H_
 #define NRSFM_SOLVERS_STRUCTURED_SOLVER_H_
 
+#include <ceres/problem.h>
+
 #include <functional>
 #include <string>
 #include <vector>
-
-#include <ceres/problem.h>
 
 #include "solvers/solver_options.h"
 
@@ -74,12 +75,13 @@ struct StructuredSolverOptions {
 
 struct StructuredSolverSummary {
   bool usable = false;
-  std::string message;      // why the solve stopped
-  bool converged = false;   // by a tolerance (not by the iteration or time limit)
-  bool stopped = false;     // by options.stop_requested
+  std::string message;  // why the solve stopped
+  bool converged =
+      false;             // by a tolerance (not by the iteration or time limit)
+  bool stopped = false;  // by options.stop_requested
   double initial_cost = 0.0, final_cost = 0.0;
-  int iterations = 0;       // LM iterations (accepted and rejected)
-  int cg_iterations = 0;    // in all
+  int iterations = 0;     // LM iterations (accepted and rejected)
+  int cg_iterations = 0;  // in all
   double evaluate_seconds = 0.0, preconditioner_seconds = 0.0, cg_seconds = 0.0,
          total_seconds = 0.0;
 };

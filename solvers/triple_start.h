@@ -28,9 +28,9 @@ struct TripleStartSummary {
 // Fills `model` (Resize'd to F, 1, P, K; unit scales; translations = δT, to
 // be added to the translations removed from `centered`); `seed` seeds the
 // triple's random starts and the random initial weights; the triple's starts
-// run on up to `num_threads` threads (the result does not depend on it). Errors on invalid
-// options, when K < 1, 3 > 2F or P < 4, when 3K exceeds 2F or P, or when the
-// tracks have rank < 3.
+// run on up to `num_threads` threads (the result does not depend on it). Errors
+// on invalid options, when K < 1, 3 > 2F or P < 4, when 3K exceeds 2F or P, or
+// when the tracks have rank < 3.
 Status TripleStart(const Measurements& centered, int num_bases,
                    const AlternationOptions& options, std::uint64_t seed,
                    int num_threads, Model* model, TripleStartSummary* summary);

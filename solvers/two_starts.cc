@@ -13,7 +13,8 @@ namespace {
 // guarded by `mutex`.
 class Race {
  public:
-  Race(bool concurrent, bool stop) : concurrent_(concurrent), user_stop_(stop) {}
+  Race(bool concurrent, bool stop)
+      : concurrent_(concurrent), user_stop_(stop) {}
 
   // Lane c's progress: record and queue the report for the calling thread.
   void Report(int c, const IterationReport& report) {
@@ -34,11 +35,14 @@ class Race {
     const int i = lane.iteration;
     if (i < 0) return user_stop_;  // asked before the refinement began
     if (concurrent_) {
-      changed_.wait(lock, [&] { return other.iteration >= i || other.ended || user_stop_; });
+      changed_.wait(lock, [&] {
+        return other.iteration >= i || other.ended || user_stop_;
+      });
     } else {
       turn_ = 1 - c;
       changed_.notify_all();
-      changed_.wait(lock, [&] { return turn_ == c || other.ended || user_stop_; });
+      changed_.wait(lock,
+                    [&] { return turn_ == c || other.ended || user_stop_; });
     }
     if (user_stop_) return true;
     // The other's end counts from the iteration after its last one, so the
@@ -52,7 +56,8 @@ class Race {
   void WaitForFirstTurn(int c) {
     if (concurrent_) return;
     std::unique_lock<std::mutex> lock(mutex_);
-    changed_.wait(lock, [&] { return turn_ == c || lanes_[1 - c].ended || user_stop_; });
+    changed_.wait(
+        lock, [&] { return turn_ == c || lanes_[1 - c].ended || user_stop_; });
   }
 
   void End(int c, const RaceOutcome& outcome) {
@@ -70,7 +75,9 @@ class Race {
     for (int c = 0; c < 2; ++c) {
       std::unique_lock<std::mutex> lock(mutex_);
       while (true) {
-        changed_.wait(lock, [&] { return !lanes_[c].reports.empty() || lanes_[c].ended; });
+        changed_.wait(lock, [&] {
+          return !lanes_[c].reports.empty() || lanes_[c].ended;
+        });
         std::deque<IterationReport> batch;
         batch.swap(lanes_[c].reports);
         const bool ended = lanes_[c].ended;
@@ -109,7 +116,8 @@ class Race {
 }  // namespace
 
 void RunTwoRefinements(const SolverOptions& solver, bool concurrent,
-                       const RaceRefinement& first, const RaceRefinement& second) {
+                       const RaceRefinement& first,
+                       const RaceRefinement& second) {
   // Asked once before the starts too, as Reconstruct() asks before a start.
   Race race(concurrent, solver.stop_requested && solver.stop_requested());
   const RaceRefinement* refinements[2] = {&first, &second};
@@ -117,7 +125,9 @@ void RunTwoRefinements(const SolverOptions& solver, bool concurrent,
   for (int c = 0; c < 2; ++c) {
     lanes[c] = std::thread([&race, &solver, &refinements, c] {
       SolverOptions own = solver;
-      own.progress = [&race, c](const IterationReport& report) { race.Report(c, report); };
+      own.progress = [&race, c](const IterationReport& report) {
+        race.Report(c, report);
+      };
       own.stop_requested = [&race, c] { return race.ShouldStop(c); };
       race.WaitForFirstTurn(c);
       race.End(c, (*refinements[c])(own));

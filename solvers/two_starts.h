@@ -27,7 +27,9 @@
 
 namespace nrsfm {
 
-inline int RaceIterations(int converged_iterations) { return 2 * converged_iterations + 10; }
+inline int RaceIterations(int converged_iterations) {
+  return 2 * converged_iterations + 10;
+}
 
 // What a refinement reports when it ends.
 struct RaceOutcome {
@@ -52,7 +54,8 @@ using RaceRefinement = std::function<RaceOutcome(const SolverOptions& solver)>;
 // its own start; taking turns, that time includes the other's iterations,
 // so a limit is reached after about half the iterations it allows alone.
 void RunTwoRefinements(const SolverOptions& solver, bool concurrent,
-                       const RaceRefinement& first, const RaceRefinement& second);
+                       const RaceRefinement& first,
+                       const RaceRefinement& second);
 
 }  // namespace nrsfm
 

@@ -81,7 +81,8 @@ inline std::string Double(const std::string& name, const std::vector<int>& dims,
 // A miCOMPRESSED element holding `element` (e.g. a Matrix) deflated with
 // zlib, as MATLAB writes v7 files; not padded. `claimed_size` replaces the
 // inflated element's byte count when given (a corrupt file).
-inline std::string Compressed(std::string element, std::int64_t claimed_size = -1) {
+inline std::string Compressed(std::string element,
+                              std::int64_t claimed_size = -1) {
   if (claimed_size >= 0) {
     const std::uint32_t size = static_cast<std::uint32_t>(claimed_size);
     element.replace(4, 4, Raw(std::vector<std::uint32_t>{size}));
@@ -91,7 +92,9 @@ inline std::string Compressed(std::string element, std::int64_t claimed_size = -
   compress(reinterpret_cast<Bytef*>(deflated.data()), &length,
            reinterpret_cast<const Bytef*>(element.data()), element.size());
   deflated.resize(length);
-  return Raw(std::vector<std::uint32_t>{15, static_cast<std::uint32_t>(length)}) + deflated;
+  return Raw(std::vector<std::uint32_t>{15,
+                                        static_cast<std::uint32_t>(length)}) +
+         deflated;
 }
 
 // An empty miMATRIX element (no bytes at all): how MATLAB stores the []

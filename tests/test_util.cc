@@ -67,12 +67,13 @@ std::string ReadFileToString(const std::string& path) {
   return s.str();
 }
 
-CommandResult RunInDirectory(const std::string& dir, const std::string& executable,
+CommandResult RunInDirectory(const std::string& dir,
+                             const std::string& executable,
                              const std::string& args) {
   const std::string out = (std::filesystem::path(dir) / "stdout.txt").string();
   const std::string err = (std::filesystem::path(dir) / "stderr.txt").string();
-  const std::string command = "cd '" + dir + "' && '" + executable + "' " + args +
-                              " >'" + out + "' 2>'" + err + "'";
+  const std::string command = "cd '" + dir + "' && '" + executable + "' " +
+                              args + " >'" + out + "' 2>'" + err + "'";
   const int status = std::system(command.c_str());
   CommandResult result;
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

@@ -39,7 +39,8 @@ struct CommandResult {
 
 // Runs `executable args` with `dir` as the working directory, capturing
 // stdout and stderr through files in `dir`.
-CommandResult RunInDirectory(const std::string& dir, const std::string& executable,
+CommandResult RunInDirectory(const std::string& dir,
+                             const std::string& executable,
                              const std::string& args);
 
 // True when the environment sets NRSFM_REQUIRE_SHARED=1 (.ci/run does): a
@@ -52,15 +53,16 @@ bool SharedDataRequired();
 
 // Skips the current test when the shared datasets are not there (fails it
 // when NRSFM_REQUIRE_SHARED=1).
-#define NRSFM_SKIP_WITHOUT_SHARED_DATA(dir_var)                                          \
-  const std::string dir_var = ::nrsfm::testing_util::SharedDatasetsDir();                  \
-  if (dir_var.empty()) {                                                                   \
-    if (::nrsfm::testing_util::SharedDataRequired()) {                                     \
-      FAIL() << "../shared/datasets not present (NRSFM_SHARED_DIR: the folder that holds " \
-                "datasets/), and NRSFM_REQUIRE_SHARED=1 requires them";                    \
-    }                                                                                      \
-    GTEST_SKIP() << "../shared/datasets not present";                                      \
-  }                                                                                        \
+#define NRSFM_SKIP_WITHOUT_SHARED_DATA(dir_var)                           \
+  const std::string dir_var = ::nrsfm::testing_util::SharedDatasetsDir(); \
+  if (dir_var.empty()) {                                                  \
+    if (::nrsfm::testing_util::SharedDataRequired()) {                    \
+      FAIL() << "../shared/datasets not present (NRSFM_SHARED_DIR: the "  \
+                "folder that holds "                                      \
+                "datasets/), and NRSFM_REQUIRE_SHARED=1 requires them";   \
+    }                                                                     \
+    GTEST_SKIP() << "../shared/datasets not present";                     \
+  }                                                                       \
   static_assert(true, "")
 
 #endif  // NRSFM_TESTS_TEST_UTIL_H_

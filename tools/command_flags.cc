@@ -11,8 +11,10 @@ namespace {
 
 // gflags keeps the name, help and both pointers for the life of the program.
 template <typename T>
-void Register(const char* name, const char* help, T* storage, T* default_storage) {
-  gflags::FlagRegisterer(name, help, kCommandFlagsFile, storage, default_storage);
+void Register(const char* name, const char* help, T* storage,
+              T* default_storage) {
+  gflags::FlagRegisterer(name, help, kCommandFlagsFile, storage,
+                         default_storage);
 }
 
 }  // namespace
@@ -26,9 +28,10 @@ void RegisterCommandFlags(CommandFlags* flags) {
   // then the extra terms.
   const std::vector<FlagInfo>& table = CommandFlagTable();
   std::size_t row = 0;
-#define NRSFM_REGISTER_COMMAND_FLAG(type, flag, value, role, bind, help)            \
-  CHECK_EQ(table[row].name, #flag);                                                 \
-  Register<type>(#flag, table[row++].full_help.c_str(), &flags->flag, &defaults.flag);
+#define NRSFM_REGISTER_COMMAND_FLAG(type, flag, value, role, bind, help) \
+  CHECK_EQ(table[row].name, #flag);                                      \
+  Register<type>(#flag, table[row++].full_help.c_str(), &flags->flag,    \
+                 &defaults.flag);
   NRSFM_COMMAND_FLAGS(NRSFM_REGISTER_COMMAND_FLAG)
 #undef NRSFM_REGISTER_COMMAND_FLAG
   for (std::size_t i = 0; i < ExtraTerms().size(); ++i, ++row) {

@@ -1,5 +1,6 @@
 #include "tools/commands.h"
 
+#include <Eigen/Core>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
@@ -7,8 +8,6 @@
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "core/ground_truth.h"
 #include "core/mat_io.h"
@@ -29,13 +28,16 @@ namespace {
 // (Measurements::frame_ids, point_ids), "" otherwise.
 std::string RenumberedInputWarning(const Measurements& m) {
   if (m.frame_ids.empty() && m.point_ids.empty()) return "";
-  return "the list's largest indices (frame " + std::to_string(m.frame_ids.back()) +
-         ", point " + std::to_string(m.point_ids.back()) +
+  return "the list's largest indices (frame " +
+         std::to_string(m.frame_ids.back()) + ", point " +
+         std::to_string(m.point_ids.back()) +
          ") would make too large a W for it: the result holds only the " +
-         std::to_string(m.num_frames) + " frames and " + std::to_string(m.num_points) +
-         " points it mentions, numbered 0.." + std::to_string(m.num_frames - 1) + " and 0.." +
+         std::to_string(m.num_frames) + " frames and " +
+         std::to_string(m.num_points) + " points it mentions, numbered 0.." +
+         std::to_string(m.num_frames - 1) + " and 0.." +
          std::to_string(m.num_points - 1) +
-         " in increasing order of their index (result.json: input_frames and input_points "
+         " in increasing order of their index (result.json: input_frames and "
+         "input_points "
          "give each one's index in the list)";
 }
 
@@ -45,7 +47,8 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
                       std::ostream& progress) {
   if (flags.input.empty()) return Status::Error("--input is required");
   if (flags.output.empty()) return Status::Error("--output is required");
-  if (flags.K.empty()) return Status::Error("--K is required (an integer >= 1 or 'auto')");
+  if (flags.K.empty())
+    return Status::Error("--K is required (an integer >= 1 or 'auto')");
   FlagTargets targets;
   NRSFM_RETURN_IF_ERROR(ApplyFlags(flags, &targets));
   ReconstructOptions& options = targets.reconstruct;
@@ -56,25 +59,29 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
     if (std::filesystem::exists(flags.output, ec) &&
         !(std::filesystem::is_directory(flags.output, ec) &&
           std::filesystem::is_empty(flags.output, ec))) {
-      return Status::Error("output '" + flags.output +
-                           "' exists and is not an empty directory (use --overwrite "
-                           "to replace an earlier result)");
+      return Status::Error(
+          "output '" + flags.output +
+          "' exists and is not an empty directory (use --overwrite "
+          "to replace an earlier result)");
     }
   }
 
   Measurements measurements;
   InputDetails details;
-  NRSFM_RETURN_IF_ERROR(ReadMeasurements(flags.input, targets.input, &measurements, &details));
-  NRSFM_RETURN_IF_ERROR(CheckTermCameras(flags, flags.input, measurements.num_cameras));
+  NRSFM_RETURN_IF_ERROR(
+      ReadMeasurements(flags.input, targets.input, &measurements, &details));
+  NRSFM_RETURN_IF_ERROR(
+      CheckTermCameras(flags, flags.input, measurements.num_cameras));
   if (flags.confidence_weights) {
     if (details.confidence.size() == 0) {
-      return Status::Error("--confidence_weights: " + flags.input +
-                           " holds no detector scores (only keypoint inputs do: COCO "
-                           "results .json, OpenPose folders)");
+      return Status::Error(
+          "--confidence_weights: " + flags.input +
+          " holds no detector scores (only keypoint inputs do: COCO "
+          "results .json, OpenPose folders)");
     }
-    NRSFM_RETURN_IF_ERROR(RelativeObservationWeights(details.confidence, measurements,
-                                                     flags.input + ": confidence",
-                                                     &options.problem.observation_weights));
+    NRSFM_RETURN_IF_ERROR(RelativeObservationWeights(
+        details.confidence, measurements, flags.input + ": confidence",
+        &options.problem.observation_weights));
   }
 
   GroundTruth truth;
@@ -82,38 +89,44 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
     NRSFM_RETURN_IF_ERROR(ReadTruth(flags.truth, flags.truth_var, &truth));
     if (truth.NumFrames() != measurements.num_frames ||
         truth.NumPoints() != measurements.num_points) {
-      return Status::Error("--truth '" + flags.truth + "' has F = " +
-                           std::to_string(truth.NumFrames()) + ", P = " +
-                           std::to_string(truth.NumPoints()) + " but the input has F = " +
-                           std::to_string(measurements.num_frames) + ", P = " +
-                           std::to_string(measurements.num_points) +
-                           (measurements.frame_ids.empty()
-                                ? ""
-                                : " (the frames and points the list mentions)"));
+      return Status::Error(
+          "--truth '" + flags.truth +
+          "' has F = " + std::to_string(truth.NumFrames()) +
+          ", P = " + std::to_string(truth.NumPoints()) +
+          " but the input has F = " + std::to_string(measurements.num_frames) +
+          ", P = " + std::to_string(measurements.num_points) +
+          (measurements.frame_ids.empty()
+               ? ""
+               : " (the frames and points the list mentions)"));
     }
   }
 
   out << "input: " << flags.input << "  F = " << measurements.num_frames
-      << ", M = " << measurements.num_cameras << ", P = " << measurements.num_points
-      << ", visible " << measurements.NumVisible() << " of "
+      << ", M = " << measurements.num_cameras
+      << ", P = " << measurements.num_points << ", visible "
+      << measurements.NumVisible() << " of "
       << measurements.NumViews() * measurements.num_points << "\n";
 
   if (!flags.quiet) {
     options.solver.progress = [&progress](const IterationReport& report) {
-      progress << "  iteration " << std::setw(4) << report.iteration << "  cost "
-               << std::setprecision(6) << std::scientific << report.cost
-               << std::defaultfloat << "  " << std::fixed << std::setprecision(2)
-               << report.seconds << " s" << std::defaultfloat << "\n";
+      progress << "  iteration " << std::setw(4) << report.iteration
+               << "  cost " << std::setprecision(6) << std::scientific
+               << report.cost << std::defaultfloat << "  " << std::fixed
+               << std::setprecision(2) << report.seconds << " s"
+               << std::defaultfloat << "\n";
     };
   }
 
   ReconstructionRun run;
-  const Status solved = RunReconstruction(targets, measurements, flags.input, &run);
+  const Status solved =
+      RunReconstruction(targets, measurements, flags.input, &run);
   if (!solved.ok() && !measurements.frame_ids.empty()) {
-    return Status::Error(solved.message() +
-                         " (F and P count the frames and points the list mentions; its largest "
-                         "indices are frame " + std::to_string(measurements.frame_ids.back()) +
-                         ", point " + std::to_string(measurements.point_ids.back()) + ")");
+    return Status::Error(
+        solved.message() +
+        " (F and P count the frames and points the list mentions; its largest "
+        "indices are frame " +
+        std::to_string(measurements.frame_ids.back()) + ", point " +
+        std::to_string(measurements.point_ids.back()) + ")");
   }
   NRSFM_RETURN_IF_ERROR(solved);
   const ReconstructResult& result = run.result;
@@ -125,10 +138,11 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
     for (const auto& c : selection.curve) {
       out << std::setw(4) << c.num_bases << "   ";
       if (c.ok) {
-        out << std::setw(16) << std::setprecision(6) << c.reprojection_rms << "   "
-            << std::setw(18) << c.expected_rms << "   " << std::setw(8)
+        out << std::setw(16) << std::setprecision(6) << c.reprojection_rms
+            << "   " << std::setw(18) << c.expected_rms << "   " << std::setw(8)
             << std::setprecision(3) << c.seconds
-            << (c.num_bases == selection.num_bases ? "   <- chosen" : "") << "\n";
+            << (c.num_bases == selection.num_bases ? "   <- chosen" : "")
+            << "\n";
       } else {
         out << "failed: " << c.message << "\n";
       }
@@ -138,25 +152,27 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
 
   ShapeErrors errors;
   if (!flags.truth.empty()) {
-    NRSFM_RETURN_IF_ERROR(EvaluateShapes(truth, ShapesOfModel(result.model, 0), &errors)
-                              .WithContext("--truth"));
+    NRSFM_RETURN_IF_ERROR(
+        EvaluateShapes(truth, ShapesOfModel(result.model, 0), &errors)
+            .WithContext("--truth"));
   }
-  ReconstructionReport report =
-      MakeReport(flags, flags.input, run, flags.truth.empty() ? nullptr : &errors);
+  ReconstructionReport report = MakeReport(
+      flags, flags.input, run, flags.truth.empty() ? nullptr : &errors);
   const std::string renumbered = RenumberedInputWarning(measurements);
-  if (!renumbered.empty()) report.warnings.insert(report.warnings.begin(), renumbered);
+  if (!renumbered.empty())
+    report.warnings.insert(report.warnings.begin(), renumbered);
   report.warnings.insert(report.warnings.begin(), details.warnings.begin(),
                          details.warnings.end());
 
   WriteOptions write_options;
   write_options.write_ply = flags.ply;
   write_options.overwrite = flags.overwrite;
-  NRSFM_RETURN_IF_ERROR(
-      WriteReconstruction(flags.output, measurements, result.model, report, write_options));
+  NRSFM_RETURN_IF_ERROR(WriteReconstruction(
+      flags.output, measurements, result.model, report, write_options));
 
   out << "K = " << num_bases << ", start: " << report.start_used
-      << " (reprojection RMS " << std::setprecision(6) << result.start.reprojection_rms
-      << ")\n";
+      << " (reprojection RMS " << std::setprecision(6)
+      << result.start.reprojection_rms << ")\n";
   out << "terms:";
   if (result.priors.term_weights.empty()) out << " none";
   for (const auto& [name, weight] : result.priors.term_weights) {
@@ -167,8 +183,8 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
     out << ": track order " << std::setprecision(3) << result.priors.track_order
         << (result.priors.video ? ", video" : ", not a video");
     if (result.priors.path_acceleration_deg >= 0) {
-      out << ", start's path acceleration " << result.priors.path_acceleration_deg
-          << " deg/frame^2";
+      out << ", start's path acceleration "
+          << result.priors.path_acceleration_deg << " deg/frame^2";
     }
     if (result.camera_stage) {
       out << ", camera from K = " << result.priors.camera_num_bases;
@@ -176,15 +192,18 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
   }
   out << ")\n";
   if (result.camera_stage) {
-    out << std::setprecision(6) << "refine camera (K = " << result.priors.camera_num_bases
-        << "): cost " << result.camera_refine.initial_cost << " -> "
-        << result.camera_refine.final_cost << " in " << result.camera_refine.iterations
-        << " iterations\n";
+    out << std::setprecision(6)
+        << "refine camera (K = " << result.priors.camera_num_bases << "): cost "
+        << result.camera_refine.initial_cost << " -> "
+        << result.camera_refine.final_cost << " in "
+        << result.camera_refine.iterations << " iterations\n";
   }
-  out << std::setprecision(6) << "refine: cost " << result.refine.initial_cost << " -> "
-      << result.refine.final_cost << " in " << result.refine.iterations
-      << " iterations (" << result.refine.linear_solver << "), "
-      << (result.refine.usable ? "usable" : "NOT usable: " + result.refine.message)
+  out << std::setprecision(6) << "refine: cost " << result.refine.initial_cost
+      << " -> " << result.refine.final_cost << " in "
+      << result.refine.iterations << " iterations ("
+      << result.refine.linear_solver << "), "
+      << (result.refine.usable ? "usable"
+                               : "NOT usable: " + result.refine.message)
       << "\n";
   out << "reprojection RMS " << report.reprojection_rms << ", time "
       << std::setprecision(3) << result.total_seconds << " s\n";
@@ -195,10 +214,11 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
     if (!std::isnan(errors.rotation_error)) {
       out << ", rotation error " << errors.rotation_error;
     }
-    out << ", 3D error " << errors.error3d_pct << " %, z error " << errors.zerror_pct
-        << " %\n";
+    out << ", 3D error " << errors.error3d_pct << " %, z error "
+        << errors.zerror_pct << " %\n";
   }
-  for (const auto& warning : report.warnings) out << "warning: " << warning << "\n";
+  for (const auto& warning : report.warnings)
+    out << "warning: " << warning << "\n";
   out << "wrote " << flags.output << "\n";
   if (!result.refine.usable) {
     return Status::Error("the refinement did not give a usable solution (" +
@@ -215,9 +235,11 @@ Status RunEvaluate(const CommandFlags& flags, std::ostream& out) {
   NRSFM_RETURN_IF_ERROR(ReadTruth(flags.truth, flags.truth_var, &truth));
   std::error_code ec;
   if (std::filesystem::is_directory(flags.result, ec)) {
-    NRSFM_RETURN_IF_ERROR(ReadResultShapes(flags.result, /*camera=*/0, &estimate));
+    NRSFM_RETURN_IF_ERROR(
+        ReadResultShapes(flags.result, /*camera=*/0, &estimate));
   } else {
-    NRSFM_RETURN_IF_ERROR(ReadPointsCameraCsv(flags.result, /*camera=*/0, &estimate));
+    NRSFM_RETURN_IF_ERROR(
+        ReadPointsCameraCsv(flags.result, /*camera=*/0, &estimate));
   }
   ShapeErrors errors;
   NRSFM_RETURN_IF_ERROR(
@@ -229,7 +251,8 @@ Status RunEvaluate(const CommandFlags& flags, std::ostream& out) {
   if (!flags.K.empty()) {
     NumBasesFlag k;
     NRSFM_RETURN_IF_ERROR(ParseNumBasesFlag(flags.K, &k));
-    if (k.automatic) return Status::Error("--K: evaluate needs the result's K, not 'auto'");
+    if (k.automatic)
+      return Status::Error("--K: evaluate needs the result's K, not 'auto'");
     num_bases = k.value;
   } else if (std::filesystem::is_directory(flags.result, ec)) {
     NRSFM_RETURN_IF_ERROR(ReadResultNumBases(flags.result, &num_bases));
@@ -249,29 +272,34 @@ Status RunSynthReproject(const CommandFlags& flags, std::ostream& out) {
   NRSFM_RETURN_IF_ERROR(SynthesizeReprojection(flags, &sequence, &variables));
   NRSFM_RETURN_IF_ERROR(WriteMat(flags.output, MatVersion::kV5, variables));
   const Measurements& m = sequence.measurements;
-  out << "wrote " << flags.output << ": reproject of " << flags.input << ", F = "
-      << m.num_frames << ", P = " << m.num_points << ", rotation " << flags.rotation
-      << " deg (" << flags.profile << "), image size " << std::setprecision(4)
-      << sequence.image_size << ", noise std " << sequence.noise_stddev << ", visible "
-      << m.NumVisible() << " of " << m.num_frames * m.num_points << "\n";
+  out << "wrote " << flags.output << ": reproject of " << flags.input
+      << ", F = " << m.num_frames << ", P = " << m.num_points << ", rotation "
+      << flags.rotation << " deg (" << flags.profile << "), image size "
+      << std::setprecision(4) << sequence.image_size << ", noise std "
+      << sequence.noise_stddev << ", visible " << m.NumVisible() << " of "
+      << m.num_frames * m.num_points << "\n";
   return Status::OK();
 }
 
 Status RunSynth(const CommandFlags& flags, std::ostream& out) {
   NRSFM_RETURN_IF_ERROR(CheckSynthOutput(flags.output));
   if (flags.dataset == "reproject") return RunSynthReproject(flags, out);
-  if (flags.dataset != "random" && flags.dataset != "superquadric" && flags.dataset != "shoe") {
-    return Status::Error("--dataset must be random, superquadric, shoe or reproject, got '" +
-                         flags.dataset + "'");
+  if (flags.dataset != "random" && flags.dataset != "superquadric" &&
+      flags.dataset != "shoe") {
+    return Status::Error(
+        "--dataset must be random, superquadric, shoe or reproject, got '" +
+        flags.dataset + "'");
   }
   SyntheticSequence sequence;
   NRSFM_RETURN_IF_ERROR(Synthesize(flags, &sequence));
-  NRSFM_RETURN_IF_ERROR(WriteMat(flags.output, MatVersion::kV5, SyntheticVariables(sequence)));
+  NRSFM_RETURN_IF_ERROR(
+      WriteMat(flags.output, MatVersion::kV5, SyntheticVariables(sequence)));
   const Measurements& m = sequence.measurements;
-  out << "wrote " << flags.output << ": " << flags.dataset << ", F = " << m.num_frames
-      << ", M = " << m.num_cameras << ", P = " << m.num_points
-      << ", K = " << sequence.truth.num_bases << ", visible " << m.NumVisible() << " of "
-      << m.NumViews() * m.num_points << "\n";
+  out << "wrote " << flags.output << ": " << flags.dataset
+      << ", F = " << m.num_frames << ", M = " << m.num_cameras
+      << ", P = " << m.num_points << ", K = " << sequence.truth.num_bases
+      << ", visible " << m.NumVisible() << " of " << m.NumViews() * m.num_points
+      << "\n";
   return Status::OK();
 }
 

@@ -47,17 +47,20 @@ bool ParseInt(const std::string& s, int* value) {
   return true;
 }
 
-Status ParseFlagText(const std::string& /*name*/, const std::string& text, std::string* value) {
+Status ParseFlagText(const std::string& /*name*/, const std::string& text,
+                     std::string* value) {
   *value = text;
   return Status::OK();
 }
 
-Status ParseFlagText(const std::string& name, const std::string& text, int* value) {
+Status ParseFlagText(const std::string& name, const std::string& text,
+                     int* value) {
   if (ParseInt(text, value)) return Status::OK();
   return Status::Error(name + " must be an integer, got '" + text + "'");
 }
 
-Status ParseFlagText(const std::string& name, const std::string& text, std::uint64_t* value) {
+Status ParseFlagText(const std::string& name, const std::string& text,
+                     std::uint64_t* value) {
   try {
     std::size_t used = 0;
     const unsigned long long v = std::stoull(text, &used);
@@ -67,10 +70,12 @@ Status ParseFlagText(const std::string& name, const std::string& text, std::uint
     }
   } catch (...) {
   }
-  return Status::Error(name + " must be an integer in [0, 2^64), got '" + text + "'");
+  return Status::Error(name + " must be an integer in [0, 2^64), got '" + text +
+                       "'");
 }
 
-Status ParseFlagText(const std::string& name, const std::string& text, double* value) {
+Status ParseFlagText(const std::string& name, const std::string& text,
+                     double* value) {
   try {
     std::size_t used = 0;
     const double v = std::stod(text, &used);
@@ -83,7 +88,8 @@ Status ParseFlagText(const std::string& name, const std::string& text, double* v
   return Status::Error(name + " must be a number, got '" + text + "'");
 }
 
-Status ParseFlagText(const std::string& name, const std::string& text, bool* value) {
+Status ParseFlagText(const std::string& name, const std::string& text,
+                     bool* value) {
   if (text == "true" || text == "1") {
     *value = true;
   } else if (text == "false" || text == "0") {
@@ -109,21 +115,26 @@ std::string FullHelp(const std::vector<CommandHelp>& help) {
 
 // A row of NRSFM_COMMAND_FLAGS: its member of CommandFlags and its bind.
 template <typename T, typename Bind>
-FlagInfo MakeFlagInfo(const char* name, FlagRole role, std::vector<CommandHelp> help,
-                      T CommandFlags::*member, Bind bind) {
+FlagInfo MakeFlagInfo(const char* name, FlagRole role,
+                      std::vector<CommandHelp> help, T CommandFlags::*member,
+                      Bind bind) {
   FlagInfo info;
   info.name = name;
   info.type = TypeName<T>();
   info.role = role;
   info.help = std::move(help);
   info.full_help = FullHelp(info.help);
-  info.text = [member](const CommandFlags& flags) { return FlagText(flags.*member); };
-  info.set_text = [member, flag = info.name](const std::string& text, CommandFlags* flags) {
+  info.text = [member](const CommandFlags& flags) {
+    return FlagText(flags.*member);
+  };
+  info.set_text = [member, flag = info.name](const std::string& text,
+                                             CommandFlags* flags) {
     return ParseFlagText(flag, text, &(flags->*member));
   };
   if constexpr (!std::is_same_v<Bind, SetsNothing>) {
     info.sets_option = true;
-    info.apply = [member, bind](const CommandFlags& flags, FlagTargets* targets) {
+    info.apply = [member, bind](const CommandFlags& flags,
+                                FlagTargets* targets) {
       return bind(flags.*member, targets);
     };
   }
@@ -132,13 +143,15 @@ FlagInfo MakeFlagInfo(const char* name, FlagRole role, std::vector<CommandHelp> 
 
 std::vector<FlagInfo> MakeTable() {
   std::vector<FlagInfo> table;
-#define NRSFM_FLAG_ROW(type, name, value, role, bind, help) \
-  table.push_back(MakeFlagInfo<type>(#name, FlagRole::role, help, &CommandFlags::name, bind));
+#define NRSFM_FLAG_ROW(type, name, value, role, bind, help)       \
+  table.push_back(MakeFlagInfo<type>(#name, FlagRole::role, help, \
+                                     &CommandFlags::name, bind));
   NRSFM_COMMAND_FLAGS(NRSFM_FLAG_ROW)
 #undef NRSFM_FLAG_ROW
   static const std::vector<std::string> term_help = [] {
     std::vector<std::string> help;
-    for (const ExtraTerm& term : ExtraTerms()) help.push_back(TermFlagHelp(term));
+    for (const ExtraTerm& term : ExtraTerms())
+      help.push_back(TermFlagHelp(term));
     return help;
   }();
   const std::vector<ExtraTerm>& terms = ExtraTerms();
@@ -150,12 +163,16 @@ std::vector<FlagInfo> MakeTable() {
     info.help = {{kReconstruct, term_help[i].c_str()}};
     info.full_help = FullHelp(info.help);
     info.sets_option = true;
-    info.text = [i](const CommandFlags& flags) { return FormatDouble(flags.term_weights[i]); };
-    info.set_text = [i, flag = info.name](const std::string& text, CommandFlags* flags) {
+    info.text = [i](const CommandFlags& flags) {
+      return FormatDouble(flags.term_weights[i]);
+    };
+    info.set_text = [i, flag = info.name](const std::string& text,
+                                          CommandFlags* flags) {
       return ParseFlagText(flag, text, &flags->term_weights[i]);
     };
     // 0 leaves the term out of the problem.
-    info.apply = [i, term = info.name](const CommandFlags& flags, FlagTargets* targets) {
+    info.apply = [i, term = info.name](const CommandFlags& flags,
+                                       FlagTargets* targets) {
       if (flags.term_weights[i] != 0.0) {
         targets->reconstruct.problem.term_weights[term] = flags.term_weights[i];
       }
@@ -176,7 +193,8 @@ Status ParseNumBasesFlag(const std::string& value, NumBasesFlag* num_bases) {
   if (num_bases->automatic) return Status::OK();
   if (!ParseInt(value, &num_bases->value) || num_bases->value < 1) {
     *num_bases = NumBasesFlag();
-    return Status::Error("--K must be an integer >= 1 or 'auto', got '" + value + "'");
+    return Status::Error("--K must be an integer >= 1 or 'auto', got '" +
+                         value + "'");
   }
   return Status::OK();
 }
@@ -251,7 +269,8 @@ bool FlagInfo::Serves(Command command) const {
 std::string FlagInfo::HelpFor(Command command) const {
   std::string out;
   for (const CommandHelp& part : help) {
-    if ((part.commands & command) != 0) out += (out.empty() ? "" : " ") + std::string(part.text);
+    if ((part.commands & command) != 0)
+      out += (out.empty() ? "" : " ") + std::string(part.text);
   }
   return out;
 }
@@ -283,8 +302,9 @@ Status ApplyFlags(const CommandFlags& flags, FlagTargets* targets) {
     if (!parsed.ok()) {
       // Named once: a parser may name the flag itself ("--K must be …").
       const std::string prefix = "--" + flag.name + " ";
-      return parsed.message().rfind(prefix, 0) == 0 ? parsed
-                                                    : parsed.WithContext("--" + flag.name);
+      return parsed.message().rfind(prefix, 0) == 0
+                 ? parsed
+                 : parsed.WithContext("--" + flag.name);
     }
     NRSFM_RETURN_IF_ERROR(alone.CheckParts().WithContext("--" + flag.name));
     NRSFM_RETURN_IF_ERROR(flag.apply(flags, targets));
@@ -296,14 +316,15 @@ Status ApplyFlags(const CommandFlags& flags, FlagTargets* targets) {
   return targets->Check();
 }
 
-Status SetFlagFromText(const std::string& name, const std::string& text, CommandFlags* flags) {
+Status SetFlagFromText(const std::string& name, const std::string& text,
+                       CommandFlags* flags) {
   const FlagInfo* flag = FindFlag(name);
   if (flag == nullptr) return Status::Error("unknown option '" + name + "'");
   return flag->set_text(text, flags);
 }
 
-std::vector<std::pair<std::string, std::string>> OptionList(const CommandFlags& flags,
-                                                            int num_bases) {
+std::vector<std::pair<std::string, std::string>> OptionList(
+    const CommandFlags& flags, int num_bases) {
   std::vector<std::pair<std::string, std::string>> list = {
       {"K", std::to_string(num_bases)}, {"K_flag", flags.K}};
   for (const FlagInfo& flag : CommandFlagTable()) {

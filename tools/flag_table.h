@@ -25,7 +25,8 @@ const char* CommandName(Command command);
 
 struct FlagInfo {
   std::string name;
-  const char* type = "";  // the Python type of its value: "str", "int", "float", "bool"
+  const char* type =
+      "";  // the Python type of its value: "str", "int", "float", "bool"
   FlagRole role = FlagRole::kTool;
   std::vector<CommandHelp> help;
   // The --help text: the parts of `help` with their commands named,
@@ -70,14 +71,15 @@ Status ApplyFlags(const CommandFlags& flags, FlagTargets* targets);
 
 // Sets the flag `name` (a row of the table) from `text` (FlagInfo::set_text);
 // an unknown name is an error ("unknown option 'x'").
-Status SetFlagFromText(const std::string& name, const std::string& text, CommandFlags* flags);
+Status SetFlagFromText(const std::string& name, const std::string& text,
+                       CommandFlags* flags);
 
 // The flags a reconstruction used, as result.json's "options": K (the K
 // used) and K_flag (as given), then every flag of the roles kInput,
 // kWeights, kStart and kOption in table order, as given (`cameras` 0 = from
 // the file).
-std::vector<std::pair<std::string, std::string>> OptionList(const CommandFlags& flags,
-                                                            int num_bases);
+std::vector<std::pair<std::string, std::string>> OptionList(
+    const CommandFlags& flags, int num_bases);
 
 }  // namespace tools
 }  // namespace nrsfm

@@ -3,18 +3,19 @@
 //   nrsfm reconstruct --input PATH --K N|auto --output DIR [options]
 //   nrsfm evaluate --truth PATH --result DIR
 //   nrsfm synth --dataset random|superquadric|shoe --output PATH.mat [options]
-//   nrsfm synth --dataset reproject --input TRUTH.mat --output PATH.mat [options]
-//   nrsfm view --result DIR [--truth PATH] [--input PATH] --output FILE.html
+//   nrsfm synth --dataset reproject --input TRUTH.mat --output PATH.mat
+//   [options] nrsfm view --result DIR [--truth PATH] [--input PATH] --output
+//   FILE.html
 //
 // Flags may also come from a file: --flagfile=PATH. Logs go to stderr. The
 // exit code is 0 only on success.
+#include <gflags/gflags.h>
+#include <glog/logging.h>
+
 #include <cstdlib>
 #include <iostream>
 #include <string>
 #include <vector>
-
-#include <gflags/gflags.h>
-#include <glog/logging.h>
 
 #include "tools/command_flags.h"
 #include "tools/commands.h"
@@ -27,23 +28,32 @@ constexpr char kUsage[] =
     "Usage:\n"
     "  nrsfm reconstruct --input PATH --K N|auto --output DIR [options]\n"
     "  nrsfm evaluate --truth PATH --result DIR\n"
-    "  nrsfm synth --dataset random|superquadric|shoe --output PATH.mat [options]\n"
-    "  nrsfm synth --dataset reproject --input TRUTH.mat --output PATH.mat [options]\n"
-    "  nrsfm view --result DIR [--truth PATH] [--input PATH] --output FILE.html\n"
+    "  nrsfm synth --dataset random|superquadric|shoe --output PATH.mat "
+    "[options]\n"
+    "  nrsfm synth --dataset reproject --input TRUTH.mat --output PATH.mat "
+    "[options]\n"
+    "  nrsfm view --result DIR [--truth PATH] [--input PATH] --output "
+    "FILE.html\n"
     "\n"
     "reconstruct reads W (2F x P, rows u_t, v_t interleaved; 2FM x P for M\n"
     "cameras), NaN = missing, or detector keypoints (COCO results .json, a\n"
     "folder of OpenPose .json frames; pixels, v down; docs/inputs.md), and\n"
     "writes points_camera.csv, points_object.csv,\n"
     "rotations.csv, weights.csv, basis.csv and result.json into DIR.\n"
-    "evaluate prints one JSON line with e3d, frob_zsign, error3d_pct, zerror_pct,\n"
-    "F and P. synth writes a .mat with W and the ground truth P3_gt (reproject:\n"
+    "evaluate prints one JSON line with e3d, frob_zsign, error3d_pct, "
+    "zerror_pct,\n"
+    "F and P. synth writes a .mat with W and the ground truth P3_gt "
+    "(reproject:\n"
     "the truth of --input seen by another camera path, with S and Rs).\n"
     "view writes one self-contained HTML page (works offline): the 3D points\n"
-    "animated over the frames, the truth (--truth, --truth_var) aligned as for\n"
-    "e3D with the per-frame error, and the 2D tracks (--input, --var, --mask_var,\n"
-    "--format) with their reprojections; --overwrite replaces an existing page.\n"
-    "Flags may be read from a file with --flagfile=PATH. Exit code 0 = success.";
+    "animated over the frames, the truth (--truth, --truth_var) aligned as "
+    "for\n"
+    "e3D with the per-frame error, and the 2D tracks (--input, --var, "
+    "--mask_var,\n"
+    "--format) with their reprojections; --overwrite replaces an existing "
+    "page.\n"
+    "Flags may be read from a file with --flagfile=PATH. Exit code 0 = "
+    "success.";
 
 bool WantsHelp(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
@@ -67,7 +77,8 @@ int main(int argc, char** argv) {
   gflags::SetVersionString(nrsfm::tools::VersionString());
   if (WantsHelp(argc, argv)) {
     // Only this tool's flags, not those of glog and gflags themselves.
-    gflags::ShowUsageWithFlagsRestrict(argv[0], nrsfm::tools::kCommandFlagsFile);
+    gflags::ShowUsageWithFlagsRestrict(argv[0],
+                                       nrsfm::tools::kCommandFlagsFile);
     return 0;
   }
   gflags::ParseCommandLineFlags(&argc, &argv, /*remove_flags=*/true);
@@ -91,7 +102,8 @@ int main(int argc, char** argv) {
     status = nrsfm::tools::RunView(flags, std::cout);
   } else {
     std::cerr << "nrsfm: unknown command '" << command
-              << "' (expected reconstruct, evaluate, synth or view); see nrsfm --help\n";
+              << "' (expected reconstruct, evaluate, synth or view); see nrsfm "
+                 "--help\n";
     return 2;
   }
   if (!status.ok()) {

@@ -1,12 +1,12 @@
 #include "tools/reconstruction_steps.h"
 
-#include <cmath>
-#include <filesystem>
-#include <sstream>
+#include <ceres/version.h>
 
 #include <Eigen/Core>
-#include <ceres/version.h>
+#include <cmath>
+#include <filesystem>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "core/result_reader.h"
 #include "problems/extra_terms.h"
@@ -19,21 +19,25 @@ namespace {
 
 #define NRSFM_STRINGIZE2(x) #x
 #define NRSFM_STRINGIZE(x) NRSFM_STRINGIZE2(x)
-constexpr char kVersion[] =
-    NRSFM_VERSION " (Ceres " CERES_VERSION_STRING ", Eigen " NRSFM_STRINGIZE(
-        EIGEN_WORLD_VERSION) "." NRSFM_STRINGIZE(EIGEN_MAJOR_VERSION) "." NRSFM_STRINGIZE(EIGEN_MINOR_VERSION) ")";
+constexpr char kVersion[] = NRSFM_VERSION
+    " (Ceres " CERES_VERSION_STRING
+    ", Eigen " NRSFM_STRINGIZE(EIGEN_WORLD_VERSION) "." NRSFM_STRINGIZE(
+        EIGEN_MAJOR_VERSION) "." NRSFM_STRINGIZE(EIGEN_MINOR_VERSION) ")";
 
 }  // namespace
 
 const char* VersionString() { return kVersion; }
 
-Status RelativeObservationWeights(const Eigen::ArrayXXd& given, const Measurements& measurements,
-                                  const std::string& name, Eigen::ArrayXXd* weights) {
+Status RelativeObservationWeights(const Eigen::ArrayXXd& given,
+                                  const Measurements& measurements,
+                                  const std::string& name,
+                                  Eigen::ArrayXXd* weights) {
   const Measurements& m = measurements;
   if (given.rows() != m.NumViews() || given.cols() != m.num_points) {
     return Status::Error(name + " is " + std::to_string(given.rows()) + " x " +
                          std::to_string(given.cols()) + ", expected " +
-                         std::to_string(m.NumViews()) + " x " + std::to_string(m.num_points) +
+                         std::to_string(m.NumViews()) + " x " +
+                         std::to_string(m.num_points) +
                          " (one weight per frame and camera, and point)");
   }
   double sum = 0.0;
@@ -43,8 +47,9 @@ Status RelativeObservationWeights(const Eigen::ArrayXXd& given, const Measuremen
       const double w = given(view, p);
       if (!(std::isfinite(w) && w >= 0.0)) {
         std::ostringstream msg;
-        msg << name << ": the weight of the visible observation of view " << view
-            << ", point " << p << " is " << w << "; weights must be finite and >= 0";
+        msg << name << ": the weight of the visible observation of view "
+            << view << ", point " << p << " is " << w
+            << "; weights must be finite and >= 0";
         return Status::Error(msg.str());
       }
       sum += w;
@@ -63,13 +68,18 @@ Status RelativeObservationWeights(const Eigen::ArrayXXd& given, const Measuremen
   return Status::OK();
 }
 
-Status MeasurementsFromArrays(const Eigen::MatrixXd& w, const Eigen::MatrixXd& mask, int cameras,
+Status MeasurementsFromArrays(const Eigen::MatrixXd& w,
+                              const Eigen::MatrixXd& mask, int cameras,
                               Measurements* measurements) {
-  if (cameras < 1) return Status::Error("cameras must be >= 1, got " + std::to_string(cameras));
+  if (cameras < 1)
+    return Status::Error("cameras must be >= 1, got " +
+                         std::to_string(cameras));
   Eigen::MatrixXd visible_w = w;
-  NRSFM_RETURN_IF_ERROR(Measurements::FromMatrixWithNaN(visible_w, cameras, "W", measurements));
+  NRSFM_RETURN_IF_ERROR(
+      Measurements::FromMatrixWithNaN(visible_w, cameras, "W", measurements));
   if (mask.size() > 0) {
-    NRSFM_RETURN_IF_ERROR(ApplyVisibilityMask(mask, "mask", cameras, &visible_w));
+    NRSFM_RETURN_IF_ERROR(
+        ApplyVisibilityMask(mask, "mask", cameras, &visible_w));
     NRSFM_RETURN_IF_ERROR(
         Measurements::FromMatrixWithNaN(visible_w, cameras, "W", measurements));
   }
@@ -77,13 +87,15 @@ Status MeasurementsFromArrays(const Eigen::MatrixXd& w, const Eigen::MatrixXd& m
 }
 
 Status ArrayReconstructOptions(const Measurements& measurements,
-                               const Eigen::ArrayXXd& observation_weights, CommandFlags* flags,
-                               FlagTargets* targets) {
-  NRSFM_RETURN_IF_ERROR(CheckTermCameras(*flags, "W", measurements.num_cameras));
+                               const Eigen::ArrayXXd& observation_weights,
+                               CommandFlags* flags, FlagTargets* targets) {
+  NRSFM_RETURN_IF_ERROR(
+      CheckTermCameras(*flags, "W", measurements.num_cameras));
   flags->confidence_weights = observation_weights.size() > 0;
   if (!flags->confidence_weights) return Status::OK();
-  return RelativeObservationWeights(observation_weights, measurements, "observation_weights",
-                                    &targets->reconstruct.problem.observation_weights);
+  return RelativeObservationWeights(
+      observation_weights, measurements, "observation_weights",
+      &targets->reconstruct.problem.observation_weights);
 }
 
 Status CheckTermCameras(const CommandFlags& flags, const std::string& input,
@@ -91,13 +103,15 @@ Status CheckTermCameras(const CommandFlags& flags, const std::string& input,
   const std::vector<ExtraTerm>& terms = ExtraTerms();
   for (std::size_t i = 0; i < terms.size(); ++i) {
     if (!(flags.term_weights[i] > 0.0)) continue;
-    NRSFM_RETURN_IF_ERROR(terms[i].CheckCameras(num_cameras)
+    NRSFM_RETURN_IF_ERROR(terms[i]
+                              .CheckCameras(num_cameras)
                               .WithContext(input + ": --" + terms[i].name));
   }
   return Status::OK();
 }
 
-Status ReadTruth(const std::string& path, const std::string& variable, GroundTruth* truth) {
+Status ReadTruth(const std::string& path, const std::string& variable,
+                 GroundTruth* truth) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
     return ReadPointsCameraCsv(path, /*camera=*/0, truth);
@@ -109,22 +123,29 @@ namespace {
 
 // The error of RunReconstruction (header) when a weighted run with K bases
 // would leave points or frames out.
-Status CheckWeightedRunLeavesNothingOut(const Measurements& measurements, int num_bases) {
+Status CheckWeightedRunLeavesNothingOut(const Measurements& measurements,
+                                        int num_bases) {
   Unobserved unobserved;
-  if (!FindUnobserved(measurements, num_bases, &unobserved).ok() || unobserved.empty()) {
-    return Status::OK();  // nothing left out, or Reconstruct() says what is wrong
+  if (!FindUnobserved(measurements, num_bases, &unobserved).ok() ||
+      unobserved.empty()) {
+    return Status::OK();  // nothing left out, or Reconstruct() says what is
+                          // wrong
   }
-  return Status::Error(
-      "observation weights (--confidence_weights) with K = " + std::to_string(num_bases) +
-      ": the reconstruction would leave points or frames out, which a weighted run cannot "
-      "do yet (" + UnobservedWarning(measurements, unobserved) +
-      "); reconstruct without the weights, or with a lower --min_confidence or K");
+  return Status::Error("observation weights (--confidence_weights) with K = " +
+                       std::to_string(num_bases) +
+                       ": the reconstruction would leave points or frames out, "
+                       "which a weighted run cannot "
+                       "do yet (" +
+                       UnobservedWarning(measurements, unobserved) +
+                       "); reconstruct without the weights, or with a lower "
+                       "--min_confidence or K");
 }
 
 }  // namespace
 
-Status RunReconstruction(const FlagTargets& targets, const Measurements& measurements, const std::string& context,
-                         ReconstructionRun* run) {
+Status RunReconstruction(const FlagTargets& targets,
+                         const Measurements& measurements,
+                         const std::string& context, ReconstructionRun* run) {
   *run = ReconstructionRun();
   if (!targets.num_bases.given) {
     return Status::Error("--K is required (an integer >= 1 or 'auto')");
@@ -134,10 +155,12 @@ Status RunReconstruction(const FlagTargets& targets, const Measurements& measure
   run->num_bases = targets.num_bases.value;
   if (options.problem.observation_weights.size() > 0) {
     const int lowest = run->auto_k ? 1 : run->num_bases;
-    const int highest = run->auto_k ? targets.select.max_num_bases : run->num_bases;
+    const int highest =
+        run->auto_k ? targets.select.max_num_bases : run->num_bases;
     for (int k = lowest; k <= highest; ++k) {
       const Status status = CheckWeightedRunLeavesNothingOut(measurements, k);
-      if (!status.ok()) return context.empty() ? status : status.WithContext(context);
+      if (!status.ok())
+        return context.empty() ? status : status.WithContext(context);
     }
   }
   if (run->auto_k) {
@@ -155,8 +178,10 @@ Status RunReconstruction(const FlagTargets& targets, const Measurements& measure
   return context.empty() ? status : status.WithContext(context);
 }
 
-ReconstructionReport MakeReport(const CommandFlags& flags, const std::string& input,
-                                const ReconstructionRun& run, const ShapeErrors* errors) {
+ReconstructionReport MakeReport(const CommandFlags& flags,
+                                const std::string& input,
+                                const ReconstructionRun& run,
+                                const ShapeErrors* errors) {
   const ReconstructResult& result = run.result;
   ReconstructionReport report;
   report.input = input;
@@ -167,13 +192,15 @@ ReconstructionReport MakeReport(const CommandFlags& flags, const std::string& in
   if (result.camera_stage) {
     report.stages.push_back({"refine_camera", result.camera_refine.initial_cost,
                              result.camera_refine.final_cost,
-                             result.camera_refine.iterations, result.camera_refine.seconds});
+                             result.camera_refine.iterations,
+                             result.camera_refine.seconds});
   }
   report.stages.push_back({"refine", result.refine.initial_cost,
                            result.refine.final_cost, result.refine.iterations,
                            result.refine.seconds});
-  report.reprojection_rms = result.refine.usable ? result.refine.reprojection_rms
-                                                 : result.start.reprojection_rms;
+  report.reprojection_rms = result.refine.usable
+                                ? result.refine.reprojection_rms
+                                : result.start.reprojection_rms;
   report.solution_usable = result.refine.usable;
   report.warnings = result.start.warnings;
   report.warnings.insert(report.warnings.end(), result.warnings.begin(),
@@ -183,25 +210,26 @@ ReconstructionReport MakeReport(const CommandFlags& flags, const std::string& in
   for (const auto& [name, weight] : result.priors.term_weights) {
     report.term_weights.emplace_back(name, weight);
   }
-  report.diagnostics = {{"track_step", result.priors.track_step},
-                        {"track_order", result.priors.track_order},
-                        {"path_acceleration_deg", result.priors.path_acceleration_deg},
-                        {"camera_num_bases", static_cast<double>(result.priors.camera_num_bases)},
-                        {"noise_rms", result.priors.noise_rms},
-                        {"largest_view_angle_deg", result.largest_view_angle_deg},
-                        {"depth_ratio", result.depth_ratio},
-                        {"refine_converged", result.refine.converged ? 1.0 : 0.0},
-                        {"camera_refine_converged",
-                         result.camera_stage
-                             ? (result.camera_refine.converged ? 1.0 : 0.0)
-                             : -1.0},
-                        {"start_completion_rms", result.start.completion_rms},
-                        {"start_subblock_rank1_defect", result.start.subblock_rank1_defect},
-                        {"start_rigid_rms", result.start.rigid_rms},
-                        {"start_triple_sign_segments",
-                         static_cast<double>(result.start.triple_sign_segments)}};
+  report.diagnostics = {
+      {"track_step", result.priors.track_step},
+      {"track_order", result.priors.track_order},
+      {"path_acceleration_deg", result.priors.path_acceleration_deg},
+      {"camera_num_bases", static_cast<double>(result.priors.camera_num_bases)},
+      {"noise_rms", result.priors.noise_rms},
+      {"largest_view_angle_deg", result.largest_view_angle_deg},
+      {"depth_ratio", result.depth_ratio},
+      {"refine_converged", result.refine.converged ? 1.0 : 0.0},
+      {"camera_refine_converged",
+       result.camera_stage ? (result.camera_refine.converged ? 1.0 : 0.0)
+                           : -1.0},
+      {"start_completion_rms", result.start.completion_rms},
+      {"start_subblock_rank1_defect", result.start.subblock_rank1_defect},
+      {"start_rigid_rms", result.start.rigid_rms},
+      {"start_triple_sign_segments",
+       static_cast<double>(result.start.triple_sign_segments)}};
   if (!result.refine.usable) {
-    report.warnings.push_back("refinement not usable: " + result.refine.message);
+    report.warnings.push_back("refinement not usable: " +
+                              result.refine.message);
   }
   report.versions = {{"nrsfm", NRSFM_VERSION}, {"ceres", CERES_VERSION_STRING}};
   if (errors != nullptr) {
@@ -211,7 +239,8 @@ ReconstructionReport MakeReport(const CommandFlags& flags, const std::string& in
   return report;
 }
 
-std::string EvaluationJson(const ShapeErrors& errors, int num_bases, double rank_floor) {
+std::string EvaluationJson(const ShapeErrors& errors, int num_bases,
+                           double rank_floor) {
   nlohmann::ordered_json line;
   for (const auto& [name, value] : MetricList(errors)) line[name] = value;
   line["e3d_frame"] = EvaluationFrameName(errors.e3d_frame);
@@ -221,8 +250,10 @@ std::string EvaluationJson(const ShapeErrors& errors, int num_bases, double rank
   }
   line["F"] = errors.num_frames;
   line["P"] = errors.num_points;
-  if (!errors.unscored_frames.empty()) line["unscored_frames"] = errors.unscored_frames;
-  if (!errors.unscored_points.empty()) line["unscored_points"] = errors.unscored_points;
+  if (!errors.unscored_frames.empty())
+    line["unscored_frames"] = errors.unscored_frames;
+  if (!errors.unscored_points.empty())
+    line["unscored_points"] = errors.unscored_points;
   return line.dump();
 }
 

@@ -8,10 +8,9 @@
 #ifndef NRSFM_TOOLS_RECONSTRUCTION_STEPS_H_
 #define NRSFM_TOOLS_RECONSTRUCTION_STEPS_H_
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "core/ground_truth.h"
 #include "core/measurements.h"
@@ -37,14 +36,17 @@ const char* VersionString();
 // (whatever `given` holds there, NaN too). Errors, naming `name`, on another
 // size, a visible entry that is negative or not finite, and when every
 // visible entry is 0.
-Status RelativeObservationWeights(const Eigen::ArrayXXd& given, const Measurements& measurements,
-                                  const std::string& name, Eigen::ArrayXXd* weights);
+Status RelativeObservationWeights(const Eigen::ArrayXXd& given,
+                                  const Measurements& measurements,
+                                  const std::string& name,
+                                  Eigen::ArrayXXd* weights);
 
 // Measurements from a W given in memory (2FM × P, NaN = missing) and a
 // visibility mask (FM × P or 2FM × P, nonzero = visible; empty = none), as
 // the Python module and the MATLAB function take them; `cameras` = M ≥ 1.
 // Errors name "W" and "mask" (e.g. "W: only one coordinate of …").
-Status MeasurementsFromArrays(const Eigen::MatrixXd& w, const Eigen::MatrixXd& mask, int cameras,
+Status MeasurementsFromArrays(const Eigen::MatrixXd& w,
+                              const Eigen::MatrixXd& mask, int cameras,
                               Measurements* measurements);
 
 // The rest of the options of a reconstruction of arrays (the Python module's
@@ -55,8 +57,8 @@ Status MeasurementsFromArrays(const Eigen::MatrixXd& w, const Eigen::MatrixXd& m
 // "observation_weights"); flags->confidence_weights is set to whether there
 // are weights, so that the report's options say so.
 Status ArrayReconstructOptions(const Measurements& measurements,
-                               const Eigen::ArrayXXd& observation_weights, CommandFlags* flags,
-                               FlagTargets* targets);
+                               const Eigen::ArrayXXd& observation_weights,
+                               CommandFlags* flags, FlagTargets* targets);
 
 // After the input is read: every term given a weight has the cameras it
 // needs (ExtraTerm::CheckCameras); the error names `input` and the flag,
@@ -67,13 +69,14 @@ Status CheckTermCameras(const CommandFlags& flags, const std::string& input,
 
 // Ground truth from a .mat file (core/ground_truth.h) or a result directory
 // (its points_camera.csv, camera 0), as --truth reads it.
-Status ReadTruth(const std::string& path, const std::string& variable, GroundTruth* truth);
+Status ReadTruth(const std::string& path, const std::string& variable,
+                 GroundTruth* truth);
 
 // A reconstruction as `nrsfm reconstruct` runs it: --K N, or --K auto with
 // --K_max and --K_threshold (solvers/select_num_bases.h).
 struct ReconstructionRun {
   bool auto_k = false;
-  int num_bases = 0;              // K used (chosen, with auto)
+  int num_bases = 0;               // K used (chosen, with auto)
   SelectNumBasesResult selection;  // with auto: the curve and noise estimate
   ReconstructResult result;
 };
@@ -87,14 +90,17 @@ struct ReconstructionRun {
 // weights of all the measurements on to the ones it keeps, whose sizes
 // differ, so such a run cannot be done yet; the error names what would be
 // left out.
-Status RunReconstruction(const FlagTargets& targets, const Measurements& measurements, const std::string& context,
-                         ReconstructionRun* run);
+Status RunReconstruction(const FlagTargets& targets,
+                         const Measurements& measurements,
+                         const std::string& context, ReconstructionRun* run);
 
 // result.json's report of `run` (input path, options, stages, warnings,
 // the left-out points and frames, terms, diagnostics, versions); with
 // `errors` (not null) its metrics too.
-ReconstructionReport MakeReport(const CommandFlags& flags, const std::string& input,
-                                const ReconstructionRun& run, const ShapeErrors* errors);
+ReconstructionReport MakeReport(const CommandFlags& flags,
+                                const std::string& input,
+                                const ReconstructionRun& run,
+                                const ShapeErrors* errors);
 
 // The one JSON line `nrsfm evaluate` prints: MetricList, e3d_frame, F, P
 // and, when not empty, unscored_frames / unscored_points.

@@ -1,11 +1,10 @@
 #include "tools/synth_steps.h"
 
+#include <Eigen/Core>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
 #include <string>
-
-#include <Eigen/Core>
 
 #include "core/ground_truth.h"
 #include "tools/reconstruction_steps.h"
@@ -26,7 +25,8 @@ Status CheckFinite(const char* flag, double value) {
 Status CheckSynthOutput(const std::string& output) {
   if (output.empty()) return Status::Error("--output PATH.mat is required");
   if (std::filesystem::path(output).extension() != ".mat") {
-    return Status::Error("--output must name a .mat file, got '" + output + "'");
+    return Status::Error("--output must name a .mat file, got '" + output +
+                         "'");
   }
   return Status::OK();
 }
@@ -54,27 +54,32 @@ bool ParseVector3(const std::string& text, Eigen::Vector3d* v) {
 
 }  // namespace
 
-Status SynthesizeReprojection(const CommandFlags& flags, ReprojectedSequence* sequence,
+Status SynthesizeReprojection(const CommandFlags& flags,
+                              ReprojectedSequence* sequence,
                               std::vector<MatVariable>* variables) {
   if (flags.input.empty()) {
-    return Status::Error("--input is required for --dataset reproject (a .mat "
-                         "with S + Rs, P3_gt or X)");
+    return Status::Error(
+        "--input is required for --dataset reproject (a .mat "
+        "with S + Rs, P3_gt or X)");
   }
   if (!flags.K.empty() || flags.frames != -1 || flags.points != -1) {
-    return Status::Error("--K, --frames and --points do not apply to --dataset "
-                         "reproject (the source fixes them)");
+    return Status::Error(
+        "--K, --frames and --points do not apply to --dataset "
+        "reproject (the source fixes them)");
   }
   if (flags.noise != 0.0) {
-    return Status::Error("--noise does not apply to --dataset reproject; give "
-                         "--noise_fraction (of the image size)");
+    return Status::Error(
+        "--noise does not apply to --dataset reproject; give "
+        "--noise_fraction (of the image size)");
   }
   ReprojectOptions options;
   options.total_rotation_deg = flags.rotation;
   if (!ParseVector3(flags.axis, &options.axis)) {
-    return Status::Error("--axis must be three numbers x,y,z, got '" + flags.axis + "'");
+    return Status::Error("--axis must be three numbers x,y,z, got '" +
+                         flags.axis + "'");
   }
-  NRSFM_RETURN_IF_ERROR(
-      ParseSpeedProfile(flags.profile, &options.profile).WithContext("--profile"));
+  NRSFM_RETURN_IF_ERROR(ParseSpeedProfile(flags.profile, &options.profile)
+                            .WithContext("--profile"));
   options.noise_fraction = flags.noise_fraction;
   options.missing_fraction = flags.missing;
   options.occlusion_radius = flags.occlusion;
@@ -96,7 +101,9 @@ Status SynthesizeReprojection(const CommandFlags& flags, ReprojectedSequence* se
       {"Rs", rs, {}},
       {"cameras", Eigen::MatrixXd::Constant(1, 1, 1.0), {}},
       {"image_size", Eigen::MatrixXd::Constant(1, 1, sequence->image_size), {}},
-      {"noise_stddev", Eigen::MatrixXd::Constant(1, 1, sequence->noise_stddev), {}}};
+      {"noise_stddev",
+       Eigen::MatrixXd::Constant(1, 1, sequence->noise_stddev),
+       {}}};
   // The skeleton edges of the source, for nrsfm view.
   Eigen::MatrixXd list;
   if (std::filesystem::path(flags.input).extension() == ".mat" &&
@@ -109,12 +116,14 @@ Status SynthesizeReprojection(const CommandFlags& flags, ReprojectedSequence* se
 Status Synthesize(const CommandFlags& flags, SyntheticSequence* sequence) {
   NumBasesFlag num_bases;
   if (!ParseNumBasesFlag(flags.K, &num_bases).ok() || num_bases.automatic) {
-    return Status::Error("--K must be an integer >= 1 for synth, got '" + flags.K + "'");
+    return Status::Error("--K must be an integer >= 1 for synth, got '" +
+                         flags.K + "'");
   }
   const int k = num_bases.given ? num_bases.value : -1;
   NRSFM_RETURN_IF_ERROR(CheckFinite("noise", flags.noise));
   NRSFM_RETURN_IF_ERROR(CheckFinite("missing", flags.missing));
-  // --frames, --noise, --missing and --seed of the random and superquadric data.
+  // --frames, --noise, --missing and --seed of the random and superquadric
+  // data.
   const auto set_sequence = [&flags](SmoothSequenceOptions* o) {
     if (flags.frames != -1) o->num_frames = flags.frames;
     o->noise_stddev = flags.noise;
@@ -129,7 +138,8 @@ Status Synthesize(const CommandFlags& flags, SyntheticSequence* sequence) {
     return GenerateRandomBasis(o, sequence);
   }
   if (flags.dataset == "superquadric") {
-    if (k != -1) return Status::Error("--K is fixed (4) for the superquadric dataset");
+    if (k != -1)
+      return Status::Error("--K is fixed (4) for the superquadric dataset");
     SuperquadricOptions o;
     set_sequence(&o);
     if (flags.points != -1) o.num_points = flags.points;
@@ -138,8 +148,9 @@ Status Synthesize(const CommandFlags& flags, SyntheticSequence* sequence) {
   if (flags.dataset == "shoe") {
     if (k != -1) return Status::Error("--K is fixed (4) for the shoe dataset");
     if (flags.missing != 0.0) {
-      return Status::Error("--missing does not apply to the shoe dataset (its "
-                           "missing entries come from self-occlusion)");
+      return Status::Error(
+          "--missing does not apply to the shoe dataset (its "
+          "missing entries come from self-occlusion)");
     }
     ShoeOptions o;
     if (flags.frames != -1) o.num_frames = flags.frames;
@@ -149,8 +160,9 @@ Status Synthesize(const CommandFlags& flags, SyntheticSequence* sequence) {
     o.seed = flags.seed;
     return GenerateShoe(o, sequence);
   }
-  return Status::Error("--dataset must be random, superquadric, shoe or reproject, got '" +
-                       flags.dataset + "'");
+  return Status::Error(
+      "--dataset must be random, superquadric, shoe or reproject, got '" +
+      flags.dataset + "'");
 }
 
 std::vector<MatVariable> SyntheticVariables(const SyntheticSequence& sequence) {

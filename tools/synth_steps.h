@@ -31,7 +31,8 @@ Status Synthesize(const CommandFlags& flags, SyntheticSequence* sequence);
 // (object frame, rows x_t, y_t, z_t), Rs (2F × 3), cameras, image_size,
 // noise_stddev and the source's skeleton `list` when it has one. Errors on
 // flags that do not apply (--K, --frames, --points, --noise) and bad values.
-Status SynthesizeReprojection(const CommandFlags& flags, ReprojectedSequence* sequence,
+Status SynthesizeReprojection(const CommandFlags& flags,
+                              ReprojectedSequence* sequence,
                               std::vector<MatVariable>* variables);
 
 // What `nrsfm synth` writes into its .mat file: W (NaN where missing),

@@ -27,12 +27,15 @@ Status RunView(const CommandFlags& flags, std::ostream& out) {
   const std::string html =
       RenderViewerPage(data, {flags.result, flags.truth, flags.input});
   NRSFM_RETURN_IF_ERROR(WriteViewerPage(flags.output, html));
-  out << "wrote " << flags.output << " (" << html.size() / 1024 << " KiB): F = "
-      << data.num_frames << ", M = " << data.num_cameras << ", P = " << data.num_points
-      << ", " << data.edges.size() << " edges (" << data.edge_source << ")";
-  if (data.has_truth) out << std::setprecision(6) << ", e3D " << data.metrics.e3d;
+  out << "wrote " << flags.output << " (" << html.size() / 1024
+      << " KiB): F = " << data.num_frames << ", M = " << data.num_cameras
+      << ", P = " << data.num_points << ", " << data.edges.size() << " edges ("
+      << data.edge_source << ")";
+  if (data.has_truth)
+    out << std::setprecision(6) << ", e3D " << data.metrics.e3d;
   if (data.has_tracks) {
-    out << std::setprecision(6) << ", reprojection RMS " << data.reprojection_rms;
+    out << std::setprecision(6) << ", reprojection RMS "
+        << data.reprojection_rms;
   }
   out << "\n";
   for (const std::string& note : data.notes) out << "note: " << note << "\n";

@@ -6,15 +6,14 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <utility>
 
-#include <nlohmann/json.hpp>
-
 #include "core/ground_truth.h"
 #include "core/mat_io.h"
-#include "core/metrics.h"
 #include "core/measurements.h"
+#include "core/metrics.h"
 #include "core/procrustes.h"
 #include "core/read_measurements.h"
 #include "core/result_reader.h"
@@ -47,7 +46,8 @@ Eigen::Matrix3Xd Centred(const Eigen::Matrix3Xd& x) {
     sum += x.col(p);
     ++count;
   }
-  return x.colwise() - (count > 0 ? Eigen::Vector3d(sum / count) : Eigen::Vector3d::Zero());
+  return x.colwise() -
+         (count > 0 ? Eigen::Vector3d(sum / count) : Eigen::Vector3d::Zero());
 }
 
 // translations.csv (frame,camera,tx,ty,scale): T_tc per view, 2 × FM
@@ -56,35 +56,40 @@ Status ReadTranslations(const std::string& dir, int num_frames,
                         Eigen::Matrix2Xd* translations, int* num_cameras) {
   const std::string file = (fs::path(dir) / "translations.csv").string();
   Eigen::MatrixXd table;
-  NRSFM_RETURN_IF_ERROR(ReadCsvTable(
-      file, {"frame", "camera", "tx", "ty", "scale"}, &table));
+  NRSFM_RETURN_IF_ERROR(
+      ReadCsvTable(file, {"frame", "camera", "tx", "ty", "scale"}, &table));
   int cameras = 0;
   for (Eigen::Index r = 0; r < table.rows(); ++r) {
     for (int j = 0; j < 2; ++j) {
       if (!IsIndex(table(r, j))) {
-        return Status::Error(file + ": data row " + std::to_string(r + 1) + ", column " +
-                             Str(j + 1) + ": not a non-negative integer index");
+        return Status::Error(file + ": data row " + std::to_string(r + 1) +
+                             ", column " + Str(j + 1) +
+                             ": not a non-negative integer index");
       }
     }
     if (table(r, 0) >= num_frames) {
-      return Status::Error(file + ": data row " + std::to_string(r + 1) + ": frame " +
-                           Str(static_cast<int>(table(r, 0))) +
+      return Status::Error(file + ": data row " + std::to_string(r + 1) +
+                           ": frame " + Str(static_cast<int>(table(r, 0))) +
                            " but points_camera.csv has F = " + Str(num_frames));
     }
     cameras = std::max(cameras, static_cast<int>(table(r, 1)) + 1);
   }
-  if (static_cast<long>(table.rows()) != static_cast<long>(num_frames) * cameras) {
-    return Status::Error(file + ": " + std::to_string(table.rows()) +
-                         " rows, but F = " + Str(num_frames) + " frames x M = " +
-                         Str(cameras) + " cameras need " +
-                         std::to_string(static_cast<long>(num_frames) * cameras));
+  if (static_cast<long>(table.rows()) !=
+      static_cast<long>(num_frames) * cameras) {
+    return Status::Error(
+        file + ": " + std::to_string(table.rows()) + " rows, but F = " +
+        Str(num_frames) + " frames x M = " + Str(cameras) + " cameras need " +
+        std::to_string(static_cast<long>(num_frames) * cameras));
   }
-  Eigen::Matrix2Xd result = Eigen::Matrix2Xd::Constant(2, num_frames * cameras, kNaN);
+  Eigen::Matrix2Xd result =
+      Eigen::Matrix2Xd::Constant(2, num_frames * cameras, kNaN);
   std::vector<bool> seen(num_frames * cameras, false);
   for (Eigen::Index r = 0; r < table.rows(); ++r) {
-    const int view = static_cast<int>(table(r, 0)) * cameras + static_cast<int>(table(r, 1));
-    const std::string where = file + ": frame " + Str(static_cast<int>(table(r, 0))) +
-                              ", camera " + Str(static_cast<int>(table(r, 1)));
+    const int view =
+        static_cast<int>(table(r, 0)) * cameras + static_cast<int>(table(r, 1));
+    const std::string where = file + ": frame " +
+                              Str(static_cast<int>(table(r, 0))) + ", camera " +
+                              Str(static_cast<int>(table(r, 1)));
     if (seen[view]) return Status::Error(where + " appears twice");
     seen[view] = true;
     // A frame the reconstruction left out has nan, nan (result.json's
@@ -110,13 +115,16 @@ Status ReadResultJson(const std::string& dir, ViewData* data) {
     return Status::OK();
   }
   std::ifstream in(file);
-  const nlohmann::json json = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  const nlohmann::json json =
+      nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
   if (json.is_discarded() || !json.is_object()) {
     return Status::Error(file.string() + ": not a valid JSON object");
   }
   const auto check = [&](const char* key, int expected) -> Status {
-    if (json.contains(key) && json[key].is_number_integer() && json[key].get<int>() != expected) {
-      return Status::Error(file.string() + ": " + key + " = " + Str(json[key].get<int>()) +
+    if (json.contains(key) && json[key].is_number_integer() &&
+        json[key].get<int>() != expected) {
+      return Status::Error(file.string() + ": " + key + " = " +
+                           Str(json[key].get<int>()) +
                            " but the CSV files have " + Str(expected));
     }
     return Status::OK();
@@ -127,7 +135,8 @@ Status ReadResultJson(const std::string& dir, ViewData* data) {
   if (json.contains("num_bases") && json["num_bases"].is_number_integer()) {
     data->num_bases = json["num_bases"].get<int>();
   }
-  if (json.contains("solution_usable") && json["solution_usable"].is_boolean()) {
+  if (json.contains("solution_usable") &&
+      json["solution_usable"].is_boolean()) {
     data->solution_usable = json["solution_usable"].get<bool>();
   }
   if (json.contains("start_used") && json["start_used"].is_string()) {
@@ -143,7 +152,8 @@ Status ReadResultJson(const std::string& dir, ViewData* data) {
 
 bool IsMatFile(const std::string& path) {
   std::string extension = fs::path(path).extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (char& c : extension)
+    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   std::error_code ec;
   return extension == ".mat" && fs::is_regular_file(path, ec);
 }
@@ -156,10 +166,12 @@ Status ReadSkeleton(const std::string& path, int num_points,
   *found = false;
   std::vector<std::string> names;
   NRSFM_RETURN_IF_ERROR(ListMatVariables(path, &names));
-  if (std::find(names.begin(), names.end(), "list") == names.end()) return Status::OK();
+  if (std::find(names.begin(), names.end(), "list") == names.end())
+    return Status::OK();
   Eigen::MatrixXd list;
   NRSFM_RETURN_IF_ERROR(ReadMatVariable(path, "list", &list));
-  const std::string what = path + ": variable 'list' (skeleton edges, 1-based point indices)";
+  const std::string what =
+      path + ": variable 'list' (skeleton edges, 1-based point indices)";
   if (list.rows() == 2 && list.cols() != 2) list.transposeInPlace();
   if (list.cols() != 2 || list.rows() == 0) {
     return Status::Error(what + " is " + std::to_string(list.rows()) + " x " +
@@ -172,11 +184,13 @@ Status ReadSkeleton(const std::string& path, int num_points,
       if (!(v >= 1 && v <= num_points && v == std::floor(v))) {
         std::ostringstream value;
         value << v;
-        return Status::Error(what + ": row " + std::to_string(r + 1) + " holds " +
-                             value.str() + "; expected an integer in 1.." + Str(num_points));
+        return Status::Error(what + ": row " + std::to_string(r + 1) +
+                             " holds " + value.str() +
+                             "; expected an integer in 1.." + Str(num_points));
       }
     }
-    const int i = static_cast<int>(list(r, 0)) - 1, j = static_cast<int>(list(r, 1)) - 1;
+    const int i = static_cast<int>(list(r, 0)) - 1,
+              j = static_cast<int>(list(r, 1)) - 1;
     if (i != j) result.push_back({std::min(i, j), std::max(i, j)});
   }
   std::sort(result.begin(), result.end());
@@ -192,16 +206,19 @@ Status ReadSkeleton(const std::string& path, int num_points,
 // estimate, the truth mapped onto it by the e3D alignment, each frame's error.
 Status AddTruth(const ViewDataOptions& options, const GroundTruth& estimate,
                 const GroundTruth& truth, ViewData* data) {
-  NRSFM_RETURN_IF_ERROR(EvaluateShapes(truth, estimate, &data->metrics)
-                            .WithContext("--truth '" + options.truth_path + "'"));
+  NRSFM_RETURN_IF_ERROR(
+      EvaluateShapes(truth, estimate, &data->metrics)
+          .WithContext("--truth '" + options.truth_path + "'"));
   const EvaluationFrame frame = data->metrics.e3d_frame;
   data->scoring_frame =
       frame == EvaluationFrame::kObject
-          ? "the object frame (points_object.csv against the world-frame S of the truth), "
+          ? "the object frame (points_object.csv against the world-frame S of "
+            "the truth), "
             "as nrsfm evaluate scores it"
           : "camera 0's frame (points_camera.csv), as nrsfm evaluate scores it";
   const std::vector<Eigen::Matrix3Xd>& shown = ScoredShapes(estimate, frame);
-  const std::vector<Eigen::Matrix3Xd>& truth_shapes = ScoredShapes(truth, frame);
+  const std::vector<Eigen::Matrix3Xd>& truth_shapes =
+      ScoredShapes(truth, frame);
   // What the reconstruction left out (NaN) is not scored (EvaluateShapes):
   // the alignment and the errors are of the kept frames and points, each
   // frame centred on its kept points.
@@ -209,7 +226,8 @@ Status AddTruth(const ViewDataOptions& options, const GroundTruth& estimate,
   const std::vector<int>& out_points = data->metrics.unscored_points;
   std::vector<int> kept_points;
   for (int p = 0; p < data->num_points; ++p) {
-    if (!std::binary_search(out_points.begin(), out_points.end(), p)) kept_points.push_back(p);
+    if (!std::binary_search(out_points.begin(), out_points.end(), p))
+      kept_points.push_back(p);
   }
   std::vector<Eigen::Matrix3Xd> kept_truth, kept_shown;
   for (int t = 0; t < data->num_frames; ++t) {
@@ -218,7 +236,8 @@ Status AddTruth(const ViewDataOptions& options, const GroundTruth& estimate,
     kept_shown.push_back(shown[t](Eigen::all, kept_points));
   }
   const E3DDetail detail = ComputeE3DDetail(kept_truth, kept_shown);
-  const auto centred = [&kept_points](const Eigen::Matrix3Xd& x) -> Eigen::Matrix3Xd {
+  const auto centred =
+      [&kept_points](const Eigen::Matrix3Xd& x) -> Eigen::Matrix3Xd {
     const Eigen::Vector3d mean = x(Eigen::all, kept_points).rowwise().mean();
     return x.colwise() - mean;
   };
@@ -228,7 +247,8 @@ Status AddTruth(const ViewDataOptions& options, const GroundTruth& estimate,
   for (int t = 0, k = 0; t < data->num_frames; ++t) {
     data->estimate.push_back(centred(shown[t]));
     // Y is orthogonal: ||X − Y X̂|| = ||Yᵀ X − X̂||.
-    data->truth_aligned.push_back(detail.alignment.transpose() * centred(truth_shapes[t]));
+    data->truth_aligned.push_back(detail.alignment.transpose() *
+                                  centred(truth_shapes[t]));
     if (!std::binary_search(out_frames.begin(), out_frames.end(), t)) {
       data->frame_error(t) = detail.frame_errors[k++];
     }
@@ -242,19 +262,20 @@ Status AddTracks(const ViewDataOptions& options, const std::string& result_dir,
   InputOptions input_options = options.input;
   input_options.num_cameras = data->num_cameras;
   InputDetails details;
-  NRSFM_RETURN_IF_ERROR(
-      ReadMeasurements(options.input_path, input_options, measurements, &details));
+  NRSFM_RETURN_IF_ERROR(ReadMeasurements(options.input_path, input_options,
+                                         measurements, &details));
   for (const std::string& warning : details.warnings) {
     data->notes.push_back(options.input_path + ": " + warning);
   }
   const Measurements& m = *measurements;
   if (m.num_frames != data->num_frames || m.num_cameras != data->num_cameras ||
       m.num_points != data->num_points) {
-    return Status::Error("--input '" + options.input_path + "' has F = " + Str(m.num_frames) +
-                         ", M = " + Str(m.num_cameras) + ", P = " + Str(m.num_points) +
-                         " but the result '" + result_dir + "' has F = " +
-                         Str(data->num_frames) + ", M = " + Str(data->num_cameras) +
-                         ", P = " + Str(data->num_points));
+    return Status::Error(
+        "--input '" + options.input_path + "' has F = " + Str(m.num_frames) +
+        ", M = " + Str(m.num_cameras) + ", P = " + Str(m.num_points) +
+        " but the result '" + result_dir +
+        "' has F = " + Str(data->num_frames) +
+        ", M = " + Str(data->num_cameras) + ", P = " + Str(data->num_points));
   }
   data->tracks = m.W;
   // A point or frame the reconstruction left out has no reprojection: it is
@@ -264,12 +285,16 @@ Status AddTracks(const ViewDataOptions& options, const std::string& result_dir,
     for (int p = 0; p < m.num_points; ++p) {
       if (!m.visible(view, p)) {
         data->tracks.block<2, 1>(2 * view, p).setConstant(kNaN);
-      } else if (data->reprojection.block<2, 1>(2 * view, p).array().isNaN().any()) {
+      } else if (data->reprojection.block<2, 1>(2 * view, p)
+                     .array()
+                     .isNaN()
+                     .any()) {
         scored.visible(view, p) = false;
       }
     }
   }
-  const FrameReprojectionRms rms = ComputeFrameReprojectionRms(scored, data->reprojection);
+  const FrameReprojectionRms rms =
+      ComputeFrameReprojectionRms(scored, data->reprojection);
   data->frame_reprojection_rms = rms.frame_rms;
   data->reprojection_rms = rms.rms;
   data->has_tracks = true;
@@ -279,11 +304,13 @@ Status AddTracks(const ViewDataOptions& options, const std::string& result_dir,
 // Skeleton `list` of the truth, else of the input, else the Delaunay edges
 // of the reference view (problems/delaunay_edges.h) of the tracks, or of the
 // reprojections when no tracks were given.
-Status AddEdges(const ViewDataOptions& options, const Measurements* tracks, ViewData* data) {
+Status AddEdges(const ViewDataOptions& options, const Measurements* tracks,
+                ViewData* data) {
   for (const std::string& path : {options.truth_path, options.input_path}) {
     if (path.empty() || !IsMatFile(path)) continue;
     bool found = false;
-    NRSFM_RETURN_IF_ERROR(ReadSkeleton(path, data->num_points, &data->edges, &found));
+    NRSFM_RETURN_IF_ERROR(
+        ReadSkeleton(path, data->num_points, &data->edges, &found));
     if (found) {
       data->edge_source = "the skeleton 'list' of " + path;
       return Status::OK();
@@ -296,13 +323,14 @@ Status AddEdges(const ViewDataOptions& options, const Measurements* tracks, View
     reprojected.num_cameras = data->num_cameras;
     reprojected.num_points = data->num_points;
     reprojected.W = data->reprojection;
-    reprojected.visible = VisibilityMask::Constant(reprojected.NumViews(), data->num_points, true);
+    reprojected.visible = VisibilityMask::Constant(reprojected.NumViews(),
+                                                   data->num_points, true);
     measurements = &reprojected;
   }
   std::vector<NeighbourEdge> edges;
   int reference_frame = -1;
-  const Status status =
-      ComputeDelaunayEdges(*measurements, DelaunayEdgesOptions(), &edges, &reference_frame);
+  const Status status = ComputeDelaunayEdges(
+      *measurements, DelaunayEdgesOptions(), &edges, &reference_frame);
   if (!status.ok()) {
     data->edges.clear();
     data->edge_source = "none";
@@ -311,8 +339,8 @@ Status AddEdges(const ViewDataOptions& options, const Measurements* tracks, View
   }
   data->edges.clear();
   for (const NeighbourEdge& e : edges) data->edges.push_back({e.i, e.j});
-  data->edge_source = "Delaunay triangulation of frame " + Str(reference_frame) +
-                      " (camera 0) of the " +
+  data->edge_source = "Delaunay triangulation of frame " +
+                      Str(reference_frame) + " (camera 0) of the " +
                       (tracks != nullptr ? "2D tracks" : "reprojected points") +
                       ", as the smoothness term builds it";
   return Status::OK();
@@ -323,9 +351,11 @@ Status AddEdges(const ViewDataOptions& options, const Measurements* tracks, View
 Status GatherViewData(const ViewDataOptions& options, ViewData* data) {
   const std::string& dir = options.result_dir;
   std::error_code ec;
-  if (!fs::exists(dir, ec)) return Status::Error("--result '" + dir + "': no such directory");
+  if (!fs::exists(dir, ec))
+    return Status::Error("--result '" + dir + "': no such directory");
   if (!fs::is_directory(dir, ec)) {
-    return Status::Error("--result '" + dir + "' is not a directory (a result of nrsfm "
+    return Status::Error("--result '" + dir +
+                         "' is not a directory (a result of nrsfm "
                          "reconstruct)");
   }
   ViewData result;
@@ -337,41 +367,47 @@ Status GatherViewData(const ViewDataOptions& options, ViewData* data) {
   result.num_frames = camera0.NumFrames();
   result.num_points = camera0.NumPoints();
   Eigen::Matrix2Xd translations;
-  NRSFM_RETURN_IF_ERROR(
-      ReadTranslations(dir, result.num_frames, &translations, &result.num_cameras));
-  const int f = result.num_frames, m = result.num_cameras, p = result.num_points;
+  NRSFM_RETURN_IF_ERROR(ReadTranslations(dir, result.num_frames, &translations,
+                                         &result.num_cameras));
+  const int f = result.num_frames, m = result.num_cameras,
+            p = result.num_points;
   result.reprojection.resize(2 * f * m, p);
   for (int c = 0; c < m; ++c) {
     GroundTruth camera = camera0;
     if (c > 0) {
       NRSFM_RETURN_IF_ERROR(ReadPointsCameraCsv(dir, c, &camera));
       if (camera.NumFrames() != f || camera.NumPoints() != p) {
-        return Status::Error(dir + "/points_camera.csv: camera " + Str(c) + " has F = " +
-                             Str(camera.NumFrames()) + ", P = " + Str(camera.NumPoints()) +
-                             " but camera 0 has F = " + Str(f) + ", P = " + Str(p));
+        return Status::Error(dir + "/points_camera.csv: camera " + Str(c) +
+                             " has F = " + Str(camera.NumFrames()) +
+                             ", P = " + Str(camera.NumPoints()) +
+                             " but camera 0 has F = " + Str(f) +
+                             ", P = " + Str(p));
       }
     }
     for (int t = 0; t < f; ++t) {
       result.reprojection.block(2 * (t * m + c), 0, 2, p) =
-          camera.points_in_camera[t].topRows<2>().colwise() + translations.col(t * m + c);
+          camera.points_in_camera[t].topRows<2>().colwise() +
+          translations.col(t * m + c);
     }
   }
   NRSFM_RETURN_IF_ERROR(ReadResultJson(dir, &result));
 
   GroundTruth truth;
   if (!options.truth_path.empty()) {
-    NRSFM_RETURN_IF_ERROR(ReadTruth(options.truth_path, options.truth_variable, &truth));
+    NRSFM_RETURN_IF_ERROR(
+        ReadTruth(options.truth_path, options.truth_variable, &truth));
     if (truth.NumFrames() != f || truth.NumPoints() != p) {
-      return Status::Error("--truth '" + options.truth_path + "' has F = " +
-                           Str(truth.NumFrames()) + ", P = " + Str(truth.NumPoints()) +
-                           " but the result '" + dir + "' has F = " + Str(f) +
-                           ", P = " + Str(p));
+      return Status::Error("--truth '" + options.truth_path +
+                           "' has F = " + Str(truth.NumFrames()) + ", P = " +
+                           Str(truth.NumPoints()) + " but the result '" + dir +
+                           "' has F = " + Str(f) + ", P = " + Str(p));
     }
   }
   // Without a truth the camera frame is shown; with one, the frame it is
   // scored in (AddTruth).
   result.scoring_frame = "camera 0's frame (points_camera.csv)";
-  for (const Eigen::Matrix3Xd& x : camera0.points_in_camera) result.estimate.push_back(Centred(x));
+  for (const Eigen::Matrix3Xd& x : camera0.points_in_camera)
+    result.estimate.push_back(Centred(x));
   if (!options.truth_path.empty()) {
     GroundTruth estimate = camera0;
     if (truth.HasObjectFrame()) {
@@ -386,11 +422,12 @@ Status GatherViewData(const ViewDataOptions& options, ViewData* data) {
   if (!options.input_path.empty()) {
     NRSFM_RETURN_IF_ERROR(AddTracks(options, dir, &tracks, &result));
   } else {
-    result.notes.push_back("the 2D tracks were not given (--input): the 2D view shows the "
-                           "reprojections only");
+    result.notes.push_back(
+        "the 2D tracks were not given (--input): the 2D view shows the "
+        "reprojections only");
   }
-  NRSFM_RETURN_IF_ERROR(
-      AddEdges(options, options.input_path.empty() ? nullptr : &tracks, &result));
+  NRSFM_RETURN_IF_ERROR(AddEdges(
+      options, options.input_path.empty() ? nullptr : &tracks, &result));
   *data = std::move(result);
   return Status::OK();
 }

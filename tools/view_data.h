@@ -16,11 +16,10 @@
 #ifndef NRSFM_TOOLS_VIEW_DATA_H_
 #define NRSFM_TOOLS_VIEW_DATA_H_
 
+#include <Eigen/Core>
 #include <array>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "core/metrics.h"
 #include "core/read_measurements.h"
@@ -30,7 +29,8 @@ namespace nrsfm {
 namespace tools {
 
 struct ViewDataOptions {
-  std::string result_dir;  // required: a directory written by `nrsfm reconstruct`
+  std::string
+      result_dir;  // required: a directory written by `nrsfm reconstruct`
   // Ground truth: a .mat (S + Rs, P3_gt or X; core/ground_truth.h) or a result
   // directory; "" = none. `truth_variable` as --truth_var.
   std::string truth_path, truth_variable;
@@ -42,10 +42,10 @@ struct ViewDataOptions {
 };
 
 struct ViewData {
-  int num_frames = 0;   // F
-  int num_cameras = 0;  // M
-  int num_points = 0;   // P
-  int num_bases = -1;   // K from result.json; -1 when unknown
+  int num_frames = 0;         // F
+  int num_cameras = 0;        // M
+  int num_points = 0;         // P
+  int num_bases = -1;         // K from result.json; -1 when unknown
   std::string scoring_frame;  // the frame of `estimate`, in words
 
   // F entries, 3 × P: the estimate in the scoring frame, centred per frame.

@@ -1,5 +1,8 @@
 #include "tools/view_page.h"
 
+#include <glog/logging.h>
+#include <unistd.h>
+
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -7,11 +10,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <string_view>
-
-#include <glog/logging.h>
 #include <nlohmann/json.hpp>
-#include <unistd.h>
+#include <string_view>
 
 #include "tools/viewer_assets.h"
 
@@ -105,7 +105,8 @@ std::string DataJson(const ViewData& data, const ViewPageSources& sources) {
   meta["has_tracks"] = data.has_tracks;
   if (data.has_truth) {
     nlohmann::ordered_json metrics;
-    for (const auto& [name, value] : MetricList(data.metrics)) metrics[name] = value;
+    for (const auto& [name, value] : MetricList(data.metrics))
+      metrics[name] = value;
     metrics["e3d_frame"] = EvaluationFrameName(data.metrics.e3d_frame);
     meta["metrics"] = metrics;
   }
@@ -124,8 +125,10 @@ std::string DataJson(const ViewData& data, const ViewPageSources& sources) {
 
   std::string json = "{\"meta\":" + ScriptSafe(meta.dump());
   json += ",\n\"estimate\":" + Shapes(data.estimate);
-  json += ",\n\"truth\":" + (data.has_truth ? Shapes(data.truth_aligned) : "null");
-  json += ",\n\"frame_error\":" + (data.has_truth ? Vector(data.frame_error) : "null");
+  json +=
+      ",\n\"truth\":" + (data.has_truth ? Shapes(data.truth_aligned) : "null");
+  json += ",\n\"frame_error\":" +
+          (data.has_truth ? Vector(data.frame_error) : "null");
   json += ",\n\"reprojection\":" + Tracks(data.reprojection);
   json += ",\n\"tracks\":" + (data.has_tracks ? Tracks(data.tracks) : "null");
   json += ",\n\"frame_reprojection_rms\":" +
@@ -133,29 +136,37 @@ std::string DataJson(const ViewData& data, const ViewPageSources& sources) {
   json += ",\n\"edges\":[";
   for (size_t e = 0; e < data.edges.size(); ++e) {
     if (e > 0) json.push_back(',');
-    json += "[" + std::to_string(data.edges[e][0]) + "," + std::to_string(data.edges[e][1]) + "]";
+    json += "[" + std::to_string(data.edges[e][0]) + "," +
+            std::to_string(data.edges[e][1]) + "]";
   }
   json += "]}";
   return json;
 }
 
 std::string Lowercase(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (char& c : s)
+    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;
 }
 
 }  // namespace
 
-std::string RenderViewerPage(const ViewData& data, const ViewPageSources& sources) {
+std::string RenderViewerPage(const ViewData& data,
+                             const ViewPageSources& sources) {
   const std::string_view page(kViewerPageHtml, kViewerPageHtmlSize);
   const size_t marker = page.find(kScriptsMarker);
-  CHECK_NE(marker, std::string_view::npos) << "tools/viewer/page.html lacks " << kScriptsMarker;
+  CHECK_NE(marker, std::string_view::npos)
+      << "tools/viewer/page.html lacks " << kScriptsMarker;
   std::string html;
-  html.reserve(kThreeJsSize + kOrbitControlsJsSize + 8 * data.num_frames * data.num_points * 12 +
-               page.size() + kViewerJsSize);
+  html.reserve(kThreeJsSize + kOrbitControlsJsSize +
+               8 * data.num_frames * data.num_points * 12 + page.size() +
+               kViewerJsSize);
   html.append(page.substr(0, marker));
-  html += "<script>\n/* three.js r111, Copyright 2010-2019 three.js authors, MIT License;\n"
-          "   Debian's libjs-three: three.min.js and examples/js/controls/OrbitControls.js */\n";
+  html +=
+      "<script>\n/* three.js r111, Copyright 2010-2019 three.js authors, MIT "
+      "License;\n"
+      "   Debian's libjs-three: three.min.js and "
+      "examples/js/controls/OrbitControls.js */\n";
   html.append(kThreeJs, kThreeJsSize);
   html += "\n</script>\n<script>\n";
   html.append(kOrbitControlsJs, kOrbitControlsJsSize);
@@ -180,21 +191,24 @@ Status CheckViewerOutput(const std::string& path, bool overwrite) {
     return Status::Error("--output '" + path + "' is a directory");
   }
   if (fs::exists(file, ec) && !overwrite) {
-    return Status::Error("--output '" + path + "' exists (use --overwrite to replace it)");
+    return Status::Error("--output '" + path +
+                         "' exists (use --overwrite to replace it)");
   }
-  const fs::path parent = file.has_parent_path() ? file.parent_path() : fs::path(".");
+  const fs::path parent =
+      file.has_parent_path() ? file.parent_path() : fs::path(".");
   if (!fs::is_directory(parent, ec)) {
-    return Status::Error("--output '" + path + "': the directory '" + parent.string() +
-                         "' does not exist");
+    return Status::Error("--output '" + path + "': the directory '" +
+                         parent.string() + "' does not exist");
   }
   return Status::OK();
 }
 
 Status WriteViewerPage(const std::string& path, const std::string& html) {
   const fs::path file(path);
-  const fs::path parent = file.has_parent_path() ? file.parent_path() : fs::path(".");
-  const fs::path temporary =
-      parent / ("." + file.filename().string() + ".tmp-" + std::to_string(::getpid()));
+  const fs::path parent =
+      file.has_parent_path() ? file.parent_path() : fs::path(".");
+  const fs::path temporary = parent / ("." + file.filename().string() +
+                                       ".tmp-" + std::to_string(::getpid()));
   const std::string error_prefix = "--output '" + path + "': cannot write ";
   {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);

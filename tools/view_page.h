@@ -38,7 +38,8 @@ struct ViewPageSources {
   std::string result_dir, truth_path, input_path;
 };
 
-std::string RenderViewerPage(const ViewData& data, const ViewPageSources& sources);
+std::string RenderViewerPage(const ViewData& data,
+                             const ViewPageSources& sources);
 
 // Checks, before any work, that `path` can be the output: it ends in .html or
 // .htm, is not a directory, does not exist unless `overwrite`, and its

@@ -1,10 +1,10 @@
 // Synthesises a small rigid sequence, reconstructs it and checks e3D: proves
 // the installed headers, library and dependencies are complete.
-#include <iostream>
-
 #include <nrsfm/core/metrics.h>
 #include <nrsfm/core/synthetic.h>
 #include <nrsfm/solvers/reconstruct.h>
+
+#include <iostream>
 
 int main() {
   nrsfm::RandomBasisOptions options;

@@ -183,9 +183,10 @@ TEST(GroundTruth, BadInputsGiveClearErrors) {
       << st.message();
 
   const std::string nan_path = dir + "/nan.mat";
-  ASSERT_TRUE(WriteMat(nan_path, MatVersion::kV4,
-                       {{"S", s_nan, {}}, {"Rs", RandomRotationRows(2, 62), {}}})
-                  .ok());
+  ASSERT_TRUE(
+      WriteMat(nan_path, MatVersion::kV4,
+               {{"S", s_nan, {}}, {"Rs", RandomRotationRows(2, 62), {}}})
+          .ok());
   st = ReadGroundTruth(nan_path, "", &truth);
   EXPECT_EQ(st.message(),
             nan_path + ": ground truth S holds NaN or Inf (frame 1)");
@@ -194,12 +195,14 @@ TEST(GroundTruth, BadInputsGiveClearErrors) {
   const std::string sheared = dir + "/sheared.mat";
   Eigen::MatrixXd rs_scaled = RandomRotationRows(2, 67);
   rs_scaled.middleRows<2>(2) *= 2.0;
-  ASSERT_TRUE(WriteMat(sheared, MatVersion::kV5,
-                       {{"S", RandomMatrix(6, 4, 68), {}}, {"Rs", rs_scaled, {}}})
-                  .ok());
+  ASSERT_TRUE(
+      WriteMat(sheared, MatVersion::kV5,
+               {{"S", RandomMatrix(6, 4, 68), {}}, {"Rs", rs_scaled, {}}})
+          .ok());
   st = ReadGroundTruth(sheared, "", &truth);
-  EXPECT_EQ(st.message(), sheared + ": Rs rows 3-4 (frame 1) are not two "
-                                    "orthonormal rows of a rotation");
+  EXPECT_EQ(st.message(), sheared +
+                              ": Rs rows 3-4 (frame 1) are not two "
+                              "orthonormal rows of a rotation");
 
   const std::string none = dir + "/none.mat";
   ASSERT_TRUE(WriteMat(none, MatVersion::kV5,

@@ -4,13 +4,13 @@
 // one-line errors of files of another schema.
 #include "core/keypoint_io.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "core/read_measurements.h"
 #include "tests/test_util.h"
@@ -30,12 +30,14 @@ bool Contains(const std::string& text, const std::string& part) {
 }
 
 // The message of reading `path` as COCO results ("OK" on success).
-std::string ReadCoco(const std::string& path, const KeypointOptions& options, Keypoints* k) {
+std::string ReadCoco(const std::string& path, const KeypointOptions& options,
+                     Keypoints* k) {
   const Status status = ReadCocoKeypoints(path, options, k);
   return status.ok() ? "OK" : status.message();
 }
 
-std::string ReadOpenPose(const std::string& path, const KeypointOptions& options, Keypoints* k) {
+std::string ReadOpenPose(const std::string& path,
+                         const KeypointOptions& options, Keypoints* k) {
   const Status status = ReadOpenPoseFolder(path, options, k);
   return status.ok() ? "OK" : status.message();
 }
@@ -43,14 +45,17 @@ std::string ReadOpenPose(const std::string& path, const KeypointOptions& options
 class KeypointIo : public ::testing::Test {
  protected:
   void SetUp() override { dir_ = testing_util::MakeTempDir("nrsfm_keypoints"); }
-  std::string Path(const std::string& name) const { return (fs::path(dir_) / name).string(); }
+  std::string Path(const std::string& name) const {
+    return (fs::path(dir_) / name).string();
+  }
   std::string dir_;
 };
 
 TEST(NaturalLess, NumbersInNamesCompareAsNumbers) {
   EXPECT_TRUE(NaturalLess("f2", "f10"));
   EXPECT_FALSE(NaturalLess("f10", "f2"));
-  EXPECT_TRUE(NaturalLess("a_000000000009_keypoints.json", "a_000000000010_keypoints.json"));
+  EXPECT_TRUE(NaturalLess("a_000000000009_keypoints.json",
+                          "a_000000000010_keypoints.json"));
   EXPECT_TRUE(NaturalLess("frame9.json", "frame10.json"));
   EXPECT_TRUE(NaturalLess("a", "b"));
   EXPECT_TRUE(NaturalLess("a", "a1"));
@@ -101,10 +106,12 @@ TEST_F(KeypointIo, CocoResultsIntoWAndConfidence) {
   EXPECT_EQ(m.W(6, 1), 9.0);
   EXPECT_EQ(m.W(7, 1), 10.0);
   ASSERT_EQ(k.warnings.size(), 2u);
-  EXPECT_EQ(k.warnings[0],
-            "1 of 4 frames have no person, their points are missing (image_id 5)");
+  EXPECT_EQ(
+      k.warnings[0],
+      "1 of 4 frames have no person, their points are missing (image_id 5)");
   EXPECT_EQ(k.warnings[1],
-            "1 of 4 frames have several entries (image_id 6): the one with the highest "
+            "1 of 4 frames have several entries (image_id 6): the one with the "
+            "highest "
             "'score' is used");
 
   // A higher threshold hides frame 0's point 0 too (0.9 < 0.95) and frame
@@ -116,8 +123,9 @@ TEST_F(KeypointIo, CocoResultsIntoWAndConfidence) {
   EXPECT_TRUE(k.measurements.visible(3, 0) && k.measurements.visible(3, 1));
   strict.min_confidence = 2.0;
   EXPECT_EQ(ReadCoco(Path("k.json"), strict, &k),
-            Path("k.json") + ": no keypoint has a score of at least min_confidence = 2 (the "
-                             "highest is 1)");
+            Path("k.json") +
+                ": no keypoint has a score of at least min_confidence = 2 (the "
+                "highest is 1)");
 }
 
 // --frame_key: strings in natural order, other numbers as they sort; one
@@ -160,11 +168,13 @@ TEST_F(KeypointIo, CocoSchemaErrorsAreOneLineNamingTheEntryAndField) {
       {"[1, 2", "not valid JSON (parse error at line 1, column 6"},
       {"{\"annotations\": [], \"images\": []}",
        "got a object; this looks like a COCO annotation file"},
-      {"{\"version\": 1.3, \"people\": []}", "this looks like one OpenPose frame"},
+      {"{\"version\": 1.3, \"people\": []}",
+       "this looks like one OpenPose frame"},
       {"[]", "the list of keypoint results is empty"},
       {"[3]", "entry 0 is a number, not an object"},
       {"[{\"keypoints\": [1, 2, 1]}]",
-       "entry 0 has no 'image_id' (the frame key; --frame_key names another field)"},
+       "entry 0 has no 'image_id' (the frame key; --frame_key names another "
+       "field)"},
       {"[{\"image_id\": [1], \"keypoints\": [1, 2, 1]}]",
        "entry 0: 'image_id' is a array, not a number or a string"},
       {"[{\"image_id\": 1}]", "entry 0 (image_id 1) has no 'keypoints'"},
@@ -172,19 +182,24 @@ TEST_F(KeypointIo, CocoSchemaErrorsAreOneLineNamingTheEntryAndField) {
        "entry 0 (image_id 1): 'keypoints' has 2 values, not a multiple of 3"},
       {"[{\"image_id\": 1, \"keypoints\": [1, \"2\", 1]}]",
        "entry 0 (image_id 1): 'keypoints'[1] is a string, not a number"},
-      {"[{\"image_id\": 1, \"keypoints\": []}]", "entry 0 (image_id 1): 'keypoints' is empty"},
+      {"[{\"image_id\": 1, \"keypoints\": []}]",
+       "entry 0 (image_id 1): 'keypoints' is empty"},
       {"[{\"image_id\": 1, \"keypoints\": [1, 1e999, 1]}]",
        "not valid JSON (number overflow parsing '1e999')"},
 
-      {"[{\"image_id\": 1, \"keypoints\": [1, 2, 1]}, {\"image_id\": 2, \"keypoints\": [1, 2, 1, "
+      {"[{\"image_id\": 1, \"keypoints\": [1, 2, 1]}, {\"image_id\": 2, "
+       "\"keypoints\": [1, 2, 1, "
        "3, 4, 1]}]",
        "entry 1 (image_id 2) has 2 keypoints but entry 0 has 1"},
       {"[{\"image_id\": 1, \"keypoints\": [1, 2, 1], \"score\": \"high\"}]",
        "entry 0 (image_id 1): 'score' is a string, not a number"},
-      {"[{\"image_id\": 1, \"keypoints\": [1, 2, 1]}, {\"image_id\": \"b\", \"keypoints\": [1, 2, "
+      {"[{\"image_id\": 1, \"keypoints\": [1, 2, 1]}, {\"image_id\": \"b\", "
+       "\"keypoints\": [1, 2, "
        "1]}]",
-       "entry 1 (image_id \"b\"): 'image_id' is a string but entry 0's is a number"},
-      {"[{\"image_id\": 0, \"keypoints\": [1, 2, 1]}, {\"image_id\": 5000000, \"keypoints\": [1, "
+       "entry 1 (image_id \"b\"): 'image_id' is a string but entry 0's is a "
+       "number"},
+      {"[{\"image_id\": 0, \"keypoints\": [1, 2, 1]}, {\"image_id\": 5000000, "
+       "\"keypoints\": [1, "
        "2, 1]}]",
        "'image_id' runs from 0 to 5000000, more than 10^6 frames"},
   };
@@ -200,16 +215,20 @@ TEST_F(KeypointIo, CocoSchemaErrorsAreOneLineNamingTheEntryAndField) {
   // entries is refused before it is allocated.
   std::string many = "[1, 2, 1";
   for (int i = 1; i < 300; ++i) many += ", 1, 2, 1";
-  WriteText(p, "[{\"image_id\": 0, \"keypoints\": " + many + "]}, {\"image_id\": 999999, "
-               "\"keypoints\": " + many + "]}]");
+  WriteText(p, "[{\"image_id\": 0, \"keypoints\": " + many +
+                   "]}, {\"image_id\": 999999, "
+                   "\"keypoints\": " +
+                   many + "]}]");
   Keypoints k;
   EXPECT_EQ(ReadCoco(p, KeypointOptions(), &k),
-            p + ": F = 1000000 frames of P = 300 keypoints imply a W larger than 2^28 entries");
+            p + ": F = 1000000 frames of P = 300 keypoints imply a W larger "
+                "than 2^28 entries");
   EXPECT_EQ(ReadCoco(Path("nope.json"), KeypointOptions(), &k),
             Path("nope.json") + ": no such file");
   KeypointOptions bad;
   bad.min_confidence = -1;
-  EXPECT_TRUE(Contains(ReadCoco(p, bad, &k), "min_confidence must be finite and >= 0"));
+  EXPECT_TRUE(
+      Contains(ReadCoco(p, bad, &k), "min_confidence must be finite and >= 0"));
 }
 
 // An OpenPose folder: frames in the natural order of the file names, the
@@ -218,18 +237,20 @@ TEST_F(KeypointIo, OpenPoseFolderIntoWAndConfidence) {
   const std::string folder = Path("op");
   fs::create_directory(folder);
   const auto frame = [&](const std::string& name, const std::string& people) {
-    WriteText(folder + "/" + name, "{\"version\": 1.3, \"people\": [" + people + "]}");
+    WriteText(folder + "/" + name,
+              "{\"version\": 1.3, \"people\": [" + people + "]}");
   };
   const auto person = [](const std::string& pose, const std::string& face) {
     return "{\"person_id\": [-1], \"pose_keypoints_2d\": [" + pose +
            "], \"face_keypoints_2d\": [" + face +
-           "], \"hand_left_keypoints_2d\": [], \"hand_right_keypoints_2d\": []}";
+           "], \"hand_left_keypoints_2d\": [], \"hand_right_keypoints_2d\": "
+           "[]}";
   };
   frame("v_10_keypoints.json", person("10, 11, 0.9, 12, 13, 0.8", ""));
   frame("v_9_keypoints.json", person("9, 10, 0.9, 0, 0, 0", "1, 1, 1"));
   frame("v_11_keypoints.json", "");
-  frame("v_12_keypoints.json",
-        person("12, 13, 0.7, 14, 15, 0.6", "") + ", " + person("50, 50, 1, 60, 60, 1", ""));
+  frame("v_12_keypoints.json", person("12, 13, 0.7, 14, 15, 0.6", "") + ", " +
+                                   person("50, 50, 1, 60, 60, 1", ""));
   WriteText(folder + "/notes.txt", "not a frame");
   Keypoints k;
   ASSERT_EQ(ReadOpenPose(folder, KeypointOptions(), &k), "OK");
@@ -249,7 +270,8 @@ TEST_F(KeypointIo, OpenPoseFolderIntoWAndConfidence) {
             "1 of 4 frames have no person, their points are missing (files "
             "v_11_keypoints.json)");
   EXPECT_EQ(k.warnings[1],
-            "1 of 4 frames have more than one person (files v_12_keypoints.json): people[0] "
+            "1 of 4 frames have more than one person (files "
+            "v_12_keypoints.json): people[0] "
             "is used");
 
   // The face: only v_9 has it; the other frames have no such keypoints.
@@ -262,9 +284,11 @@ TEST_F(KeypointIo, OpenPoseFolderIntoWAndConfidence) {
   // No hands anywhere.
   KeypointOptions hand;
   ASSERT_TRUE(ParseKeypointPart("hand_left", &hand.part).ok());
-  EXPECT_EQ(ReadOpenPose(folder, hand, &k),
-            folder + ": none of the 4 frames has a person with hand_left_keypoints_2d "
-                     "(OpenPose computes faces and hands with --face, --hand)");
+  EXPECT_EQ(
+      ReadOpenPose(folder, hand, &k),
+      folder +
+          ": none of the 4 frames has a person with hand_left_keypoints_2d "
+          "(OpenPose computes faces and hands with --face, --hand)");
   KeypointPart part;
   EXPECT_TRUE(Contains(ParseKeypointPart("feet", &part).message(), "feet"));
 }
@@ -272,20 +296,26 @@ TEST_F(KeypointIo, OpenPoseFolderIntoWAndConfidence) {
 TEST_F(KeypointIo, OpenPoseErrorsNameTheFile) {
   const std::string folder = Path("op");
   Keypoints k;
-  EXPECT_EQ(ReadOpenPose(folder, KeypointOptions(), &k), folder + ": no such folder");
+  EXPECT_EQ(ReadOpenPose(folder, KeypointOptions(), &k),
+            folder + ": no such folder");
   fs::create_directory(folder);
   EXPECT_TRUE(Contains(ReadOpenPose(folder, KeypointOptions(), &k),
                        folder + ": no .json files in the folder"));
-  WriteText(folder + "/a1.json", "{\"people\": [{\"pose_keypoints_2d\": [1, 2, 1, 3, 4, 1]}]}");
-  WriteText(folder + "/a2.json", "{\"people\": [{\"pose_keypoints_2d\": [1, 2, 1]}]}");
+  WriteText(folder + "/a1.json",
+            "{\"people\": [{\"pose_keypoints_2d\": [1, 2, 1, 3, 4, 1]}]}");
+  WriteText(folder + "/a2.json",
+            "{\"people\": [{\"pose_keypoints_2d\": [1, 2, 1]}]}");
   EXPECT_EQ(ReadOpenPose(folder, KeypointOptions(), &k),
-            folder + "/a2.json: people[0].pose_keypoints_2d has 1 keypoints but a1.json has 2");
+            folder +
+                "/a2.json: people[0].pose_keypoints_2d has 1 keypoints but "
+                "a1.json has 2");
   WriteText(folder + "/a2.json", "{\"people\": [{\"face_keypoints_2d\": []}]}");
   EXPECT_EQ(ReadOpenPose(folder, KeypointOptions(), &k),
             folder + "/a2.json: people[0] has no 'pose_keypoints_2d'");
   WriteText(folder + "/a2.json", "[1, 2, 3]");
-  EXPECT_EQ(ReadOpenPose(folder, KeypointOptions(), &k),
-            folder + "/a2.json: no 'people' list (not an OpenPose keypoint file)");
+  EXPECT_EQ(
+      ReadOpenPose(folder, KeypointOptions(), &k),
+      folder + "/a2.json: no 'people' list (not an OpenPose keypoint file)");
   WriteText(folder + "/a2.json", "{\"people\": [");
   EXPECT_TRUE(Contains(ReadOpenPose(folder, KeypointOptions(), &k),
                        folder + "/a2.json: not valid JSON"));
@@ -302,7 +332,8 @@ TEST_F(KeypointIo, ReadMeasurementsReadsBothFormats) {
   ])");
   Measurements m;
   InputDetails details;
-  ASSERT_TRUE(ReadMeasurements(Path("k.json"), InputOptions(), &m, &details).ok());
+  ASSERT_TRUE(
+      ReadMeasurements(Path("k.json"), InputOptions(), &m, &details).ok());
   EXPECT_EQ(m.num_frames, 3);
   EXPECT_EQ(details.confidence.rows(), 3);
   EXPECT_EQ(details.confidence(0, 1), 0.25);
@@ -311,8 +342,10 @@ TEST_F(KeypointIo, ReadMeasurementsReadsBothFormats) {
   EXPECT_TRUE(Contains(details.warnings[0], "1 of 3 frames have no person"));
 
   fs::create_directory(Path("op"));
-  WriteText(Path("op/f0.json"), "{\"people\": [{\"pose_keypoints_2d\": [1, 2, 1, 3, 4, 1]}]}");
-  WriteText(Path("op/f1.json"), "{\"people\": [{\"pose_keypoints_2d\": [5, 6, 1, 7, 8, 0.5]}]}");
+  WriteText(Path("op/f0.json"),
+            "{\"people\": [{\"pose_keypoints_2d\": [1, 2, 1, 3, 4, 1]}]}");
+  WriteText(Path("op/f1.json"),
+            "{\"people\": [{\"pose_keypoints_2d\": [5, 6, 1, 7, 8, 0.5]}]}");
   ASSERT_TRUE(ReadMeasurements(Path("op"), InputOptions(), &m, &details).ok());
   EXPECT_EQ(m.num_frames, 2);
   EXPECT_EQ(m.W(3, 1), 8.0);
@@ -321,17 +354,20 @@ TEST_F(KeypointIo, ReadMeasurementsReadsBothFormats) {
 
   // Other formats hold no confidences.
   WriteText(Path("w.txt"), "1 2 3 4\n5 6 7 8\n");
-  ASSERT_TRUE(ReadMeasurements(Path("w.txt"), InputOptions(), &m, &details).ok());
+  ASSERT_TRUE(
+      ReadMeasurements(Path("w.txt"), InputOptions(), &m, &details).ok());
   EXPECT_EQ(details.confidence.size(), 0);
 
   InputOptions two_cameras;
   two_cameras.num_cameras = 2;
-  EXPECT_TRUE(Contains(ReadMeasurements(Path("k.json"), two_cameras, &m).message(),
-                       "keypoint files hold one camera"));
+  EXPECT_TRUE(
+      Contains(ReadMeasurements(Path("k.json"), two_cameras, &m).message(),
+               "keypoint files hold one camera"));
   InputOptions with_variable;
   with_variable.variable = "W";
-  EXPECT_TRUE(Contains(ReadMeasurements(Path("op"), with_variable, &m).message(),
-                       "read as openpose"));
+  EXPECT_TRUE(
+      Contains(ReadMeasurements(Path("op"), with_variable, &m).message(),
+               "read as openpose"));
   InputFormat format;
   ASSERT_TRUE(ParseInputFormat("coco", &format).ok());
   EXPECT_EQ(format, InputFormat::kCoco);

@@ -27,7 +27,8 @@ bool Contains(const std::string& text, const std::string& part) {
 // Bit-identical, NaN included.
 bool SameBits(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
   return a.rows() == b.rows() && a.cols() == b.cols() &&
-         (a.size() == 0 ||  // memcmp must not see an empty matrix's null pointer
+         (a.size() ==
+              0 ||  // memcmp must not see an empty matrix's null pointer
           std::memcmp(a.data(), b.data(), sizeof(double) * a.size()) == 0);
 }
 
@@ -200,9 +201,10 @@ TEST(MatIo, EmptyArrayWithAHugeDimensionIsRejected) {
                        Double("Y", {2, 3, huge}, {}));
   Eigen::MatrixXd m;
   Status s = ReadMatVariable(path, "W", &m);
-  EXPECT_EQ(s.message(), path +
-                             ": variable 'W' claims a size of 0 x 2147483647, "
-                             "more than the file can hold (truncated or corrupt file?)");
+  EXPECT_EQ(s.message(),
+            path +
+                ": variable 'W' claims a size of 0 x 2147483647, "
+                "more than the file can hold (truncated or corrupt file?)");
   std::vector<Eigen::MatrixXd> slices;
   s = ReadMatArray3(path, "X", &slices);
   EXPECT_EQ(s.message(),
@@ -467,10 +469,13 @@ TEST(MatIo, HeaderClaimingMoreDataThanTheFileHoldsIsRejectedBeforeReading) {
   // v4: the data decide where the next record starts, so the whole file is
   // refused.
   EXPECT_EQ(ReadMatVariable(v4, "W", &m).message(),
-            v4 + ": the .mat file is truncated or corrupt (variable 'W' claims a size of "
-                 "1073741824 x 1073741824, more than the 16 bytes after its name hold)");
+            v4 + ": the .mat file is truncated or corrupt (variable 'W' claims "
+                 "a size of "
+                 "1073741824 x 1073741824, more than the 16 bytes after its "
+                 "name hold)");
   EXPECT_EQ(ReadMatVariable(v5, "W", &m).message(),
-            v5 + ": variable 'W' claims a size of 100000 x 100000, more than the file can "
+            v5 + ": variable 'W' claims a size of 100000 x 100000, more than "
+                 "the file can "
                  "hold (truncated or corrupt file?)");
 }
 
@@ -481,39 +486,59 @@ TEST(MatIo, HeaderClaimingMoreDataThanTheFileHoldsIsRejectedBeforeReading) {
 // inflated bytes hold, and those to 1032 times the compressed bytes.
 TEST(MatIo, ClaimsBeyondTheBytesThatHoldThemAreRejectedBeforeMatioSeesThem) {
   const std::string dir = MakeTempDir("mat_io_claims");
-  const std::string flags = Element(kMiUint32, Raw(std::vector<std::uint32_t>{kMxDouble, 0}));
-  const std::string dims = Element(kMiInt32, Raw(std::vector<std::int32_t>{2, 2}));
-  const std::string data = Element(kMiDouble, Raw(std::vector<double>{1, 2, 3, 4}));
+  const std::string flags =
+      Element(kMiUint32, Raw(std::vector<std::uint32_t>{kMxDouble, 0}));
+  const std::string dims =
+      Element(kMiInt32, Raw(std::vector<std::int32_t>{2, 2}));
+  const std::string data =
+      Element(kMiDouble, Raw(std::vector<double>{1, 2, 3, 4}));
   // A name tag (miINT8) that claims 0xfc000001 bytes, then 8 name bytes.
   const std::string huge_name =
-      Raw(std::vector<std::uint32_t>{kMiInt8, 0xfc000001u}) + std::string("W\0\0\0\0\0\0\0", 8);
+      Raw(std::vector<std::uint32_t>{kMiInt8, 0xfc000001u}) +
+      std::string("W\0\0\0\0\0\0\0", 8);
   const std::string prefix = ": the .mat file is truncated or corrupt (";
   struct Case {
     std::string file, bytes, message;
   };
   const std::vector<Case> cases = {
-      {"name.mat", Header() + Element(kMiMatrix, flags + dims + huge_name + data),
-       "variable 1 at byte 128: a data element claims 4227858433 bytes, more than the 48 left "
+      {"name.mat",
+       Header() + Element(kMiMatrix, flags + dims + huge_name + data),
+       "variable 1 at byte 128: a data element claims 4227858433 bytes, more "
+       "than the 48 left "
        "in its array)"},
-      {"zname.mat", Header() + Compressed(Element(kMiMatrix, flags + dims + huge_name + data)),
-       "variable 1 at byte 128 (compressed): a data element claims 4227858433 bytes, more than "
+      {"zname.mat",
+       Header() +
+           Compressed(Element(kMiMatrix, flags + dims + huge_name + data)),
+       "variable 1 at byte 128 (compressed): a data element claims 4227858433 "
+       "bytes, more than "
        "the 48 left in its array)"},
       {"dims.mat",
-       Header() + Element(kMiMatrix, flags + Raw(std::vector<std::uint32_t>{kMiInt32, 1u << 30}) +
-                                         Raw(std::vector<std::int32_t>{2, 2}) + data),
-       "variable 1 at byte 128: a data element claims 1073741824 bytes, more than the 48 left in "
+       Header() +
+           Element(kMiMatrix,
+                   flags + Raw(std::vector<std::uint32_t>{kMiInt32, 1u << 30}) +
+                       Raw(std::vector<std::int32_t>{2, 2}) + data),
+       "variable 1 at byte 128: a data element claims 1073741824 bytes, more "
+       "than the 48 left in "
        "its array)"},
-      {"inflated.mat", Header() + Compressed(Double("W", {2, 2}, {1, 2, 3, 4}), 1 << 30),
-       "variable 1 at byte 128 (compressed): it claims 1073741824 bytes inflated from "},
+      {"inflated.mat",
+       Header() + Compressed(Double("W", {2, 2}, {1, 2, 3, 4}), 1 << 30),
+       "variable 1 at byte 128 (compressed): it claims 1073741824 bytes "
+       "inflated from "},
       {"cells.mat", Header() + Compressed(Cell("c", {2048, 2048}, {})),
-       "variable 'c': it claims 4194304 cells, more than its 0 bytes can hold)"},
+       "variable 'c': it claims 4194304 cells, more than its 0 bytes can "
+       "hold)"},
       {"fields.mat",
-       Header() + Matrix(kMxStruct, 0, {1000, 1000}, "s",
-                         Raw(std::vector<std::uint32_t>{(4u << 16) | kMiInt32, 8}) +
-                             Element(kMiInt8, std::string("ab\0\0\0\0\0\0cd\0\0\0\0\0\0", 16))),
-       "variable 's': it claims 2000000 fields, more than its 0 bytes can hold)"},
-      {"truncated.mat", Header() + Double("W", {2, 2}, {1, 2, 3, 4}).substr(0, 40),
-       "variable 1 at byte 128: it claims 88 bytes, more than the 32 left in the file)"},
+       Header() +
+           Matrix(kMxStruct, 0, {1000, 1000}, "s",
+                  Raw(std::vector<std::uint32_t>{(4u << 16) | kMiInt32, 8}) +
+                      Element(kMiInt8,
+                              std::string("ab\0\0\0\0\0\0cd\0\0\0\0\0\0", 16))),
+       "variable 's': it claims 2000000 fields, more than its 0 bytes can "
+       "hold)"},
+      {"truncated.mat",
+       Header() + Double("W", {2, 2}, {1, 2, 3, 4}).substr(0, 40),
+       "variable 1 at byte 128: it claims 88 bytes, more than the 32 left in "
+       "the file)"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.file);
@@ -521,21 +546,24 @@ TEST(MatIo, ClaimsBeyondTheBytesThatHoldThemAreRejectedBeforeMatioSeesThem) {
     WriteBytes(path, c.bytes);
     std::vector<std::string> names;
     const Status listed = ListMatVariables(path, &names);
-    EXPECT_TRUE(Contains(listed.message(), path + prefix + c.message)) << listed.message();
+    EXPECT_TRUE(Contains(listed.message(), path + prefix + c.message))
+        << listed.message();
     Eigen::MatrixXd m;
     EXPECT_EQ(ReadMatVariable(path, "W", &m).message(), listed.message());
   }
 
   // Arrays nested 70 deep (matio reads them recursively).
   std::string nested = Double("", {1, 1}, {1.0});
-  for (int depth = 0; depth < 70; ++depth) nested = Cell(depth == 69 ? "deep" : "", {1, 1}, {nested});
+  for (int depth = 0; depth < 70; ++depth)
+    nested = Cell(depth == 69 ? "deep" : "", {1, 1}, {nested});
   const std::string deep = dir + "/deep.mat";
   WriteBytes(deep, Header() + nested);
   std::vector<std::string> names;
   EXPECT_TRUE(Contains(ListMatVariables(deep, &names).message(),
                        "(variable 'deep' element 1 element 1"))
       << ListMatVariables(deep, &names).message();
-  EXPECT_TRUE(Contains(ListMatVariables(deep, &names).message(), ": arrays nested more than 64 deep)"));
+  EXPECT_TRUE(Contains(ListMatVariables(deep, &names).message(),
+                       ": arrays nested more than 64 deep)"));
 }
 
 // An opaque object (how MATLAB stores a string, a table, …) has no
@@ -545,8 +573,8 @@ TEST(MatIo, OpaqueObjectsDoNotStopTheCheck) {
   const std::string path = MakeTempDir("mat_io_opaque") + "/opaque.mat";
   const std::string opaque = Element(
       kMiMatrix, Element(kMiUint32, Raw(std::vector<std::uint32_t>{17, 0})) +
-                     Element(kMiInt8, "s") + Element(kMiInt8, "MCOS") + Element(kMiInt8, "string") +
-                     Double("", {1, 1}, {0.0}));
+                     Element(kMiInt8, "s") + Element(kMiInt8, "MCOS") +
+                     Element(kMiInt8, "string") + Double("", {1, 1}, {0.0}));
   WriteBytes(path, Header() + opaque + Double("ok", {1, 1}, {4.0}));
   std::vector<std::string> names;
   ASSERT_TRUE(ListMatVariables(path, &names).ok());
@@ -562,7 +590,8 @@ TEST(MatIo, VariableWhoseDataHoldLessThanItsSizeIsRefusedAlone) {
   const std::string dir = MakeTempDir("mat_io_short_data");
   const std::string ok = Double("ok", {1, 2}, {5.0, 6.0});
   const std::string short_w = Double("W", {100, 100}, {1.0, 2.0});
-  for (const auto& [file, bytes] : std::vector<std::pair<std::string, std::string>>{
+  for (const auto& [file, bytes] :
+       std::vector<std::pair<std::string, std::string>>{
            {"plain.mat", Header() + short_w + ok},
            {"zlib.mat", Header() + Compressed(short_w) + Compressed(ok)}}) {
     SCOPED_TRACE(file);
@@ -570,8 +599,10 @@ TEST(MatIo, VariableWhoseDataHoldLessThanItsSizeIsRefusedAlone) {
     WriteBytes(path, bytes);
     Eigen::MatrixXd m;
     EXPECT_EQ(ReadMatVariable(path, "W", &m).message(),
-              path + ": variable 'W' claims a size of 100 x 100, more than the file can hold "
-                     "(truncated or corrupt file?)");
+              path +
+                  ": variable 'W' claims a size of 100 x 100, more than the "
+                  "file can hold "
+                  "(truncated or corrupt file?)");
     ASSERT_TRUE(ReadMatVariable(path, "ok", &m).ok());
     EXPECT_EQ(m, (Eigen::MatrixXd(1, 2) << 5.0, 6.0).finished());
     std::vector<std::string> names;
@@ -589,18 +620,22 @@ TEST(MatIo, VariableWhoseDataHoldLessThanItsSizeIsRefusedAlone) {
 TEST(MatIo, V4ByteOrderIsReadAsMatioReadsIt) {
   const std::string dir = MakeTempDir("mat_io_v4_order");
   const std::string swapped = dir + "/swapped.mat";
-  WriteBytes(swapped, Raw(std::vector<std::uint8_t>{0, 0, 0, 1, 0, 0, 1, 0, 0, 0, 0, 0x58, 0, 0,
-                                                    0, 0, 0, 0, 0, 9}) +
-                          "W\0\0\0\0\0\0\0\0");
+  WriteBytes(swapped,
+             Raw(std::vector<std::uint8_t>{0, 0,    0, 1, 0, 0, 1, 0, 0, 0,
+                                           0, 0x58, 0, 0, 0, 0, 0, 0, 0, 9}) +
+                 "W\0\0\0\0\0\0\0\0");
   Eigen::MatrixXd m;
   EXPECT_EQ(ReadMatVariable(swapped, "W", &m).message(),
-            swapped + ": the .mat file is truncated or corrupt (the name of variable 1 of a v4 "
-                      "file at byte 0 runs past the end of the file)");
+            swapped +
+                ": the .mat file is truncated or corrupt (the name of variable "
+                "1 of a v4 "
+                "file at byte 0 runs past the end of the file)");
 
   const std::string big = dir + "/big.mat";
   std::string bytes;
   for (std::int32_t field : {1000, 1, 2, 0, 2}) {
-    for (int shift = 24; shift >= 0; shift -= 8) bytes += static_cast<char>(field >> shift);
+    for (int shift = 24; shift >= 0; shift -= 8)
+      bytes += static_cast<char>(field >> shift);
   }
   bytes += std::string("W\0", 2);
   for (double value : {1.5, -2.0}) {
@@ -608,7 +643,8 @@ TEST(MatIo, V4ByteOrderIsReadAsMatioReadsIt) {
     bytes += std::string(raw.rbegin(), raw.rend());
   }
   WriteBytes(big, bytes);
-  ASSERT_TRUE(ReadMatVariable(big, "W", &m).ok()) << ReadMatVariable(big, "W", &m).message();
+  ASSERT_TRUE(ReadMatVariable(big, "W", &m).ok())
+      << ReadMatVariable(big, "W", &m).message();
   EXPECT_EQ(m, (Eigen::MatrixXd(1, 2) << 1.5, -2.0).finished());
 }
 

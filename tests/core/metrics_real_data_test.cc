@@ -1,11 +1,11 @@
 // e3D against the published PTA numbers (Akhter et al. 2008), from the
 // reconstruction `Shat` that ships with the Akhter sequences: e3D(S · scale,
 // Shat) with the world-frame S (../shared/datasets/README.md).
+#include <gtest/gtest.h>
+
 #include <iostream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "core/mat_io.h"
 #include "core/metrics.h"

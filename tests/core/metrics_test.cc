@@ -1,5 +1,8 @@
 #include "core/metrics.h"
 
+#include <gtest/gtest.h>
+
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -8,9 +11,6 @@
 #include <string>
 #include <tuple>
 #include <vector>
-
-#include <Eigen/SVD>
-#include <gtest/gtest.h>
 
 #include "core/rotation.h"
 
@@ -75,14 +75,17 @@ TEST(Metrics, RankFloorIsTheE3DOfTheTruncatedTruth) {
   }
   std::vector<Eigen::Matrix3Xd> truth;
   for (int t = 0; t < 20; ++t) {
-    Eigen::Matrix3Xd shape = a + std::sin(0.3 * t) * b + 0.5 * std::cos(0.2 * t) * c;
+    Eigen::Matrix3Xd shape =
+        a + std::sin(0.3 * t) * b + 0.5 * std::cos(0.2 * t) * c;
     truth.push_back(shape.colwise() - shape.rowwise().mean());
   }
   EXPECT_LT(ComputeRankFloorE3D(truth, 3), 1e-12);
   EXPECT_LT(ComputeRankFloorE3D(truth, 5), 1e-12);
   Eigen::MatrixXd rows(20, 21);
-  for (int t = 0; t < 20; ++t) rows.row(t) = Eigen::Map<const Eigen::RowVectorXd>(truth[t].data(), 21);
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(rows, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  for (int t = 0; t < 20; ++t)
+    rows.row(t) = Eigen::Map<const Eigen::RowVectorXd>(truth[t].data(), 21);
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(
+      rows, Eigen::ComputeThinU | Eigen::ComputeThinV);
   const Eigen::MatrixXd one = svd.matrixU().col(0) * svd.singularValues()(0) *
                               svd.matrixV().col(0).transpose();
   std::vector<Eigen::Matrix3Xd> estimate;
@@ -199,7 +202,8 @@ TEST(Metrics, ShapeSizeEqualsTheLargestDistanceOverEveryPair) {
     for (Eigen::Index i = 0; i < x.cols(); ++i) {
       for (Eigen::Index j = i + 1; j < x.cols(); ++j) {
         if (x.col(i).allFinite() && x.col(j).allFinite()) {
-          max_squared = std::max(max_squared, (x.col(i) - x.col(j)).squaredNorm());
+          max_squared =
+              std::max(max_squared, (x.col(i) - x.col(j)).squaredNorm());
         }
       }
     }
@@ -213,7 +217,8 @@ TEST(Metrics, ShapeSizeEqualsTheLargestDistanceOverEveryPair) {
       for (int p = 0; p < points; ++p) {
         x.col(p) = Eigen::Vector3d(normal(rng), normal(rng), normal(rng));
         if (shape == 1) x.col(p).normalize();
-        if (shape == 2) x.col(p) = Eigen::Vector3d(1.0, 2.0, -1.0) * normal(rng);
+        if (shape == 2)
+          x.col(p) = Eigen::Vector3d(1.0, 2.0, -1.0) * normal(rng);
         if (shape == 3) x.col(p) = Eigen::Vector3d(p % 3, 0.0, 1.0);
       }
       SCOPED_TRACE(std::to_string(shape) + ", " + std::to_string(points));
@@ -244,7 +249,8 @@ TEST(Metrics, EvaluateShapesFillsEveryField) {
   Frames estimate = truth;
   for (Eigen::Matrix3Xd& x : estimate) x(0, 0) += 0.1;
   ShapeErrors errors;
-  ASSERT_TRUE(EvaluateShapes(CameraOnly(truth), CameraOnly(estimate), &errors).ok());
+  ASSERT_TRUE(
+      EvaluateShapes(CameraOnly(truth), CameraOnly(estimate), &errors).ok());
   EXPECT_EQ(errors.e3d_frame, EvaluationFrame::kCamera);
   EXPECT_EQ(errors.e3d_camera, errors.e3d);
   EXPECT_TRUE(std::isnan(errors.rotation_error));
@@ -280,13 +286,15 @@ TEST(Metrics, EvaluateShapesRejectsBadInput) {
             std::string::npos);
   Frames with_inf = truth;
   with_inf[1](2, 3) = std::numeric_limits<double>::infinity();
-  EXPECT_NE(message(truth, with_inf).find("frame 1 of the estimate has a NaN or infinite"),
+  EXPECT_NE(message(truth, with_inf)
+                .find("frame 1 of the estimate has a NaN or infinite"),
             std::string::npos);
   Frames all_nan = truth;
   for (Eigen::Matrix3Xd& x : all_nan) x.col(1).setConstant(NAN);
   all_nan[0].setConstant(NAN);
   all_nan[1].setConstant(NAN);
-  EXPECT_NE(message(truth, all_nan).find("every frame or every point of the estimate is NaN"),
+  EXPECT_NE(message(truth, all_nan)
+                .find("every frame or every point of the estimate is NaN"),
             std::string::npos);
   Frames collapsed = truth;
   collapsed[0].setConstant(3.0);
@@ -300,14 +308,16 @@ TEST(Metrics, EvaluateShapesRejectsBadInput) {
 // of the rest, exactly as if the rest were given alone.
 TEST(Metrics, EvaluateShapesLeavesOutWhatTheEstimateHoldsAsNaN) {
   const Frames truth = RandomSequence(4, 6, 11);
-  Frames estimate = Transformed(truth, AngleAxisToRotation(Eigen::Vector3d(0.0, 0.0, 0.3)));
+  Frames estimate =
+      Transformed(truth, AngleAxisToRotation(Eigen::Vector3d(0.0, 0.0, 0.3)));
   for (Eigen::Matrix3Xd& x : estimate) x(1, 0) += 0.05;  // some error to score
   Frames with_nan = estimate;
-  with_nan[2].setConstant(NAN);     // frame 2 left out
-  with_nan[0](1, 4) = NAN;          // point 4 left out (one frame suffices)
+  with_nan[2].setConstant(NAN);  // frame 2 left out
+  with_nan[0](1, 4) = NAN;       // point 4 left out (one frame suffices)
   with_nan[3].col(4).setConstant(NAN);
   ShapeErrors errors;
-  ASSERT_TRUE(EvaluateShapes(CameraOnly(truth), CameraOnly(with_nan), &errors).ok());
+  ASSERT_TRUE(
+      EvaluateShapes(CameraOnly(truth), CameraOnly(with_nan), &errors).ok());
   EXPECT_EQ(errors.unscored_frames, (std::vector<int>{2}));
   EXPECT_EQ(errors.unscored_points, (std::vector<int>{4}));
   EXPECT_EQ(errors.num_frames, 4);
@@ -322,8 +332,10 @@ TEST(Metrics, EvaluateShapesLeavesOutWhatTheEstimateHoldsAsNaN) {
   }
   EXPECT_GT(errors.e3d, 0.0);
   EXPECT_EQ(errors.e3d, ComputeE3D(kept_truth, kept_estimate));
-  EXPECT_EQ(errors.frob_zsign, ComputeFrobeniusZSign(kept_truth, kept_estimate));
-  EXPECT_EQ(errors.error3d_pct, ComputeError3DPercent(kept_truth, kept_estimate));
+  EXPECT_EQ(errors.frob_zsign,
+            ComputeFrobeniusZSign(kept_truth, kept_estimate));
+  EXPECT_EQ(errors.error3d_pct,
+            ComputeError3DPercent(kept_truth, kept_estimate));
 }
 
 Eigen::Matrix3d RotationZ(double angle) {
@@ -337,16 +349,19 @@ TEST(Metrics, RotationErrorOfHandCases) {
   // norm 2 sin(θ / 2).
   const double angle = 0.3;
   const std::vector<Eigen::Matrix3d> truth(2, Eigen::Matrix3d::Identity());
-  EXPECT_NEAR(ComputeRotationError(truth, {RotationZ(angle), RotationZ(-angle)}),
-              2.0 * std::sin(angle / 2.0), 1e-12);
+  EXPECT_NEAR(
+      ComputeRotationError(truth, {RotationZ(angle), RotationZ(-angle)}),
+      2.0 * std::sin(angle / 2.0), 1e-12);
   // A global rotation, and a global reflection of the object frame (the
   // depth-reflected reconstruction: rows of R times diag(1, 1, −1)), are
   // aligned away.
   std::vector<Eigen::Matrix3d> moving, rotated, reflected;
-  const Eigen::Matrix3d global = AngleAxisToRotation(Eigen::Vector3d(0.3, -1.1, 0.4));
+  const Eigen::Matrix3d global =
+      AngleAxisToRotation(Eigen::Vector3d(0.3, -1.1, 0.4));
   const Eigen::Matrix3d flip = Eigen::Vector3d(1.0, 1.0, -1.0).asDiagonal();
   for (int t = 0; t < 6; ++t) {
-    moving.push_back(AngleAxisToRotation(Eigen::Vector3d(0.1 * t, 0.5, -0.2 * t)));
+    moving.push_back(
+        AngleAxisToRotation(Eigen::Vector3d(0.1 * t, 0.5, -0.2 * t)));
     rotated.push_back(moving.back() * global);
     reflected.push_back(flip * moving.back() * flip);
   }
@@ -373,20 +388,24 @@ TEST(Metrics, ObjectFrameProtocolScoresTheRotations) {
   std::vector<Eigen::Matrix3d> rotations;
   for (int t = 0; t < 8; ++t) {
     object.push_back(Cross(1.0 + 0.1 * t, 1.5 - 0.05 * t));
-    rotations.push_back(AngleAxisToRotation(Eigen::Vector3d(0.2, 0.1 * t, 0.05)));
+    rotations.push_back(
+        AngleAxisToRotation(Eigen::Vector3d(0.2, 0.1 * t, 0.05)));
   }
   const GroundTruth truth = WithObjectFrame(object, rotations);
   ShapeErrors errors;
   // The same sequence seen in another object frame (a global rotation G:
   // S'_t = G S_t, R'_t = R_t Gᵀ) scores 0 in every frame.
-  const Eigen::Matrix3d global = AngleAxisToRotation(Eigen::Vector3d(-0.4, 0.9, 0.2));
+  const Eigen::Matrix3d global =
+      AngleAxisToRotation(Eigen::Vector3d(-0.4, 0.9, 0.2));
   Frames object_g;
   std::vector<Eigen::Matrix3d> rotations_g;
   for (int t = 0; t < 8; ++t) {
     object_g.push_back(global * object[t]);
     rotations_g.push_back(rotations[t] * global.transpose());
   }
-  ASSERT_TRUE(EvaluateShapes(truth, WithObjectFrame(object_g, rotations_g), &errors).ok());
+  ASSERT_TRUE(
+      EvaluateShapes(truth, WithObjectFrame(object_g, rotations_g), &errors)
+          .ok());
   EXPECT_EQ(errors.e3d_frame, EvaluationFrame::kObject);
   EXPECT_LT(errors.e3d, 1e-12);
   EXPECT_LT(errors.e3d_camera, 1e-12);
@@ -401,13 +420,16 @@ TEST(Metrics, ObjectFrameProtocolScoresTheRotations) {
     object_d.push_back(drift * object[t]);
     rotations_d.push_back(rotations[t] * drift.transpose());
   }
-  ASSERT_TRUE(EvaluateShapes(truth, WithObjectFrame(object_d, rotations_d), &errors).ok());
+  ASSERT_TRUE(
+      EvaluateShapes(truth, WithObjectFrame(object_d, rotations_d), &errors)
+          .ok());
   EXPECT_LT(errors.e3d_camera, 1e-12);
   EXPECT_EQ(errors.e3d, ComputeE3D(object, object_d));
   EXPECT_GT(errors.e3d, 0.01);
   EXPECT_GT(errors.rotation_error, 0.01);
   // Without an object frame in the estimate the protocol cannot be followed.
-  const Status status = EvaluateShapes(truth, CameraOnly(truth.points_in_camera), &errors);
+  const Status status =
+      EvaluateShapes(truth, CameraOnly(truth.points_in_camera), &errors);
   EXPECT_FALSE(status.ok());
   EXPECT_NE(status.message().find("no object-frame shapes"), std::string::npos);
 }

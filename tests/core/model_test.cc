@@ -1,10 +1,10 @@
 #include "core/model.h"
 
-#include <cmath>
+#include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
-#include <gtest/gtest.h>
+#include <cmath>
 
 #include "core/measurements.h"
 #include "core/rotation.h"
@@ -15,8 +15,8 @@ namespace {
 TEST(Model, ShapeAndProjectionFollowTheModelEquation) {
   Model model;
   model.Resize(/*frames=*/2, /*cameras=*/1, /*points=*/3, /*bases=*/2);
-  model.SetBasisShape(0, (Eigen::Matrix3Xd(3, 3) << 1, 0, 0, 0, 1, 0, 0, 0, 1)
-                             .finished());
+  model.SetBasisShape(
+      0, (Eigen::Matrix3Xd(3, 3) << 1, 0, 0, 0, 1, 0, 0, 0, 1).finished());
   model.SetBasisShape(1, Eigen::Matrix3Xd::Ones(3, 3));
   model.weights.col(1) << 2.0, 0.5;
   const Eigen::Matrix3d r =
@@ -52,8 +52,9 @@ Model RankTwoModelWithFourBases() {
   model.SetBasisShape(3, 2.0 * a - b);
   for (int t = 0; t < 6; ++t) {
     model.weights.col(t) << 1.0 + 0.1 * t, std::sin(t), 0.2 * t, -0.1 * t * t;
-    model.SetRotation(t, 0, Eigen::AngleAxisd(0.3 * t, Eigen::Vector3d::UnitY())
-                                .toRotationMatrix());
+    model.SetRotation(t, 0,
+                      Eigen::AngleAxisd(0.3 * t, Eigen::Vector3d::UnitY())
+                          .toRotationMatrix());
     model.translations.col(t) << t, -t;
   }
   return model;
@@ -66,7 +67,8 @@ TEST(Model, ReduceNumBasesKeepsARankKSequenceExactly) {
   EXPECT_EQ(reduced.weights.rows(), 2);
   EXPECT_EQ(reduced.basis.rows(), 6);
   for (int t = 0; t < model.num_frames; ++t) {
-    EXPECT_LT((reduced.ShapeInObject(t) - model.ShapeInObject(t)).norm(), 1e-12) << t;
+    EXPECT_LT((reduced.ShapeInObject(t) - model.ShapeInObject(t)).norm(), 1e-12)
+        << t;
   }
   EXPECT_EQ(reduced.rotations, model.rotations);
   EXPECT_EQ(reduced.translations, model.translations);
@@ -78,7 +80,8 @@ TEST(Model, ReduceNumBasesKeepsARankKSequenceExactly) {
     const Eigen::Matrix3Xd s = model.ShapeInObject(t);
     shapes.row(t) = Eigen::Map<const Eigen::RowVectorXd>(s.data(), 15);
   }
-  const Eigen::VectorXd sigma = Eigen::JacobiSVD<Eigen::MatrixXd>(shapes).singularValues();
+  const Eigen::VectorXd sigma =
+      Eigen::JacobiSVD<Eigen::MatrixXd>(shapes).singularValues();
   const Model one = ReduceNumBases(model, 1);
   double residual = 0.0;
   for (int t = 0; t < 6; ++t) {
@@ -93,7 +96,8 @@ TEST(Model, ReduceNumBasesLeavesOutFramesWithNaNWeights) {
   const Model reduced = ReduceNumBases(model, 2);
   EXPECT_TRUE(reduced.weights.col(3).array().isNaN().all());
   for (int t : {0, 1, 2, 4, 5}) {
-    EXPECT_LT((reduced.ShapeInObject(t) - model.ShapeInObject(t)).norm(), 1e-12) << t;
+    EXPECT_LT((reduced.ShapeInObject(t) - model.ShapeInObject(t)).norm(), 1e-12)
+        << t;
   }
 }
 
@@ -101,10 +105,13 @@ TEST(Model, MakeFirstBasisTheMeanKeepsTheShapes) {
   Model model = RankTwoModelWithFourBases();
   const Model before = model;
   ASSERT_TRUE(model.MakeFirstBasisTheMean());
-  EXPECT_LT((model.weights.rowwise().mean() - Eigen::VectorXd::Unit(4, 0)).norm(), 1e-12);
+  EXPECT_LT(
+      (model.weights.rowwise().mean() - Eigen::VectorXd::Unit(4, 0)).norm(),
+      1e-12);
   Eigen::Matrix3Xd mean = Eigen::Matrix3Xd::Zero(3, 5);
   for (int t = 0; t < 6; ++t) {
-    EXPECT_LT((model.ShapeInObject(t) - before.ShapeInObject(t)).norm(), 1e-12) << t;
+    EXPECT_LT((model.ShapeInObject(t) - before.ShapeInObject(t)).norm(), 1e-12)
+        << t;
     mean += before.ShapeInObject(t) / 6.0;
   }
   EXPECT_LT((model.BasisShape(0) - mean).norm(), 1e-12);
@@ -124,13 +131,15 @@ TEST(Rotation, AngleAxisRoundTripAndNearestRotation) {
   // A perturbed rotation snaps back; the result is orthonormal with det +1.
   const Eigen::Matrix3d noisy = r + 1e-3 * Eigen::Matrix3d::Ones();
   const Eigen::Matrix3d nearest = NearestRotation(noisy);
-  EXPECT_LT((nearest * nearest.transpose() - Eigen::Matrix3d::Identity()).norm(),
-            1e-12);
+  EXPECT_LT(
+      (nearest * nearest.transpose() - Eigen::Matrix3d::Identity()).norm(),
+      1e-12);
   EXPECT_NEAR(nearest.determinant(), 1.0, 1e-12);
   EXPECT_LT(RotationAngleBetween(nearest, r), 2e-3);
-  EXPECT_NEAR(RotationAngleBetween(AngleAxisToRotation(Eigen::Vector3d(1e-9, 0, 0)),
-                                   Eigen::Matrix3d::Identity()),
-              1e-9, 1e-15);
+  EXPECT_NEAR(
+      RotationAngleBetween(AngleAxisToRotation(Eigen::Vector3d(1e-9, 0, 0)),
+                           Eigen::Matrix3d::Identity()),
+      1e-9, 1e-15);
 }
 
 TEST(Measurements, FromMatrixWithNaNBuildsTheMask) {

@@ -2,12 +2,12 @@
 // not depend on how the pieces were scheduled, nested and concurrent loops.
 #include "core/parallel_for.h"
 
+#include <gtest/gtest.h>
+
 #include <atomic>
 #include <cmath>
 #include <thread>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 namespace nrsfm {
 namespace {
@@ -40,7 +40,8 @@ TEST(ParallelFor, EveryItemOnceForAnyThreadCount) {
       ParallelFor(n, threads, 1, [&](int begin, int end) {
         for (int i = begin; i < end; ++i) ++hits[i];
       });
-      for (int i = 0; i < n; ++i) EXPECT_EQ(hits[i], 1) << threads << " " << n << " " << i;
+      for (int i = 0; i < n; ++i)
+        EXPECT_EQ(hits[i], 1) << threads << " " << n << " " << i;
     }
   }
 }
@@ -51,7 +52,8 @@ double OrderedSum(int threads) {
   const int n = 10000;
   std::vector<double> partial(threads, 0.0);
   ParallelForWorker(n, threads, 1, [&](int begin, int end, int worker) {
-    for (int i = begin; i < end; ++i) partial[worker] += std::sin(i) * 1e-3 + 1e3 * (i % 7);
+    for (int i = begin; i < end; ++i)
+      partial[worker] += std::sin(i) * 1e-3 + 1e3 * (i % 7);
   });
   double sum = 0.0;
   for (double p : partial) sum += p;
@@ -61,7 +63,8 @@ double OrderedSum(int threads) {
 TEST(ParallelFor, RepeatsBitForBitForAGivenThreadCount) {
   for (int threads : {1, 2, 4}) {
     const double first = OrderedSum(threads);
-    for (int run = 0; run < 20; ++run) EXPECT_EQ(OrderedSum(threads), first) << threads;
+    for (int run = 0; run < 20; ++run)
+      EXPECT_EQ(OrderedSum(threads), first) << threads;
   }
 }
 

@@ -1,9 +1,9 @@
 #include "core/procrustes.h"
 
-#include <vector>
+#include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-#include <gtest/gtest.h>
+#include <vector>
 
 #include "core/rotation.h"
 

@@ -182,10 +182,13 @@ TEST(ReadMeasurements, CamerasComeFromTheFile) {
   const Eigen::MatrixXd w = RandomMatrix(12, 5, 43);  // 2FM = 12 rows
   auto write = [&](const std::string& name, const Eigen::MatrixXd& cameras) {
     const std::string path = dir + "/" + name;
-    EXPECT_TRUE(WriteMat(path, MatVersion::kV5, {{"W", w, {}}, {"cameras", cameras, {}}}).ok());
+    EXPECT_TRUE(WriteMat(path, MatVersion::kV5,
+                         {{"W", w, {}}, {"cameras", cameras, {}}})
+                    .ok());
     return path;
   };
-  const std::string two = write("two.mat", Eigen::MatrixXd::Constant(1, 1, 2.0));
+  const std::string two =
+      write("two.mat", Eigen::MatrixXd::Constant(1, 1, 2.0));
   Measurements m;
   ASSERT_EQ(Read(two, {}, &m), "OK");  // num_cameras = 0: from the file
   EXPECT_EQ(m.num_cameras, 2);
@@ -195,9 +198,11 @@ TEST(ReadMeasurements, CamerasComeFromTheFile) {
   ASSERT_EQ(Read(two, options, &m), "OK");
   EXPECT_EQ(m.num_cameras, 2);
   options.num_cameras = 1;
-  EXPECT_EQ(Read(two, options, &m),
-            two + ": the file records cameras = 2 (variable 'cameras') but 1 camera(s) "
-                  "were asked for");
+  EXPECT_EQ(
+      Read(two, options, &m),
+      two +
+          ": the file records cameras = 2 (variable 'cameras') but 1 camera(s) "
+          "were asked for");
   // The 3-D variables are monocular whatever `cameras` says.
   options = InputOptions();
   const std::string p3 = dir + "/p3.mat";
@@ -208,21 +213,31 @@ TEST(ReadMeasurements, CamerasComeFromTheFile) {
   ASSERT_EQ(Read(p3, options, &m), "OK");
   EXPECT_EQ(m.num_cameras, 1);
 
-  EXPECT_EQ(Read(write("half.mat", Eigen::MatrixXd::Constant(1, 1, 2.5)), options, &m),
-            dir + "/half.mat: variable 'cameras' must be a positive integer (the number "
-                  "of cameras M), got 2.5");
+  EXPECT_EQ(Read(write("half.mat", Eigen::MatrixXd::Constant(1, 1, 2.5)),
+                 options, &m),
+            dir +
+                "/half.mat: variable 'cameras' must be a positive integer (the "
+                "number "
+                "of cameras M), got 2.5");
   EXPECT_EQ(Read(write("zero.mat", Eigen::MatrixXd::Zero(1, 1)), options, &m),
-            dir + "/zero.mat: variable 'cameras' must be a positive integer (the number "
-                  "of cameras M), got 0");
+            dir +
+                "/zero.mat: variable 'cameras' must be a positive integer (the "
+                "number "
+                "of cameras M), got 0");
   EXPECT_EQ(Read(write("pair.mat", Eigen::MatrixXd::Ones(1, 2)), options, &m),
-            dir + "/pair.mat: variable 'cameras' must be a scalar (the number of cameras "
-                  "M), got a 1 x 2 matrix");
-  EXPECT_EQ(Read(write("four.mat", Eigen::MatrixXd::Constant(1, 1, 4.0)), options, &m),
-            dir + "/four.mat: variable 'cameras' = 4 does not divide the 12 rows of W "
-                  "into 2 rows per frame and camera");
-  EXPECT_TRUE(Contains(Read(write("nan.mat", Eigen::MatrixXd::Constant(1, 1, NAN)),
-                            options, &m),
-                       "variable 'cameras' must be a positive integer"));
+            dir +
+                "/pair.mat: variable 'cameras' must be a scalar (the number of "
+                "cameras "
+                "M), got a 1 x 2 matrix");
+  EXPECT_EQ(
+      Read(write("four.mat", Eigen::MatrixXd::Constant(1, 1, 4.0)), options,
+           &m),
+      dir +
+          "/four.mat: variable 'cameras' = 4 does not divide the 12 rows of W "
+          "into 2 rows per frame and camera");
+  EXPECT_TRUE(Contains(
+      Read(write("nan.mat", Eigen::MatrixXd::Constant(1, 1, NAN)), options, &m),
+      "variable 'cameras' must be a positive integer"));
 
   // An observation list records its cameras by index: a count that
   // disagrees is an error, 1 included.
@@ -327,18 +342,21 @@ TEST(ReadMeasurements, BadInputsGiveClearErrors) {
                        "can only be named for .mat input"));
   InputFormat format = InputFormat::kAuto;
   EXPECT_EQ(ParseInputFormat("xml", &format).message(),
-            "input format: unknown value \"xml\" (expected one of auto, mat, text, list, coco, "
+            "input format: unknown value \"xml\" (expected one of auto, mat, "
+            "text, list, coco, "
             "openpose)");
   ASSERT_TRUE(ParseInputFormat("list", &format).ok());
   EXPECT_EQ(format, InputFormat::kList);
   EXPECT_STREQ(InputFormatName(InputFormat::kText), "text");
   InputOptions bad_format;
   bad_format.format = static_cast<InputFormat>(7);
-  EXPECT_TRUE(Contains(Read(dir + "/w.txt", bad_format, &m), "invalid format 7"));
+  EXPECT_TRUE(
+      Contains(Read(dir + "/w.txt", bad_format, &m), "invalid format 7"));
   InputOptions negative_cameras;  // 0 = from the file
   negative_cameras.num_cameras = -1;
-  EXPECT_TRUE(Contains(negative_cameras.Check().message(),
-                       "num_cameras must be >= 1 (or 0: from the file), got -1"));
+  EXPECT_TRUE(
+      Contains(negative_cameras.Check().message(),
+               "num_cameras must be >= 1 (or 0: from the file), got -1"));
   InputOptions p3_two_cameras;
   p3_two_cameras.variable = "X";
   p3_two_cameras.num_cameras = 2;

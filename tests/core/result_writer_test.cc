@@ -252,7 +252,9 @@ TEST(ResultWriter, ResultDirectoryReadsBackWithItsObjectFrame) {
     for (int t = 0; t < 3; ++t) {
       EXPECT_EQ(shapes.points_in_camera[t], model.ShapeInCamera(t, camera));
       EXPECT_EQ(shapes.points_in_object[t], model.ShapeInObject(t));
-      EXPECT_LT((shapes.rotations[t] - model.Rotation(t, camera)).cwiseAbs().maxCoeff(),
+      EXPECT_LT((shapes.rotations[t] - model.Rotation(t, camera))
+                    .cwiseAbs()
+                    .maxCoeff(),
                 1e-15);
     }
   }
@@ -265,11 +267,13 @@ TEST(ResultWriter, ResultDirectoryReadsBackWithItsObjectFrame) {
       << "frame,camera,r11,r12,r13,r21,r22,r23,r31,r32,r33\n"
          "0,0,2,0,0,0,1,0,0,0,1\n";
   s = ReadResultShapes(dir, 0, &shapes);
-  EXPECT_EQ(s.message(), dir + "/rotations.csv: data row 1: not a rotation matrix");
+  EXPECT_EQ(s.message(),
+            dir + "/rotations.csv: data row 1: not a rotation matrix");
   std::ofstream(dir + "/points_object.csv") << "frame,point,x,y,z\n0,0,1,2,3\n";
   s = ReadResultShapes(dir, 0, &shapes);
-  EXPECT_TRUE(Contains(s.message(), dir + "/points_object.csv: has 1 rows; expected "
-                                          "every frame and point of F = 3, P = 4 once"))
+  EXPECT_TRUE(
+      Contains(s.message(), dir + "/points_object.csv: has 1 rows; expected "
+                                  "every frame and point of F = 3, P = 4 once"))
       << s.message();
 }
 
@@ -342,9 +346,10 @@ TEST(ResultWriter, LeftOutPointsAndFramesAreWrittenAsNaN) {
   }
   model.weights.col(1).setConstant(NAN);
   const std::string dir = MakeTempDir("result_nan") + "/out";
-  EXPECT_TRUE(Contains(WriteReconstruction(dir, measurements, model, SmallReport(), {})
-                           .message(),
-                       "model: rotations has a NaN or infinite value"));
+  EXPECT_TRUE(
+      Contains(WriteReconstruction(dir, measurements, model, SmallReport(), {})
+                   .message(),
+               "model: rotations has a NaN or infinite value"));
   ReconstructionReport report = SmallReport();
   report.dropped_points = {2};
   report.dropped_frames = {1};
@@ -358,18 +363,22 @@ TEST(ResultWriter, LeftOutPointsAndFramesAreWrittenAsNaN) {
   for (int t = 0; t < 3; ++t) {
     for (int p = 0; p < 4; ++p) {
       const bool left_out = t == 1 || p == 2;
-      EXPECT_EQ(shapes.points_in_camera[t].col(p).array().isNaN().all(), left_out);
-      EXPECT_EQ(shapes.points_in_object[t].col(p).array().isNaN().all(), left_out);
+      EXPECT_EQ(shapes.points_in_camera[t].col(p).array().isNaN().all(),
+                left_out);
+      EXPECT_EQ(shapes.points_in_object[t].col(p).array().isNaN().all(),
+                left_out);
       if (!left_out) {
-        EXPECT_EQ(shapes.points_in_camera[t].col(p), model.ShapeInCamera(t, 1).col(p));
+        EXPECT_EQ(shapes.points_in_camera[t].col(p),
+                  model.ShapeInCamera(t, 1).col(p));
       }
     }
     EXPECT_EQ(shapes.rotations[t].array().isNaN().all(), t == 1);
   }
   // Infinity stays an error.
   model.basis(0, 0) = INFINITY;
-  EXPECT_TRUE(Contains(WriteReconstruction(dir, measurements, model, report, {}).message(),
-                       "model: basis has an infinite value"));
+  EXPECT_TRUE(Contains(
+      WriteReconstruction(dir, measurements, model, report, {}).message(),
+      "model: basis has an infinite value"));
 }
 
 TEST(ResultWriter, ExistingDirectoriesAreReplacedOnlyWhenSafe) {

@@ -1,12 +1,12 @@
 #include "core/synthetic.h"
 
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <string>
-
-#include <Eigen/Dense>
-#include <gtest/gtest.h>
 
 #include "core/rotation.h"
 #include "core/svd.h"
@@ -485,8 +485,8 @@ double AngleDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
 TEST(Reproject, CameraPathOfEachProfileAndExactProjections) {
   const GroundTruth source = ReprojectSource(/*object_frame=*/true);
   const int f = source.NumFrames();
-  for (SpeedProfile profile :
-       {SpeedProfile::kConstant, SpeedProfile::kRamp, SpeedProfile::kStopAndGo}) {
+  for (SpeedProfile profile : {SpeedProfile::kConstant, SpeedProfile::kRamp,
+                               SpeedProfile::kStopAndGo}) {
     SCOPED_TRACE(SpeedProfileName(profile));
     ReprojectOptions options;
     options.total_rotation_deg = 60.0;
@@ -499,7 +499,8 @@ TEST(Reproject, CameraPathOfEachProfileAndExactProjections) {
     // The first camera is the source's; the last has turned Θ about the
     // image's vertical (the axis in R_0's camera frame).
     EXPECT_LT(AngleDeg(s.truth.rotations[0], source.rotations[0]), 1e-12);
-    const Eigen::Matrix3d turn = s.truth.rotations[f - 1] * source.rotations[0].transpose();
+    const Eigen::Matrix3d turn =
+        s.truth.rotations[f - 1] * source.rotations[0].transpose();
     const Eigen::Vector3d axis_angle = RotationToAngleAxis(turn);
     EXPECT_NEAR(axis_angle.norm() / kDegToRad, 60.0, 1e-9);
     EXPECT_NEAR(std::abs(axis_angle.normalized().y()), 1.0, 1e-12);
@@ -517,14 +518,16 @@ TEST(Reproject, CameraPathOfEachProfileAndExactProjections) {
         }
         fraction = moving / 0.5;
       }
-      EXPECT_NEAR(AngleDeg(s.truth.rotations[t], source.rotations[0]), 60.0 * fraction,
-                  1e-9)
+      EXPECT_NEAR(AngleDeg(s.truth.rotations[t], source.rotations[0]),
+                  60.0 * fraction, 1e-9)
           << "frame " << t;
       // The object frame is the source's, unchanged; W = Π R_t S_t exactly.
       EXPECT_EQ(s.truth.points_in_object[t], source.points_in_object[t]);
       const Eigen::Matrix2Xd projected =
           (s.truth.rotations[t] * s.truth.points_in_object[t]).topRows<2>();
-      EXPECT_LT((s.measurements.W.middleRows<2>(2 * t) - projected).cwiseAbs().maxCoeff(),
+      EXPECT_LT((s.measurements.W.middleRows<2>(2 * t) - projected)
+                    .cwiseAbs()
+                    .maxCoeff(),
                 1e-12);
     }
   }
@@ -537,13 +540,15 @@ TEST(Reproject, CameraFrameSourceNoiseMissingAndOcclusion) {
   ASSERT_TRUE(GenerateReprojection(source, options, &clean).ok());
   // Without an object frame the source's camera frame is the object frame
   // and R_0 = I.
-  EXPECT_LT(AngleDeg(clean.truth.rotations[0], Eigen::Matrix3d::Identity()), 1e-12);
+  EXPECT_LT(AngleDeg(clean.truth.rotations[0], Eigen::Matrix3d::Identity()),
+            1e-12);
   EXPECT_EQ(clean.truth.points_in_object[5], source.points_in_camera[5]);
   // The image size: the largest side of a frame's bounding box.
   double size = 0.0;
   for (int t = 0; t < source.NumFrames(); ++t) {
     const Eigen::Matrix2Xd uv = clean.truth.points_in_camera[t].topRows<2>();
-    size = std::max(size, (uv.rowwise().maxCoeff() - uv.rowwise().minCoeff()).maxCoeff());
+    size = std::max(
+        size, (uv.rowwise().maxCoeff() - uv.rowwise().minCoeff()).maxCoeff());
   }
   EXPECT_DOUBLE_EQ(clean.image_size, size);
   EXPECT_EQ(clean.noise_stddev, 0.0);
@@ -593,8 +598,10 @@ TEST(Reproject, CameraFrameSourceNoiseMissingAndOcclusion) {
     for (int p = 0; p < o.num_points; ++p) {
       bool has_occluder = false;
       for (int q = 0; q < o.num_points; ++q) {
-        has_occluder |= q != p && (x.col(q).head<2>() - x.col(p).head<2>()).norm() < radius &&
-                        x(2, p) - x(2, q) >= radius;
+        has_occluder |=
+            q != p &&
+            (x.col(q).head<2>() - x.col(p).head<2>()).norm() < radius &&
+            x(2, p) - x(2, q) >= radius;
       }
       if (!has_occluder) {
         EXPECT_TRUE(o.visible(t, p)) << "frame " << t << " point " << p;
@@ -627,11 +634,13 @@ TEST(Reproject, RejectsBadOptionsAndSources) {
   ReprojectOptions o;
   o.total_rotation_deg = 0.0;
   EXPECT_EQ(message(o),
-            "ReprojectOptions: total_rotation_deg must be > 0 (without rotation the depth "
+            "ReprojectOptions: total_rotation_deg must be > 0 (without "
+            "rotation the depth "
             "is unobservable)");
   o = ReprojectOptions();
   o.axis.setZero();
-  EXPECT_EQ(message(o), "ReprojectOptions: axis must be a finite, non-zero direction");
+  EXPECT_EQ(message(o),
+            "ReprojectOptions: axis must be a finite, non-zero direction");
   o = ReprojectOptions();
   o.noise_fraction = -0.1;
   EXPECT_NE(message(o).find("noise_fraction"), std::string::npos);
@@ -649,7 +658,8 @@ TEST(Reproject, RejectsBadOptionsAndSources) {
   ReprojectedSequence s;
   const Status status = GenerateReprojection(one_frame, ReprojectOptions(), &s);
   EXPECT_EQ(status.message(),
-            "re-projection: the source 'X' has F = 1, P = 30; needs at least 2 frames "
+            "re-projection: the source 'X' has F = 1, P = 30; needs at least 2 "
+            "frames "
             "and 1 point");
 }
 

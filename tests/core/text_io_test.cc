@@ -143,7 +143,8 @@ TEST(ObservationList, ReadsSizesFromTheLargestIndices) {
 // as 1 300 001 frames. Written back, it has the list's indices again.
 TEST(ObservationList, TooSparseForItsIndicesKeepsTheFramesAndPointsItMentions) {
   const std::string dir = MakeTempDir("obs_sparse");
-  const std::string path = WriteFile(dir, "two.obs", "0 0 0 1 2\n1300000 0 99 1.0 2.0\n");
+  const std::string path =
+      WriteFile(dir, "two.obs", "0 0 0 1 2\n1300000 0 99 1.0 2.0\n");
   Measurements m;
   ASSERT_TRUE(ReadObservationList(path, &m).ok());
   EXPECT_EQ(m.num_frames, 2);
@@ -159,7 +160,8 @@ TEST(ObservationList, TooSparseForItsIndicesKeepsTheFramesAndPointsItMentions) {
 
   const std::string copy = dir + "/copy.obs";
   ASSERT_TRUE(WriteObservationList(copy, m).ok());
-  EXPECT_TRUE(Contains(testing_util::ReadFileToString(copy), "\n1300000 0 99 1 2\n"));
+  EXPECT_TRUE(
+      Contains(testing_util::ReadFileToString(copy), "\n1300000 0 99 1 2\n"));
   Measurements read;
   ASSERT_TRUE(ReadObservationList(copy, &read).ok());
   EXPECT_EQ(read.frame_ids, m.frame_ids);
@@ -176,15 +178,18 @@ TEST(ObservationList, TooSparseEvenForTheMentionedFramesAndPointsIsAnError) {
   for (int i = 0; i < 3000; ++i) {
     text += std::to_string(i) + " 0 " + std::to_string(i) + " 1 2\n";
   }
-  const std::string path = WriteFile(MakeTempDir("obs_diagonal"), "diagonal.obs", text);
+  const std::string path =
+      WriteFile(MakeTempDir("obs_diagonal"), "diagonal.obs", text);
   Measurements m;
   const Status s = ReadObservationList(path, &m);
-  EXPECT_TRUE(Contains(s.message(),
-                       path + ": the 3000 observations of F = 3000 frames, M = 1 cameras and "
-                              "P = 3000 points would need a W of 153 MB, more than a list of "
-                              "its size may take ("))
+  EXPECT_TRUE(Contains(
+      s.message(),
+      path + ": the 3000 observations of F = 3000 frames, M = 1 cameras and "
+             "P = 3000 points would need a W of 153 MB, more than a list of "
+             "its size may take ("))
       << s.message();
-  EXPECT_TRUE(Contains(s.message(), "too sparse for nrsfm's dense W")) << s.message();
+  EXPECT_TRUE(Contains(s.message(), "too sparse for nrsfm's dense W"))
+      << s.message();
 }
 
 TEST(ObservationList, WriteThenReadKeepsEveryObservation) {

@@ -72,8 +72,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data,
   if (nrsfm::ReadGroundTruth(path, "", &truth).ok()) {
     if (truth.NumFrames() < 1 || truth.NumPoints() < 1) std::abort();
     for (const Eigen::Matrix3Xd& frame : truth.points_in_camera) {
-      if (frame.cols() != truth.NumPoints() || !frame.allFinite())
-        std::abort();
+      if (frame.cols() != truth.NumPoints() || !frame.allFinite()) std::abort();
     }
   }
   return 0;

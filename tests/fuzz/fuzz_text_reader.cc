@@ -73,11 +73,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data,
     for (int t = 0; t < shapes.NumFrames(); ++t) {
       // A rotation, or all NaN for a frame left out.
       const Eigen::Matrix3d& r = shapes.rotations[t];
-      const bool rotation_ok =
-          r.array().isNaN().all() ||
-          (r * r.transpose() - Eigen::Matrix3d::Identity())
-                  .cwiseAbs()
-                  .maxCoeff() <= 1e-6;
+      const bool rotation_ok = r.array().isNaN().all() ||
+                               (r * r.transpose() - Eigen::Matrix3d::Identity())
+                                       .cwiseAbs()
+                                       .maxCoeff() <= 1e-6;
       if (shapes.points_in_camera[t].cols() != shapes.NumPoints() ||
           shapes.points_in_object[t].cols() != shapes.NumPoints() ||
           !PointsFiniteOrLeftOut(shapes.points_in_object[t]) || !rotation_ok)

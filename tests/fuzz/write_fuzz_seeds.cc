@@ -75,9 +75,9 @@ int main(int argc, char** argv) {
   bool ok = true;
   ok &= Check(nrsfm::WriteMat(mat + "w_v4.mat", MatVersion::kV4,
                               {{"W", SmallW(), {}}}));
-  ok &= Check(nrsfm::WriteMat(mat + "w_mask_v5.mat", MatVersion::kV5,
-                              {{"W", SmallWithMissing(), {}},
-                               {"mask", mask, {}}}));
+  ok &= Check(
+      nrsfm::WriteMat(mat + "w_mask_v5.mat", MatVersion::kV5,
+                      {{"W", SmallWithMissing(), {}}, {"mask", mask, {}}}));
   ok &= Check(nrsfm::WriteMat(mat + "w_v73.mat", MatVersion::kV73,
                               {{"W", SmallW(), {}}}));
   ok &= Check(nrsfm::WriteMat(mat + "p3_gt_v4.mat", MatVersion::kV4,
@@ -86,15 +86,16 @@ int main(int argc, char** argv) {
                               {{"X", x, {3, 3, 2}}}));
   ok &= Check(nrsfm::WriteMat(mat + "x_v73.mat", MatVersion::kV73,
                               {{"X", x, {3, 3, 2}}}));
-  ok &= Check(nrsfm::WriteMat(mat + "s_rs_v5.mat", MatVersion::kV5,
-                              {{"W", SmallW(), {}}, {"S", p3, {}},
-                               {"Rs", rs, {}}}));
+  ok &= Check(
+      nrsfm::WriteMat(mat + "s_rs_v5.mat", MatVersion::kV5,
+                      {{"W", SmallW(), {}}, {"S", p3, {}}, {"Rs", rs, {}}}));
   // A W of M = 2 cameras that records its camera count, as nrsfm synth
   // writes it, with an FM x P mask.
-  ok &= Check(nrsfm::WriteMat(mat + "w_cameras_mask_v5.mat", MatVersion::kV5,
-                              {{"W", SmallWithMissing(), {}},
-                               {"cameras", Eigen::MatrixXd::Constant(1, 1, 2), {}},
-                               {"mask", mask, {}}}));
+  ok &= Check(
+      nrsfm::WriteMat(mat + "w_cameras_mask_v5.mat", MatVersion::kV5,
+                      {{"W", SmallWithMissing(), {}},
+                       {"cameras", Eigen::MatrixXd::Constant(1, 1, 2), {}},
+                       {"mask", mask, {}}}));
   // Empty arrays: a 3-D W with no slice (issue 18), X with no frame.
   ok &= Check(nrsfm::WriteMat(mat + "w_4x3x0_v5.mat", MatVersion::kV5,
                               {{"W", Eigen::MatrixXd(0, 0), {4, 3, 0}},
@@ -128,8 +129,8 @@ int main(int argc, char** argv) {
           v5::Cell("W", {0, 0}, {}) + v5::Double("P3_gt", {6, 3}, Values(p3)));
 
   const fs::path text = out / "text";
-  ok &= Check(nrsfm::WriteTextMatrix((text / "w.txt").string(),
-                                     SmallWithMissing()));
+  ok &= Check(
+      nrsfm::WriteTextMatrix((text / "w.txt").string(), SmallWithMissing()));
   // A result directory: points_camera.csv, points_object.csv and
   // rotations.csv separated by form feeds (fuzz_input_file.h).
   {
@@ -172,20 +173,23 @@ int main(int argc, char** argv) {
     // COCO keypoint results (frames with a gap, two entries in one) and an
     // OpenPose folder of three frames, the files separated by form feeds.
     std::ofstream coco(out / "keypoints" / "coco.json");
-    coco << R"([{"image_id": 3, "category_id": 1, "keypoints": [1, 2, 0.9, 3, 4, 0.1, )"
-         << R"(5, 6, 1], "score": 0.8}, {"image_id": 1, "keypoints": [1.5, 2, 1, 3, 4, 1, )"
-         << R"(0, 0, 0], "score": 1}, {"image_id": 3, "keypoints": [7, 8, 1, 9, 1e1, 1, )"
-         << R"(-1, 2, 0.5]}])";
+    coco
+        << R"([{"image_id": 3, "category_id": 1, "keypoints": [1, 2, 0.9, 3, 4, 0.1, )"
+        << R"(5, 6, 1], "score": 0.8}, {"image_id": 1, "keypoints": [1.5, 2, 1, 3, 4, 1, )"
+        << R"(0, 0, 0], "score": 1}, {"image_id": 3, "keypoints": [7, 8, 1, 9, 1e1, 1, )"
+        << R"(-1, 2, 0.5]}])";
     std::ofstream named(out / "keypoints" / "coco_named.json");
     named << R"([{"image_id": "b10", "keypoints": [1, 2, 1, 3, 4, 1]}, )"
           << R"({"image_id": "b9", "keypoints": [5, 6, 0.5, 7, 8, 0.25]}])";
-    std::ofstream openpose(out / "keypoints" / "openpose.json", std::ios::binary);
-    openpose << R"({"version": 1.3, "people": [{"person_id": [-1], "pose_keypoints_2d": )"
-             << R"([1, 2, 0.9, 3, 4, 0.8], "face_keypoints_2d": [], )"
-             << R"("hand_left_keypoints_2d": [], "hand_right_keypoints_2d": []}]})" << '\f'
-             << R"({"version": 1.3, "people": []})" << '\f'
-             << R"({"people": [{"pose_keypoints_2d": [5, 6, 1, 7, 8, 0]}, )"
-             << R"({"pose_keypoints_2d": [1, 1, 1, 2, 2, 1]}]})";
+    std::ofstream openpose(out / "keypoints" / "openpose.json",
+                           std::ios::binary);
+    openpose
+        << R"({"version": 1.3, "people": [{"person_id": [-1], "pose_keypoints_2d": )"
+        << R"([1, 2, 0.9, 3, 4, 0.8], "face_keypoints_2d": [], )"
+        << R"("hand_left_keypoints_2d": [], "hand_right_keypoints_2d": []}]})"
+        << '\f' << R"({"version": 1.3, "people": []})" << '\f'
+        << R"({"people": [{"pose_keypoints_2d": [5, 6, 1, 7, 8, 0]}, )"
+        << R"({"pose_keypoints_2d": [1, 1, 1, 2, 2, 1]}]})";
   }
   return ok ? 0 : 1;
 }

@@ -4,10 +4,10 @@
 // basis).
 #include "problems/deformation_error.h"
 
+#include <gtest/gtest.h>
+
 #include <random>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "tests/problems/functor_test_util.h"
 #include "tests/problems/term_test_util.h"
@@ -66,7 +66,8 @@ TEST(DeformationError, ZeroForAnyMultipleOfTheFirstShapeAndKeepsTheScaleGauge) {
 
 // Its row of problems/extra_terms.cc: one block per frame and point.
 TEST(DeformationTerm, OneBlockPerFrameAndPoint) {
-  EXPECT_EQ(testing_util::TermBlockCount(kDeformationTerm, testing_util::TermTestShoe(1)),
+  EXPECT_EQ(testing_util::TermBlockCount(kDeformationTerm,
+                                         testing_util::TermTestShoe(1)),
             testing_util::kTermFrames * testing_util::kTermPoints);
 }
 

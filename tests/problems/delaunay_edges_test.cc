@@ -1,14 +1,14 @@
 #include "problems/delaunay_edges.h"
 
+#include <glog/logging.h>
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <set>
 #include <utility>
 #include <vector>
-
-#include <glog/logging.h>
-#include <gtest/gtest.h>
 
 namespace nrsfm {
 namespace {
@@ -20,7 +20,8 @@ std::set<std::pair<int, int>> EdgesOf(
   std::set<std::pair<int, int>> edges;
   for (const auto& t : triangles) {
     for (int e = 0; e < 3; ++e) {
-      edges.insert({std::min(t[e], t[(e + 1) % 3]), std::max(t[e], t[(e + 1) % 3])});
+      edges.insert(
+          {std::min(t[e], t[(e + 1) % 3]), std::max(t[e], t[(e + 1) % 3])});
     }
   }
   return edges;
@@ -40,9 +41,10 @@ TEST(DelaunayTriangulation, SquareWithCentreGivesFourTriangles) {
     const Eigen::Vector2d b = points.col(t[2]) - points.col(t[0]);
     EXPECT_NEAR(a.x() * b.y() - a.y() * b.x(), 0.5, 1e-12);
   }
-  EXPECT_EQ(EdgesOf(triangles),
-            (std::set<std::pair<int, int>>{
-                {0, 1}, {1, 2}, {2, 3}, {0, 3}, {0, 4}, {1, 4}, {2, 4}, {3, 4}}));
+  EXPECT_EQ(
+      EdgesOf(triangles),
+      (std::set<std::pair<int, int>>{
+          {0, 1}, {1, 2}, {2, 3}, {0, 3}, {0, 4}, {1, 4}, {2, 4}, {3, 4}}));
 }
 
 // A(0,0), B(4,0), C(2,1), D(2,-1): the angles at C and D opposite AB are
@@ -68,7 +70,8 @@ TEST(DelaunayTriangulation, DuplicatePointIsInNoTriangle) {
   int copies = 0;
   for (const int p : {1, 4}) {
     bool used = false;
-    for (const auto& t : triangles) used |= std::count(t.begin(), t.end(), p) > 0;
+    for (const auto& t : triangles)
+      used |= std::count(t.begin(), t.end(), p) > 0;
     copies += used;
   }
   EXPECT_EQ(copies, 1);
@@ -84,7 +87,8 @@ TEST(DelaunayTriangulation, RejectsDegenerateInput) {
       0, 1, 2, 3;
   const Status status = DelaunayTriangulation(collinear, &triangles);
   EXPECT_FALSE(status.ok());
-  EXPECT_NE(status.message().find("collinear"), std::string::npos) << status.message();
+  EXPECT_NE(status.message().find("collinear"), std::string::npos)
+      << status.message();
   Eigen::Matrix2Xd not_finite(2, 3);
   not_finite << 0, 1, kNaN, 0, 0, 1;
   EXPECT_FALSE(DelaunayTriangulation(not_finite, &triangles).ok());
@@ -94,8 +98,8 @@ TEST(DelaunayTriangulation, RejectsDegenerateInput) {
 // 0, 1, 2 at the same places and point 5 at (1.1, 1), which frame 0 misses.
 Measurements SquareMeasurements() {
   Eigen::MatrixXd w(4, 6);
-  w << 0, 1, 1, 0, 0.5, kNaN,  //
-      0, 0, 1, 1, 0.5, kNaN,   //
+  w << 0, 1, 1, 0, 0.5, kNaN,    //
+      0, 0, 1, 1, 0.5, kNaN,     //
       0, 1, 1, kNaN, kNaN, 1.1,  //
       0, 0, 1, kNaN, kNaN, 1.0;
   Measurements m;
@@ -115,11 +119,16 @@ TEST(ComputeDelaunayEdges, HandComputedEdgesAndWeights) {
   // joins its two nearest vertices in frame 1: 2 (0.1) and 1 (√1.01).
   const double mean = (4.0 + 4.0 * std::sqrt(0.5)) / 8.0;
   const std::vector<std::pair<std::pair<int, int>, double>> expected = {
-      {{0, 1}, mean},          {{0, 3}, mean},
-      {{0, 4}, mean / std::sqrt(0.5)}, {{1, 2}, mean},
-      {{1, 4}, mean / std::sqrt(0.5)}, {{1, 5}, mean / std::sqrt(1.01)},
-      {{2, 3}, mean},          {{2, 4}, mean / std::sqrt(0.5)},
-      {{2, 5}, mean / 0.1},    {{3, 4}, mean / std::sqrt(0.5)}};
+      {{0, 1}, mean},
+      {{0, 3}, mean},
+      {{0, 4}, mean / std::sqrt(0.5)},
+      {{1, 2}, mean},
+      {{1, 4}, mean / std::sqrt(0.5)},
+      {{1, 5}, mean / std::sqrt(1.01)},
+      {{2, 3}, mean},
+      {{2, 4}, mean / std::sqrt(0.5)},
+      {{2, 5}, mean / 0.1},
+      {{3, 4}, mean / std::sqrt(0.5)}};
   ASSERT_EQ(edges.size(), expected.size());
   for (std::size_t e = 0; e < edges.size(); ++e) {
     EXPECT_EQ(edges[e].i, expected[e].first.first) << e;

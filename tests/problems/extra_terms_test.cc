@@ -6,13 +6,13 @@
 // tests/problems/term_test_util.h).
 #include "problems/extra_terms.h"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <map>
 #include <set>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "core/synthetic.h"
 #include "tests/problems/term_test_util.h"
@@ -30,7 +30,8 @@ using testing_util::TermTestShoe;
 // least two (a rig to perturb).
 int TestCameras() {
   int cameras = 2;
-  for (const ExtraTerm& term : ExtraTerms()) cameras = std::max(cameras, term.min_cameras);
+  for (const ExtraTerm& term : ExtraTerms())
+    cameras = std::max(cameras, term.min_cameras);
   return cameras;
 }
 
@@ -109,7 +110,8 @@ TEST(ExtraTerms, TooFewCamerasNameTheTerm) {
     ASSERT_TRUE(builder.AddReprojectionTerms(options).ok());
     const Status status = AddExtraTerms(options, &builder);
     ASSERT_FALSE(status.ok());
-    EXPECT_NE(status.message().find(std::string(term.name) + " term: needs data from M >= " +
+    EXPECT_NE(status.message().find(std::string(term.name) +
+                                    " term: needs data from M >= " +
                                     std::to_string(term.min_cameras)),
               std::string::npos)
         << status.message();
@@ -149,7 +151,8 @@ TEST(ExtraTerms, WeightMultipliesTheTermsCost) {
 TEST(ExtraTerms, ZeroWeightAddsNothingAndConstantRigHoldsTheRig) {
   SyntheticSequence s = TermTestShoe(2);
   ProblemOptions options;
-  for (const ExtraTerm& term : ExtraTerms()) options.term_weights[term.name] = 0.0;
+  for (const ExtraTerm& term : ExtraTerms())
+    options.term_weights[term.name] = 0.0;
   options.term_weights[kRigidityTerm] = 1.0;
   options.constant_rig = true;
   Model model = s.truth;
@@ -162,8 +165,10 @@ TEST(ExtraTerms, ZeroWeightAddsNothingAndConstantRigHoldsTheRig) {
     const bool rigidity = ExtraTerms()[i].name == std::string(kRigidityTerm);
     EXPECT_EQ(counts[i] > 0, rigidity) << ExtraTerms()[i].name;
   }
-  EXPECT_TRUE(builder.problem()->IsParameterBlockConstant(builder.RigRotationBlock(1)));
-  EXPECT_TRUE(builder.problem()->IsParameterBlockConstant(builder.RigScaleBlock(1)));
+  EXPECT_TRUE(
+      builder.problem()->IsParameterBlockConstant(builder.RigRotationBlock(1)));
+  EXPECT_TRUE(
+      builder.problem()->IsParameterBlockConstant(builder.RigScaleBlock(1)));
 }
 
 TEST(ExtraTerms, UnknownNameListsTheTable) {
@@ -171,13 +176,15 @@ TEST(ExtraTerms, UnknownNameListsTheTable) {
   unknown.term_weights["temporal_weights"] = 1.0;
   const Status status = unknown.Check();
   ASSERT_FALSE(status.ok());
-  EXPECT_NE(status.message().find("no term \"temporal_weights\""), std::string::npos)
+  EXPECT_NE(status.message().find("no term \"temporal_weights\""),
+            std::string::npos)
       << status.message();
   std::string known;
   for (const ExtraTerm& term : ExtraTerms()) {
     known += (known.empty() ? "" : ", ") + std::string(term.name);
   }
-  EXPECT_NE(status.message().find("(the terms are " + known + ")"), std::string::npos)
+  EXPECT_NE(status.message().find("(the terms are " + known + ")"),
+            std::string::npos)
       << status.message();
 }
 

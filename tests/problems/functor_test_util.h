@@ -2,24 +2,26 @@
 #ifndef NRSFM_TESTS_PROBLEMS_FUNCTOR_TEST_UTIL_H_
 #define NRSFM_TESTS_PROBLEMS_FUNCTOR_TEST_UTIL_H_
 
-#include <random>
-#include <vector>
-
 #include <ceres/ceres.h>
 #include <ceres/gradient_checker.h>
 #include <gtest/gtest.h>
+
+#include <random>
+#include <vector>
 
 namespace nrsfm {
 namespace testing_util {
 
 // ceres::GradientChecker on Euclidean parameters at `parameters`.
-inline void ExpectGradientCheckPasses(const ceres::CostFunction& cost,
-                                      const std::vector<const double*>& parameters) {
+inline void ExpectGradientCheckPasses(
+    const ceres::CostFunction& cost,
+    const std::vector<const double*>& parameters) {
   ceres::NumericDiffOptions numeric_options;
   const std::vector<const ceres::Manifold*>* euclidean = nullptr;
   ceres::GradientChecker checker(&cost, euclidean, numeric_options);
   ceres::GradientChecker::ProbeResults results;
-  EXPECT_TRUE(checker.Probe(parameters.data(), 1e-7, &results)) << results.error_log;
+  EXPECT_TRUE(checker.Probe(parameters.data(), 1e-7, &results))
+      << results.error_log;
 }
 
 // n values uniform in [-1, 1].

@@ -65,11 +65,17 @@ TEST(LinearSolverChoice, SchurSolversEliminateThePoints) {
     EXPECT_EQ(options.linear_solver_ordering->NumGroups(), 4);
     EXPECT_EQ(options.linear_solver_ordering->GroupSize(0), 12);
     EXPECT_EQ(options.linear_solver_ordering->GroupSize(1), 10);
-    EXPECT_EQ(options.linear_solver_ordering->GroupId(builder.RotationBlock(3, 0)), 1);
-    EXPECT_EQ(options.linear_solver_ordering->GroupId(builder.TranslationBlock(3, 0)), 2);
-    EXPECT_EQ(options.linear_solver_ordering->GroupId(builder.WeightsBlock(3)), 3);
+    EXPECT_EQ(
+        options.linear_solver_ordering->GroupId(builder.RotationBlock(3, 0)),
+        1);
+    EXPECT_EQ(
+        options.linear_solver_ordering->GroupId(builder.TranslationBlock(3, 0)),
+        2);
+    EXPECT_EQ(options.linear_solver_ordering->GroupId(builder.WeightsBlock(3)),
+              3);
     for (int p = 0; p < 12; ++p) {
-      EXPECT_EQ(options.linear_solver_ordering->GroupId(builder.BasisBlock(p)), 0);
+      EXPECT_EQ(options.linear_solver_ordering->GroupId(builder.BasisBlock(p)),
+                0);
     }
     std::string error;
     EXPECT_TRUE(options.IsValid(&error)) << error;
@@ -83,7 +89,8 @@ TEST(LinearSolverChoice, SchurSolversEliminateThePoints) {
   // No elimination: the kinds first, the points last.
   ASSERT_NE(options.linear_solver_ordering, nullptr);
   EXPECT_EQ(options.linear_solver_ordering->NumGroups(), 4);
-  EXPECT_EQ(options.linear_solver_ordering->GroupId(builder.RotationBlock(0, 0)), 0);
+  EXPECT_EQ(
+      options.linear_solver_ordering->GroupId(builder.RotationBlock(0, 0)), 0);
   EXPECT_EQ(options.linear_solver_ordering->GroupId(builder.BasisBlock(0)), 3);
 }
 
@@ -122,8 +129,8 @@ TEST(LinearSolverChoice, DenseSolversThatWouldExhaustMemoryAreRefused) {
   ASSERT_TRUE(builder.AddReprojectionTerms(ProblemOptions()).ok());
   ceres::Solver::Options options;
   LinearSolverChoice used;
-  const Status status =
-      ConfigureLinearSolver(LinearSolverChoice::kDenseQr, &builder, &options, &used);
+  const Status status = ConfigureLinearSolver(LinearSolverChoice::kDenseQr,
+                                              &builder, &options, &used);
   EXPECT_FALSE(status.ok());
   EXPECT_NE(status.message().find("dense Jacobian would take 2.46 GB"),
             std::string::npos)

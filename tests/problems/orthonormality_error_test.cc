@@ -2,12 +2,12 @@
 // problems/orthonormality_error.h.
 #include "problems/orthonormality_error.h"
 
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
 #include <memory>
 #include <random>
 #include <vector>
-
-#include <Eigen/Geometry>
-#include <gtest/gtest.h>
 
 #include "tests/problems/functor_test_util.h"
 
@@ -19,7 +19,8 @@ using testing_util::Random;
 
 double Residual(const Eigen::RowVectorXd& q1, const Eigen::RowVectorXd& q2,
                 const Eigen::MatrixXd& g, double r[2]) {
-  std::unique_ptr<ceres::CostFunction> cost(OrthonormalityError::Create(q1, q2));
+  std::unique_ptr<ceres::CostFunction> cost(
+      OrthonormalityError::Create(q1, q2));
   const double* parameters[1] = {g.data()};
   EXPECT_TRUE(cost->Evaluate(parameters, r, nullptr));
   return std::hypot(r[0], r[1]);
@@ -29,7 +30,8 @@ TEST(OrthonormalityError, HandComputedResidual) {
   // K = 1, G = I: a1 = (1, 0, 1), a2 = (0, 2, 1); |a1|² = 2, |a2|² = 5,
   // a1·a2 = 1, so r = ((2 − 5) / 7, 2 / 7).
   Eigen::RowVector3d q1(1, 0, 1), q2(0, 2, 1);
-  std::unique_ptr<ceres::CostFunction> cost(OrthonormalityError::Create(q1, q2));
+  std::unique_ptr<ceres::CostFunction> cost(
+      OrthonormalityError::Create(q1, q2));
   EXPECT_EQ(cost->num_residuals(), 2);
   ASSERT_EQ(cost->parameter_block_sizes(), (std::vector<int32_t>{3 * 3}));
   double r[2];
@@ -43,7 +45,8 @@ TEST(OrthonormalityError, HandComputedResidual) {
 TEST(OrthonormalityError, ZeroForAScaledRotationAndGaugeInvariant) {
   const int k = 2;
   const Eigen::Matrix3d rotation =
-      Eigen::AngleAxisd(0.8, Eigen::Vector3d(1, -2, 0.5).normalized()).toRotationMatrix();
+      Eigen::AngleAxisd(0.8, Eigen::Vector3d(1, -2, 0.5).normalized())
+          .toRotationMatrix();
   // G stacks the identity over 0, so q G = first three entries of q.
   Eigen::MatrixXd g = Eigen::MatrixXd::Zero(3 * k, 3);
   g.topRows<3>().setIdentity();
@@ -56,11 +59,13 @@ TEST(OrthonormalityError, ZeroForAScaledRotationAndGaugeInvariant) {
 
   std::mt19937 rng(5);
   const std::vector<double> values = Random(3 * 3 * k, &rng);
-  const Eigen::MatrixXd generic = Eigen::Map<const Eigen::MatrixXd>(values.data(), 3 * k, 3);
+  const Eigen::MatrixXd generic =
+      Eigen::Map<const Eigen::MatrixXd>(values.data(), 3 * k, 3);
   double before[2], after[2];
   Residual(q1, q2, generic, before);
   const Eigen::Matrix3d u =
-      Eigen::AngleAxisd(1.1, Eigen::Vector3d(0, 1, 1).normalized()).toRotationMatrix() *
+      Eigen::AngleAxisd(1.1, Eigen::Vector3d(0, 1, 1).normalized())
+          .toRotationMatrix() *
       Eigen::Vector3d(1, 1, -1).asDiagonal();  // a rotation times a reflection
   Residual(q1, q2, -3.0 * generic * u, after);
   EXPECT_GT(std::hypot(before[0], before[1]), 1e-3);
@@ -70,7 +75,8 @@ TEST(OrthonormalityError, ZeroForAScaledRotationAndGaugeInvariant) {
 
 TEST(OrthonormalityError, UndefinedWhenBothRowsVanish) {
   Eigen::RowVector3d q1(1, 0, 0), q2(0, 1, 0);
-  std::unique_ptr<ceres::CostFunction> cost(OrthonormalityError::Create(q1, q2));
+  std::unique_ptr<ceres::CostFunction> cost(
+      OrthonormalityError::Create(q1, q2));
   const Eigen::MatrixXd g = Eigen::MatrixXd::Zero(3, 3);
   const double* parameters[1] = {g.data()};
   double r[2];
@@ -80,7 +86,8 @@ TEST(OrthonormalityError, UndefinedWhenBothRowsVanish) {
 TEST(OrthonormalityError, GradientChecker) {
   std::mt19937 rng(7);
   for (const int k : {1, 2, 4}) {
-    const std::vector<double> q1 = Random(3 * k, &rng), q2 = Random(3 * k, &rng);
+    const std::vector<double> q1 = Random(3 * k, &rng),
+                              q2 = Random(3 * k, &rng);
     std::unique_ptr<ceres::CostFunction> cost(OrthonormalityError::Create(
         Eigen::Map<const Eigen::RowVectorXd>(q1.data(), 3 * k),
         Eigen::Map<const Eigen::RowVectorXd>(q2.data(), 3 * k)));

@@ -1,11 +1,11 @@
 #include "problems/problem_builder.h"
 
+#include <ceres/autodiff_cost_function.h>
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <random>
 #include <vector>
-
-#include <ceres/autodiff_cost_function.h>
-#include <gtest/gtest.h>
 
 #include "core/metrics.h"
 #include "core/synthetic.h"
@@ -34,7 +34,8 @@ SyntheticSequence SmallSequence(int cameras = 1) {
   truth.basis = mono.basis;
   for (int t = 0; t < mono.num_frames; ++t) {
     truth.rotations.col(truth.View(t, 0)) = mono.rotations.col(t);
-    truth.rotations.col(truth.View(t, 1)) = mono.rotations.col(t) + Eigen::Vector3d(0.3, 0, 0);
+    truth.rotations.col(truth.View(t, 1)) =
+        mono.rotations.col(t) + Eigen::Vector3d(0.3, 0, 0);
     truth.scales(truth.View(t, 1)) = 1.2;
   }
   Measurements& m = sequence.measurements;
@@ -45,7 +46,8 @@ SyntheticSequence SmallSequence(int cameras = 1) {
       m.W.middleRows(m.Row(t, c), 2) = truth.Project(t, c);
     }
   }
-  m.visible = VisibilityMask::Constant(truth.NumViews(), truth.num_points, true);
+  m.visible =
+      VisibilityMask::Constant(truth.NumViews(), truth.num_points, true);
   return sequence;
 }
 
@@ -94,7 +96,8 @@ TEST(ProblemBuilder, MissingEntriesHaveNoResidual) {
   ceres::Problem& problem = *builder.problem();
   EXPECT_EQ(problem.NumResidualBlocks(), 12);
   EXPECT_EQ(problem.NumResiduals(), 24);
-  // Frame 1's blocks are absent: 3 rotations, 3 translations, 3 weights, 5 points.
+  // Frame 1's blocks are absent: 3 rotations, 3 translations, 3 weights, 5
+  // points.
   EXPECT_FALSE(problem.HasParameterBlock(builder.RotationBlock(1, 0)));
   EXPECT_FALSE(problem.HasParameterBlock(builder.WeightsBlock(1)));
   EXPECT_TRUE(problem.HasParameterBlock(builder.BasisBlock(3)));
@@ -119,8 +122,8 @@ TEST(ProblemBuilder, ScaleBlocksOnlyForExtraCameras) {
     EXPECT_TRUE(problem.HasParameterBlock(builder.ScaleBlock(t, 1)));
     EXPECT_EQ(problem.ParameterBlockSize(builder.ScaleBlock(t, 1)), 1);
     // Camera 0's scale (always 1) is not a block.
-    EXPECT_FALSE(problem.HasParameterBlock(
-        s.truth.scales.data() + s.truth.View(t, 0)));
+    EXPECT_FALSE(
+        problem.HasParameterBlock(s.truth.scales.data() + s.truth.View(t, 0)));
   }
   // The truth of noise-free two-camera data has zero cost.
   EXPECT_LT(Cost(&builder), 1e-25);
@@ -137,7 +140,8 @@ TEST(ProblemBuilder, ConstantFlagsHoldEachKind) {
   ceres::Problem& problem = *builder.problem();
   for (int t = 0; t < 4; ++t) {
     EXPECT_TRUE(problem.IsParameterBlockConstant(builder.RotationBlock(t, 1)));
-    EXPECT_FALSE(problem.IsParameterBlockConstant(builder.TranslationBlock(t, 1)));
+    EXPECT_FALSE(
+        problem.IsParameterBlockConstant(builder.TranslationBlock(t, 1)));
     EXPECT_TRUE(problem.IsParameterBlockConstant(builder.WeightsBlock(t)));
     EXPECT_TRUE(problem.IsParameterBlockConstant(builder.ScaleBlock(t, 1)));
   }
@@ -170,7 +174,8 @@ TEST(ProblemBuilder, ObservationWeightsScaleTheCostAndZeroDrops) {
 
 TEST(ProblemBuilder, RobustLossScaleIsInInputUnitsUnderAnyWeight) {
   // One outlier: move observation (2, 1) 10 units away, then compare its
-  // cost with the Huber formula w·(2a|e| − a²)/2 and Cauchy w·a²·log(1 + |e|²/a²)/2.
+  // cost with the Huber formula w·(2a|e| − a²)/2 and Cauchy w·a²·log(1 +
+  // |e|²/a²)/2.
   SyntheticSequence s = SmallSequence();
   s.measurements.W(2 * 2, 1) += 10.0;
   const double a = 0.5;
@@ -198,7 +203,8 @@ TEST(ProblemBuilder, RobustLossScaleIsInInputUnitsUnderAnyWeight) {
         for (int p = 0; p < 5; ++p) {
           if (t == 2 && p == 1) continue;
           const double sq = (s.truth.Project(t, 0).col(p) -
-                             s.measurements.Observation(t, 0, p)).squaredNorm();
+                             s.measurements.Observation(t, 0, p))
+                                .squaredNorm();
           inliers += 0.5 * a * a * std::log1p(sq / (a * a));
         }
       }
@@ -206,7 +212,8 @@ TEST(ProblemBuilder, RobustLossScaleIsInInputUnitsUnderAnyWeight) {
       for (int t = 0; t < 4; ++t) {
         for (int p = 0; p < 5; ++p) {
           const double n = (s.truth.Project(t, 0).col(p) -
-                            s.measurements.Observation(t, 0, p)).norm();
+                            s.measurements.Observation(t, 0, p))
+                               .norm();
           if (!(t == 2 && p == 1)) {
             ASSERT_LT(n, a);
           }
@@ -217,7 +224,8 @@ TEST(ProblemBuilder, RobustLossScaleIsInInputUnitsUnderAnyWeight) {
         loss == RobustLoss::kHuber
             ? 0.5 * w * (2.0 * a * e.norm() - a * a)
             : 0.5 * w * a * a * std::log1p(e.squaredNorm() / (a * a));
-    EXPECT_NEAR(Cost(&builder), inliers + outlier, 1e-10) << RobustLossName(loss);
+    EXPECT_NEAR(Cost(&builder), inliers + outlier, 1e-10)
+        << RobustLossName(loss);
   }
 }
 
@@ -287,8 +295,9 @@ TEST(ProblemBuilder, ErrorsInsteadOfAborts) {
     ProblemBuilder builder(&s.measurements, &s.truth);
     const Status status = builder.AddReprojectionTerms(options);
     EXPECT_FALSE(status.ok());
-    EXPECT_NE(status.message().find("observation_weights is 3 x 5, expected 4 x 5"),
-              std::string::npos)
+    EXPECT_NE(
+        status.message().find("observation_weights is 3 x 5, expected 4 x 5"),
+        std::string::npos)
         << status.message();
   }
   {
@@ -318,7 +327,8 @@ TEST(ProblemBuilder, ErrorsInsteadOfAborts) {
     ProblemBuilder builder(&two.measurements, &two.truth);
     const Status status = builder.AddReprojectionTerms(ProblemOptions());
     EXPECT_FALSE(status.ok());
-    EXPECT_NE(status.message().find("scale of camera 0 must be 1"), std::string::npos);
+    EXPECT_NE(status.message().find("scale of camera 0 must be 1"),
+              std::string::npos);
   }
   RobustLoss loss;
   EXPECT_TRUE(ParseRobustLoss("cauchy", &loss).ok());

@@ -1,13 +1,13 @@
 #include "problems/reprojection_error.h"
 
+#include <ceres/gradient_checker.h>
+#include <ceres/numeric_diff_options.h>
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <memory>
 #include <random>
 #include <vector>
-
-#include <ceres/gradient_checker.h>
-#include <ceres/numeric_diff_options.h>
-#include <gtest/gtest.h>
 
 #include "problems/problem_builder.h"
 #include "problems/reprojection_cost_function.h"
@@ -27,7 +27,8 @@ struct Blocks {
   double* basis() { return values.data() + 5 + num_bases; }
   double* scale() { return values.data() + 5 + 4 * num_bases; }
   std::vector<const double*> Pointers(bool with_scale) {
-    std::vector<const double*> p = {rotation(), translation(), weights(), basis()};
+    std::vector<const double*> p = {rotation(), translation(), weights(),
+                                    basis()};
     if (with_scale) p.push_back(scale());
     return p;
   }
@@ -93,7 +94,8 @@ TEST(ReprojectionError, HandComputedResidualsForEveryForm) {
   }
   std::vector<std::unique_ptr<ceres::CostFunction>> scaled =
       AllForms(2, true, observation, sqrt_weight);
-  scaled.emplace_back(ReprojectionError<2>::CreateScaled(observation, sqrt_weight));
+  scaled.emplace_back(
+      ReprojectionError<2>::CreateScaled(observation, sqrt_weight));
   for (const auto& cost : scaled) {
     const Eigen::Vector2d r = Evaluate(*cost, b.Pointers(true));
     EXPECT_NEAR(r.x(), -4.5, 1e-12);
@@ -118,13 +120,16 @@ TEST(ReprojectionError, HandComputedJacobianAtZeroRotation) {
     double r[2];
     ASSERT_TRUE(cost->Evaluate(b.Pointers(false).data(), r, jacobians));
     const double expected_rotation[6] = {0, 6, -4, -6, 0, 2};
-    for (int i = 0; i < 6; ++i) EXPECT_NEAR(d_rotation[i], expected_rotation[i], 1e-12);
+    for (int i = 0; i < 6; ++i)
+      EXPECT_NEAR(d_rotation[i], expected_rotation[i], 1e-12);
     const double expected_translation[4] = {1, 0, 0, 1};
-    for (int i = 0; i < 4; ++i) EXPECT_EQ(d_translation[i], expected_translation[i]);
+    for (int i = 0; i < 4; ++i)
+      EXPECT_EQ(d_translation[i], expected_translation[i]);
     EXPECT_NEAR(d_weights[0], 1.0, 1e-12);
     EXPECT_NEAR(d_weights[1], 2.0, 1e-12);
     const double expected_basis[6] = {2, 0, 0, 0, 2, 0};
-    for (int i = 0; i < 6; ++i) EXPECT_NEAR(d_basis[i], expected_basis[i], 1e-12);
+    for (int i = 0; i < 6; ++i)
+      EXPECT_NEAR(d_basis[i], expected_basis[i], 1e-12);
   }
 }
 
@@ -176,9 +181,11 @@ TEST(ReprojectionError, HandWrittenJacobianEqualsAutodiff) {
         }
         const Eigen::Vector2d observation(0.2, 0.1);
         std::unique_ptr<ceres::CostFunction> by_hand(
-            CreateReprojectionCostFunction(k, with_scale, false, observation, 1.3));
+            CreateReprojectionCostFunction(k, with_scale, false, observation,
+                                           1.3));
         std::unique_ptr<ceres::CostFunction> autodiff(
-            CreateReprojectionCostFunction(k, with_scale, true, observation, 1.3));
+            CreateReprojectionCostFunction(k, with_scale, true, observation,
+                                           1.3));
         const std::vector<int>& sizes = by_hand->parameter_block_sizes();
         ASSERT_EQ(sizes, autodiff->parameter_block_sizes());
         std::vector<std::vector<double>> j1, j2;
@@ -192,14 +199,17 @@ TEST(ReprojectionError, HandWrittenJacobianEqualsAutodiff) {
           p2.push_back(j2[i].data());
         }
         double r1[2], r2[2];
-        ASSERT_TRUE(by_hand->Evaluate(b.Pointers(with_scale).data(), r1, p1.data()));
-        ASSERT_TRUE(autodiff->Evaluate(b.Pointers(with_scale).data(), r2, p2.data()));
+        ASSERT_TRUE(
+            by_hand->Evaluate(b.Pointers(with_scale).data(), r1, p1.data()));
+        ASSERT_TRUE(
+            autodiff->Evaluate(b.Pointers(with_scale).data(), r2, p2.data()));
         EXPECT_NEAR(r1[0], r2[0], 1e-13);
         EXPECT_NEAR(r1[1], r2[1], 1e-13);
         for (size_t i = 0; i < sizes.size(); ++i) {
           for (size_t j = 0; j < j1[i].size(); ++j) {
             EXPECT_NEAR(j1[i][j], j2[i][j], 1e-12)
-                << "K = " << k << ", |ω| = " << rotation_norm << ", block " << i;
+                << "K = " << k << ", |ω| = " << rotation_norm << ", block "
+                << i;
           }
         }
       }
@@ -217,24 +227,26 @@ TEST(ReprojectionError, BasisJacobianIsWeightTimesTheReportedFactor) {
       Blocks b = RandomBlocks(k, &rng);
       std::unique_ptr<ceres::CostFunction> cost(CreateReprojectionCostFunction(
           k, with_scale, false, Eigen::Vector2d(0.3, -0.2), 1.7));
-      const auto* factor_source = dynamic_cast<const BasisJacobianFactor*>(cost.get());
+      const auto* factor_source =
+          dynamic_cast<const BasisJacobianFactor*>(cost.get());
       ASSERT_NE(factor_source, nullptr);
       EXPECT_EQ(factor_source->num_bases(), k);
       const std::vector<int>& sizes = cost->parameter_block_sizes();
-      std::vector<std::vector<double>> full(sizes.size()), partial(sizes.size());
+      std::vector<std::vector<double>> full(sizes.size()),
+          partial(sizes.size());
       std::vector<double*> full_ptr, partial_ptr;
       for (size_t i = 0; i < sizes.size(); ++i) {
         full[i].assign(2 * sizes[i], 0.0);
         partial[i].assign(2 * sizes[i], -7.0);
         full_ptr.push_back(full[i].data());
-        partial_ptr.push_back(i == BasisJacobianFactor::kBasisSlot ? nullptr
-                                                                    : partial[i].data());
+        partial_ptr.push_back(
+            i == BasisJacobianFactor::kBasisSlot ? nullptr : partial[i].data());
       }
       double r_full[2], r_partial[2], a[6];
       const std::vector<const double*> parameters = b.Pointers(with_scale);
       ASSERT_TRUE(cost->Evaluate(parameters.data(), r_full, full_ptr.data()));
-      ASSERT_TRUE(factor_source->EvaluateWithBasisFactor(parameters.data(), r_partial,
-                                                          partial_ptr.data(), a));
+      ASSERT_TRUE(factor_source->EvaluateWithBasisFactor(
+          parameters.data(), r_partial, partial_ptr.data(), a));
       EXPECT_EQ(r_full[0], r_partial[0]);
       EXPECT_EQ(r_full[1], r_partial[1]);
       for (size_t i = 0; i < sizes.size(); ++i) {
@@ -246,8 +258,10 @@ TEST(ReprojectionError, BasisJacobianIsWeightTimesTheReportedFactor) {
       for (int row = 0; row < 2; ++row) {
         for (int kk = 0; kk < k; ++kk) {
           for (int col = 0; col < 3; ++col) {
-            EXPECT_NEAR(jb[row * 3 * k + 3 * kk + col], weights[kk] * a[3 * row + col], 1e-14)
-                << "K = " << k << ", row " << row << ", basis " << kk << ", col " << col;
+            EXPECT_NEAR(jb[row * 3 * k + 3 * kk + col],
+                        weights[kk] * a[3 * row + col], 1e-14)
+                << "K = " << k << ", row " << row << ", basis " << kk
+                << ", col " << col;
           }
         }
       }
@@ -257,18 +271,20 @@ TEST(ReprojectionError, BasisJacobianIsWeightTimesTheReportedFactor) {
 
 TEST(ReprojectionError, FactoryDispatchesOnK) {
   for (const int k : {1, 16, 17, 40}) {
-    std::unique_ptr<ceres::CostFunction> cost(
-        CreateReprojectionCostFunction(k, false, false, Eigen::Vector2d::Zero(), 1.0));
+    std::unique_ptr<ceres::CostFunction> cost(CreateReprojectionCostFunction(
+        k, false, false, Eigen::Vector2d::Zero(), 1.0));
     EXPECT_EQ(cost->num_residuals(), 2);
-    EXPECT_EQ(cost->parameter_block_sizes(), (std::vector<int>{3, 2, k, 3 * k}));
+    EXPECT_EQ(cost->parameter_block_sizes(),
+              (std::vector<int>{3, 2, k, 3 * k}));
     const bool is_static = k <= kMaxStaticBases;
-    EXPECT_EQ(dynamic_cast<ReprojectionCostFunction<Eigen::Dynamic>*>(cost.get()) ==
-                  nullptr,
+    EXPECT_EQ(dynamic_cast<ReprojectionCostFunction<Eigen::Dynamic>*>(
+                  cost.get()) == nullptr,
               is_static);
   }
-  std::unique_ptr<ceres::CostFunction> scaled(
-      CreateReprojectionCostFunction(5, true, false, Eigen::Vector2d::Zero(), 1.0));
-  EXPECT_EQ(scaled->parameter_block_sizes(), (std::vector<int>{3, 2, 5, 15, 1}));
+  std::unique_ptr<ceres::CostFunction> scaled(CreateReprojectionCostFunction(
+      5, true, false, Eigen::Vector2d::Zero(), 1.0));
+  EXPECT_EQ(scaled->parameter_block_sizes(),
+            (std::vector<int>{3, 2, 5, 15, 1}));
   EXPECT_NE(dynamic_cast<ReprojectionCostFunction<5>*>(scaled.get()), nullptr);
 }
 

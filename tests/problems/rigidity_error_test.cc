@@ -1,15 +1,15 @@
 // Hand-computed residuals and Jacobian checks of problems/rigidity_error.h.
 #include "problems/rigidity_error.h"
 
+#include <ceres/gradient_checker.h>
+#include <ceres/numeric_diff_options.h>
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
 #include <cmath>
 #include <memory>
 #include <random>
 #include <vector>
-
-#include <ceres/gradient_checker.h>
-#include <ceres/numeric_diff_options.h>
-#include <gtest/gtest.h>
-#include <Eigen/Geometry>
 
 #include "core/rotation.h"
 #include "tests/problems/functor_test_util.h"
@@ -30,7 +30,8 @@ using testing_util::ExpectGradientCheckPasses;
 using testing_util::Random;
 
 TEST(RigidityError, ZeroOnAnExactRigAndHandComputedOtherwise) {
-  const Eigen::Vector3d omega_0 = AxisAngle(0.3, Eigen::Vector3d(0.2, 0.1, 1.0));
+  const Eigen::Vector3d omega_0 =
+      AxisAngle(0.3, Eigen::Vector3d(0.2, 0.1, 1.0));
   const Eigen::Vector3d rig = AxisAngle(0.5, Eigen::Vector3d::UnitY());
   Eigen::Vector3d omega_c = RotationToAngleAxis(R(rig) * R(omega_0));
   double scale_c = 0.9;
@@ -68,8 +69,8 @@ TEST(RigidityError, GradientChecker) {
   std::unique_ptr<ceres::CostFunction> cost(RigidityError::Create(1.7));
   for (int trial = 0; trial < 5; ++trial) {
     const std::vector<double> v = Random(11, &rng);
-    ExpectGradientCheckPasses(
-        *cost, {v.data(), v.data() + 3, v.data() + 6, v.data() + 9, v.data() + 10});
+    ExpectGradientCheckPasses(*cost, {v.data(), v.data() + 3, v.data() + 6,
+                                      v.data() + 9, v.data() + 10});
   }
   // Near a consistent rig (discrepancy ~1e-3 rad, the solver's end point).
   const Eigen::Vector3d omega_0(0.4, -0.2, 0.1);
@@ -86,16 +87,19 @@ TEST(RigidityError, GradientChecker) {
 // c ≥ 1, and the rig blocks of the cameras c ≥ 1 are free by default.
 TEST(RigidityTerm, OneBlockPerFrameAndCameraAfterTheFirst) {
   SyntheticSequence s = testing_util::TermTestShoe(2);  // the shoe has M ≤ 2
-  EXPECT_EQ(testing_util::TermBlockCount(kRigidityTerm, s), testing_util::kTermFrames * (2 - 1));
+  EXPECT_EQ(testing_util::TermBlockCount(kRigidityTerm, s),
+            testing_util::kTermFrames * (2 - 1));
   ProblemOptions options;
   options.term_weights[kRigidityTerm] = 1.0;
   Model model = s.truth;
   ProblemBuilder builder(&s.measurements, &model);
   ASSERT_TRUE(builder.AddReprojectionTerms(options).ok());
   ASSERT_TRUE(AddExtraTerms(options, &builder).ok());
-  EXPECT_TRUE(builder.problem()->HasParameterBlock(builder.RigRotationBlock(1)));
+  EXPECT_TRUE(
+      builder.problem()->HasParameterBlock(builder.RigRotationBlock(1)));
   EXPECT_TRUE(builder.problem()->HasParameterBlock(builder.RigScaleBlock(1)));
-  EXPECT_FALSE(builder.problem()->IsParameterBlockConstant(builder.RigScaleBlock(1)));
+  EXPECT_FALSE(
+      builder.problem()->IsParameterBlockConstant(builder.RigScaleBlock(1)));
 }
 
 }  // namespace

@@ -2,11 +2,11 @@
 // problems/rotation_manifold.h.
 #include "problems/rotation_manifold.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
 #include <Eigen/Core>
 #include <Eigen/LU>
+#include <cmath>
 
 #include "core/rotation.h"
 
@@ -49,7 +49,8 @@ TEST(AngleAxisManifold, StepIsInTheBodyFrame) {
 
 TEST(AngleAxisManifold, MinusInvertsPlus) {
   const AngleAxisManifold manifold;
-  const Eigen::Vector3d xs[] = {{0.1, -0.2, 0.3}, {2.0, 1.0, -1.5}, {0, 0, 3.1}};
+  const Eigen::Vector3d xs[] = {
+      {0.1, -0.2, 0.3}, {2.0, 1.0, -1.5}, {0, 0, 3.1}};
   const Eigen::Vector3d delta(0.05, 0.2, -0.1);
   for (const Eigen::Vector3d& x : xs) {
     const Eigen::Vector3d y = Plus(x, delta);
@@ -76,8 +77,9 @@ TEST(AngleAxisManifold, JacobiansMatchCentralDifferences) {
       numeric.col(j) = (Plus(x, step) - Plus(x, -step)) / (2 * h);
     }
     EXPECT_LT((plus_jacobian - numeric).norm(), 1e-7) << x.transpose();
-    EXPECT_LT((minus_jacobian * plus_jacobian - Eigen::Matrix3d::Identity()).norm(),
-              1e-12)
+    EXPECT_LT(
+        (minus_jacobian * plus_jacobian - Eigen::Matrix3d::Identity()).norm(),
+        1e-12)
         << x.transpose();
   }
 }

@@ -1,15 +1,15 @@
 // Hand-computed residuals and Jacobian checks of problems/temporal_error.h.
 #include "problems/temporal_error.h"
 
+#include <ceres/gradient_checker.h>
+#include <ceres/numeric_diff_options.h>
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
 #include <cmath>
 #include <memory>
 #include <random>
 #include <vector>
-
-#include <ceres/gradient_checker.h>
-#include <ceres/numeric_diff_options.h>
-#include <gtest/gtest.h>
-#include <Eigen/Geometry>
 
 #include "core/rotation.h"
 #include "tests/problems/functor_test_util.h"
@@ -32,7 +32,8 @@ using testing_util::Random;
 TEST(WeightsTemporalError, HandComputedResidualAndGradient) {
   const double l_t[3] = {1.0, 0.25, -0.5};
   const double l_prev[3] = {1.0, 0.5, 0.5};
-  std::unique_ptr<ceres::CostFunction> cost(WeightsTemporalError::Create(3, 4.0));
+  std::unique_ptr<ceres::CostFunction> cost(
+      WeightsTemporalError::Create(3, 4.0));
   const double* parameters[2] = {l_t, l_prev};
   double r[3];
   ASSERT_TRUE(cost->Evaluate(parameters, r, nullptr));
@@ -82,7 +83,8 @@ TEST(RotationAccelerationError, ZeroAtConstantAngularVelocityAndHandComputed) {
   const Eigen::Vector3d w0 = start;
   const Eigen::Vector3d w1 = RotationToAngleAxis(step * R(w0));
   const Eigen::Vector3d w2 = RotationToAngleAxis(step * R(w1));
-  std::unique_ptr<ceres::CostFunction> cost(RotationAccelerationError::Create(2.0));
+  std::unique_ptr<ceres::CostFunction> cost(
+      RotationAccelerationError::Create(2.0));
   double r[3];
   const double* steady[3] = {w2.data(), w1.data(), w0.data()};
   ASSERT_TRUE(cost->Evaluate(steady, r, nullptr));
@@ -101,15 +103,18 @@ TEST(RotationAccelerationError, ZeroAtConstantAngularVelocityAndHandComputed) {
 
 TEST(RotationAccelerationError, GradientChecker) {
   std::mt19937 rng(12);
-  std::unique_ptr<ceres::CostFunction> cost(RotationAccelerationError::Create(1.5));
+  std::unique_ptr<ceres::CostFunction> cost(
+      RotationAccelerationError::Create(1.5));
   for (int trial = 0; trial < 5; ++trial) {
     const std::vector<double> v = Random(9, &rng);
     ExpectGradientCheckPasses(*cost, {v.data(), v.data() + 3, v.data() + 6});
   }
   // Video-like: all three ~1e-3 rad apart.
   const Eigen::Vector3d w0(0.3, -1.2, 0.4);
-  const Eigen::Vector3d w1 = RotationToAngleAxis(R(Eigen::Vector3d(0, 1e-3, 5e-4)) * R(w0));
-  const Eigen::Vector3d w2 = RotationToAngleAxis(R(Eigen::Vector3d(2e-4, 1e-3, 0)) * R(w1));
+  const Eigen::Vector3d w1 =
+      RotationToAngleAxis(R(Eigen::Vector3d(0, 1e-3, 5e-4)) * R(w0));
+  const Eigen::Vector3d w2 =
+      RotationToAngleAxis(R(Eigen::Vector3d(2e-4, 1e-3, 0)) * R(w1));
   ExpectGradientCheckPasses(*cost, {w2.data(), w1.data(), w0.data()});
 }
 
@@ -131,7 +136,8 @@ TEST(ShapeTemporalError, HandComputedResidualAndGradient) {
   for (int k : {1, 3, 7}) {
     ShapeTemporalError random_cost(k, 0.7);
     const std::vector<double> v = Random(5 * k, &rng);
-    ExpectGradientCheckPasses(random_cost, {v.data(), v.data() + k, v.data() + 2 * k});
+    ExpectGradientCheckPasses(random_cost,
+                              {v.data(), v.data() + k, v.data() + 2 * k});
   }
 }
 
@@ -141,7 +147,8 @@ TEST(ShapeTemporalError, InvariantToTheMixingGauge) {
   std::mt19937 rng(14);
   const std::vector<double> v = Random(5 * k, &rng);
   Eigen::Map<const Eigen::VectorXd> l_t(v.data(), k), l_prev(v.data() + k, k);
-  Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic>> b(v.data() + 2 * k, 3, k);
+  Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic>> b(v.data() + 2 * k,
+                                                               3, k);
   Eigen::Matrix3d a;
   a << 2.0, 0.5, 0.0, -1.0, 1.0, 0.3, 0.2, 0.0, 1.5;
   const Eigen::VectorXd mixed_t = a.inverse() * l_t;
@@ -213,10 +220,12 @@ TEST(ShapeTemporalError, JacobianProductsEqualTheEvaluatedJacobian) {
       }
       cost.AddJacobianProduct(parameters, xs, got_y);
       cost.AddJacobianTransposeProduct(parameters, y.data(), outs);
-      for (int i = 0; i < 3; ++i) EXPECT_NEAR(got_y[i], expected_y[i], 1e-14) << k << " " << mask;
+      for (int i = 0; i < 3; ++i)
+        EXPECT_NEAR(got_y[i], expected_y[i], 1e-14) << k << " " << mask;
       for (int b = 0; b < 3; ++b) {
         for (int j = 0; j < sizes[b]; ++j) {
-          EXPECT_NEAR(got_x[b][j], expected_x[b][j], 1e-14) << k << " " << mask << " " << b;
+          EXPECT_NEAR(got_x[b][j], expected_x[b][j], 1e-14)
+              << k << " " << mask << " " << b;
         }
       }
     }
@@ -245,11 +254,14 @@ TEST(ShapeTemporalError, GramBlocksEqualTheEvaluatedJacobian) {
             double expected = 0.25;
             if (i < sizes[a]) {
               for (int row = 0; row < 3; ++row) {
-                expected += jacobian[a][row * sizes[a] + i] * jacobian[b][row * sizes[b] + j];
+                expected += jacobian[a][row * sizes[a] + i] *
+                            jacobian[b][row * sizes[b] + j];
               }
             }
-            EXPECT_NEAR(got[i + static_cast<std::size_t>(j) * ld], expected, 1e-13)
-                << "K = " << k << ", blocks " << a << ", " << b << ", entry " << i << ", " << j;
+            EXPECT_NEAR(got[i + static_cast<std::size_t>(j) * ld], expected,
+                        1e-13)
+                << "K = " << k << ", blocks " << a << ", " << b << ", entry "
+                << i << ", " << j;
           }
         }
       }
@@ -258,9 +270,11 @@ TEST(ShapeTemporalError, GramBlocksEqualTheEvaluatedJacobian) {
       for (int i = 0; i < sizes[a]; ++i) {
         double expected = -0.5;
         for (int row = 0; row < 3; ++row) {
-          expected += jacobian[a][row * sizes[a] + i] * jacobian[a][row * sizes[a] + i];
+          expected +=
+              jacobian[a][row * sizes[a] + i] * jacobian[a][row * sizes[a] + i];
         }
-        EXPECT_NEAR(diagonal[i], expected, 1e-13) << "K = " << k << ", block " << a << ", " << i;
+        EXPECT_NEAR(diagonal[i], expected, 1e-13)
+            << "K = " << k << ", block " << a << ", " << i;
       }
     }
   }
@@ -275,10 +289,13 @@ TEST(TemporalTerms, BlocksPerFramePairPointAndCamera) {
     SCOPED_TRACE(cameras);
     const SyntheticSequence s = testing_util::TermTestShoe(cameras);
     EXPECT_EQ(TermBlockCount(kTemporalTerm, s), kTermFrames - 1);  // t ≥ 1
-    EXPECT_EQ(TermBlockCount(kTemporalRotationsTerm, s), (kTermFrames - 1) * cameras);
-    EXPECT_EQ(TermBlockCount(kTemporalShapeTerm, s), (kTermFrames - 1) * kTermPoints);
+    EXPECT_EQ(TermBlockCount(kTemporalRotationsTerm, s),
+              (kTermFrames - 1) * cameras);
+    EXPECT_EQ(TermBlockCount(kTemporalShapeTerm, s),
+              (kTermFrames - 1) * kTermPoints);
     // 1 ≤ t ≤ F − 2, per camera.
-    EXPECT_EQ(TermBlockCount(kRotationAccelerationTerm, s), (kTermFrames - 2) * cameras);
+    EXPECT_EQ(TermBlockCount(kRotationAccelerationTerm, s),
+              (kTermFrames - 2) * cameras);
   }
 }
 

@@ -5,11 +5,11 @@
 #ifndef NRSFM_TESTS_PROBLEMS_TERM_TEST_UTIL_H_
 #define NRSFM_TESTS_PROBLEMS_TERM_TEST_UTIL_H_
 
+#include <gtest/gtest.h>
+
 #include <map>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "core/synthetic.h"
 #include "problems/extra_terms.h"
@@ -39,8 +39,9 @@ inline SyntheticSequence TermTestShoe(int cameras) {
 // The residual blocks AddExtraTerms adds per row of ExtraTerms() (aligned
 // with it) with the weights `weights`, on the truth of `sequence`; -1 each
 // when adding fails.
-inline std::vector<int> TermBlockCounts(const std::map<std::string, double>& weights,
-                                        const SyntheticSequence& sequence) {
+inline std::vector<int> TermBlockCounts(
+    const std::map<std::string, double>& weights,
+    const SyntheticSequence& sequence) {
   ProblemOptions options;
   options.term_weights = weights;
   Measurements measurements = sequence.measurements;
@@ -54,7 +55,8 @@ inline std::vector<int> TermBlockCounts(const std::map<std::string, double>& wei
 }
 
 // The residual blocks the term `name` alone (λ = 2) adds on `sequence`.
-inline int TermBlockCount(const std::string& name, const SyntheticSequence& sequence) {
+inline int TermBlockCount(const std::string& name,
+                          const SyntheticSequence& sequence) {
   const ExtraTerm* term = FindExtraTerm(name);
   EXPECT_NE(term, nullptr) << name;
   if (term == nullptr) return -1;

@@ -9,21 +9,20 @@
 // num_threads = 2 Ceres 2.1 evaluates and eliminates on a thread pool.
 // result.json is compared with its timing fields ("seconds" of each stage)
 // removed; the CSV and PLY files byte for byte.
-#include "solvers/reconstruct.h"
+#include <gtest/gtest.h>
 
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
-
 #include "core/result_writer.h"
 #include "core/synthetic.h"
 #include "solvers/initialize.h"
+#include "solvers/reconstruct.h"
 #include "solvers/refine.h"
 #include "tests/test_util.h"
 
@@ -48,7 +47,8 @@ SyntheticSequence Sequence() {
 ReconstructOptions Options(int num_threads) {
   ReconstructOptions options;
   options.start.num_bases = 2;
-  options.start.method = StartMethod::kAuto;  // runs both starts (rigid uses the seed)
+  options.start.method =
+      StartMethod::kAuto;  // runs both starts (rigid uses the seed)
   options.start.seed = 3;
   options.solver.num_threads = num_threads;
   options.solver.max_iterations = 30;
@@ -57,9 +57,11 @@ ReconstructOptions Options(int num_threads) {
 
 // True when a and b hold the same bytes (NaN payloads included).
 template <typename Derived>
-bool SameBits(const Eigen::DenseBase<Derived>& a, const Eigen::DenseBase<Derived>& b) {
+bool SameBits(const Eigen::DenseBase<Derived>& a,
+              const Eigen::DenseBase<Derived>& b) {
   return a.rows() == b.rows() && a.cols() == b.cols() &&
-         (a.size() == 0 ||  // memcmp must not see an empty matrix's null pointer
+         (a.size() ==
+              0 ||  // memcmp must not see an empty matrix's null pointer
           std::memcmp(a.derived().data(), b.derived().data(),
                       sizeof(typename Derived::Scalar) * a.size()) == 0);
 }
@@ -69,7 +71,8 @@ bool SameBits(const Eigen::DenseBase<Derived>& a, const Eigen::DenseBase<Derived
 Eigen::MatrixXd ShapesInCamera(const Model& model) {
   Eigen::MatrixXd shapes(3, model.num_points * model.num_frames);
   for (int t = 0; t < model.num_frames; ++t) {
-    shapes.middleCols(t * model.num_points, model.num_points) = model.ShapeInCamera(t, 0);
+    shapes.middleCols(t * model.num_points, model.num_points) =
+        model.ShapeInCamera(t, 0);
   }
   return shapes;
 }
@@ -90,21 +93,26 @@ std::string ReadFile(const fs::path& path) {
 }
 
 // Writes `result` as the CLI does (timings included) into a fresh directory.
-std::string Write(const Measurements& measurements, const ReconstructResult& result) {
+std::string Write(const Measurements& measurements,
+                  const ReconstructResult& result) {
   ReconstructionReport report;
   report.input = "synthetic";
   report.start_used = StartMethodName(result.start.method);
   report.start_reprojection_rms = result.start.reprojection_rms;
   report.stages.push_back({"initialize", 0.0, 0.0, 0, result.start.seconds});
-  report.stages.push_back({"refine", result.refine.initial_cost, result.refine.final_cost,
-                           result.refine.iterations, result.refine.seconds});
+  report.stages.push_back({"refine", result.refine.initial_cost,
+                           result.refine.final_cost, result.refine.iterations,
+                           result.refine.seconds});
   report.reprojection_rms = result.refine.reprojection_rms;
   report.solution_usable = result.refine.usable;
   report.warnings = result.start.warnings;
-  const std::string dir = testing_util::MakeTempDir("nrsfm_determinism") + "/out";
+  const std::string dir =
+      testing_util::MakeTempDir("nrsfm_determinism") + "/out";
   WriteOptions options;
   options.write_ply = true;
-  EXPECT_TRUE(WriteReconstruction(dir, measurements, result.model, report, options).ok());
+  EXPECT_TRUE(
+      WriteReconstruction(dir, measurements, result.model, report, options)
+          .ok());
   return dir;
 }
 
@@ -126,7 +134,8 @@ void ExpectSameFiles(const std::string& dir_a, const std::string& dir_b) {
       }
       EXPECT_EQ(a.dump(), b.dump());
     } else {
-      EXPECT_TRUE(ReadFile(entry.path()) == ReadFile(other)) << relative << " differs";
+      EXPECT_TRUE(ReadFile(entry.path()) == ReadFile(other))
+          << relative << " differs";
     }
   }
   // 6 CSV files, result.json and F = 60 PLY files.
@@ -144,7 +153,8 @@ void CheckRunsAgree(int num_threads) {
   EXPECT_LT(first.refine.final_cost, first.refine.initial_cost);
   EXPECT_EQ(first.refine.iterations, second.refine.iterations);
   EXPECT_EQ(std::memcmp(&first.refine.final_cost, &second.refine.final_cost,
-                        sizeof(double)), 0);
+                        sizeof(double)),
+            0);
   ExpectSameModel(first.model, second.model);
   ExpectSameFiles(Write(s.measurements, first), Write(s.measurements, second));
 }
@@ -164,7 +174,9 @@ TEST(Determinism, OneThreadGivesTheBitsOfTwo) {
   ASSERT_TRUE(Reconstruct(Options(2), s.measurements, &two).ok());
   EXPECT_GT(one.refine.iterations, 1);
   EXPECT_EQ(one.refine.iterations, two.refine.iterations);
-  EXPECT_EQ(std::memcmp(&one.refine.final_cost, &two.refine.final_cost, sizeof(double)), 0);
+  EXPECT_EQ(std::memcmp(&one.refine.final_cost, &two.refine.final_cost,
+                        sizeof(double)),
+            0);
   ExpectSameModel(one.model, two.model);
 }
 
@@ -191,21 +203,29 @@ TEST(Determinism, EveryLinearSolverIsBitIdentical) {
       options.linear_solver = choice;
       Model first = start, second = start;
       RefineSummary first_summary, second_summary;
-      ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &first, &first_summary).ok());
-      ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &second, &second_summary).ok());
-      SCOPED_TRACE(first_summary.linear_solver + ", threads " + std::to_string(threads));
+      ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &first,
+                         &first_summary)
+                      .ok());
+      ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &second,
+                         &second_summary)
+                      .ok());
+      SCOPED_TRACE(first_summary.linear_solver + ", threads " +
+                   std::to_string(threads));
       EXPECT_TRUE(first_summary.usable) << first_summary.message;
       EXPECT_LT(first_summary.final_cost, 0.5 * first_summary.initial_cost);
       const bool explicit_schur = choice == LinearSolverChoice::kDenseSchur ||
                                   choice == LinearSolverChoice::kSparseSchur;
       if (threads == 1 || !explicit_schur) {
-        EXPECT_EQ(std::memcmp(&first_summary.final_cost, &second_summary.final_cost,
-                              sizeof(double)), 0);
+        EXPECT_EQ(std::memcmp(&first_summary.final_cost,
+                              &second_summary.final_cost, sizeof(double)),
+                  0);
         ExpectSameModel(first, second);
       } else {
         EXPECT_NEAR(first_summary.final_cost, second_summary.final_cost,
                     1e-12 * first_summary.final_cost);
-        EXPECT_LT((ShapesInCamera(first) - ShapesInCamera(second)).cwiseAbs().maxCoeff(),
+        EXPECT_LT((ShapesInCamera(first) - ShapesInCamera(second))
+                      .cwiseAbs()
+                      .maxCoeff(),
                   1e-9);
       }
     }

@@ -2,10 +2,10 @@
 // the rule, the index bookkeeping, and Reconstruct() leaving them out.
 #include "solvers/drop_unobserved.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "core/metrics.h"
 #include "core/synthetic.h"
@@ -14,8 +14,8 @@
 namespace nrsfm {
 namespace {
 
-SyntheticSequence Sequence(int frames, int points, int bases, double missing = 0.0,
-                           int cameras = 1) {
+SyntheticSequence Sequence(int frames, int points, int bases,
+                           double missing = 0.0, int cameras = 1) {
   SyntheticSequence sequence;
   if (cameras == 1) {
     RandomBasisOptions options;
@@ -51,11 +51,13 @@ TEST(FindUnobserved, PointsAndFramesBelowWhatTheModelNeeds) {
   ASSERT_TRUE(FindUnobserved(m, 2, &unobserved).ok());
   EXPECT_TRUE(unobserved.empty());  // complete: nothing
 
-  Hide(&m, 3, 2);                                 // point 2 misses one frame: kept
-  for (int t = 1; t < 20; ++t) Hide(&m, t, 4);    // point 4 in frame 0 only
-  for (int t = 0; t < 20; ++t) Hide(&m, t, 9);    // point 9 nowhere
-  for (int p = 0; p < 9; ++p) Hide(&m, 5, p);     // frame 5 sees 10, 11 of the kept
-  for (int p = 0; p < 7; ++p) Hide(&m, 6, p);     // frame 6 sees 4 of the kept: enough
+  Hide(&m, 3, 2);  // point 2 misses one frame: kept
+  for (int t = 1; t < 20; ++t) Hide(&m, t, 4);  // point 4 in frame 0 only
+  for (int t = 0; t < 20; ++t) Hide(&m, t, 9);  // point 9 nowhere
+  for (int p = 0; p < 9; ++p)
+    Hide(&m, 5, p);  // frame 5 sees 10, 11 of the kept
+  for (int p = 0; p < 7; ++p)
+    Hide(&m, 6, p);  // frame 6 sees 4 of the kept: enough
   ASSERT_TRUE(FindUnobserved(m, 2, &unobserved).ok());
   EXPECT_EQ(unobserved.num_bases, 2);
   EXPECT_EQ(unobserved.points, (std::vector<int>{4, 9}));
@@ -63,17 +65,20 @@ TEST(FindUnobserved, PointsAndFramesBelowWhatTheModelNeeds) {
 
   const std::string warning = UnobservedWarning(m, unobserved);
   EXPECT_EQ(warning,
-            "left out of the reconstruction (K = 2 needs every point seen in at least 3 "
-            "views and every frame's views to see at least 4 points), NaN in the result: "
-            "point 4 (seen in 1 view), point 9 (seen in 0 views); frame 5 (sees 2 points of those kept)");
+            "left out of the reconstruction (K = 2 needs every point seen in "
+            "at least 3 "
+            "views and every frame's views to see at least 4 points), NaN in "
+            "the result: "
+            "point 4 (seen in 1 view), point 9 (seen in 0 views); frame 5 "
+            "(sees 2 points of those kept)");
 }
 
 // The thresholds grow with K: 2K·… equations for 3K basis unknowns per
 // point, 2 per point seen for the view's pose and the frame's K weights.
 TEST(FindUnobserved, ThresholdsAreWhatKBasesNeed) {
   EXPECT_EQ(MinViewsPerPoint(1), 2);
-  EXPECT_EQ(MinViewsPerPoint(3), 5);   // 2 · 5 = 10 >= 9
-  EXPECT_EQ(MinViewsPerPoint(4), 6);   // 2 · 6 = 12 >= 12
+  EXPECT_EQ(MinViewsPerPoint(3), 5);  // 2 · 5 = 10 >= 9
+  EXPECT_EQ(MinViewsPerPoint(4), 6);  // 2 · 6 = 12 >= 12
   EXPECT_EQ(MinViewsPerPoint(12), 18);
   EXPECT_EQ(MinPointsPerView(1), 4);
   EXPECT_EQ(MinPointsPerView(4), 5);   // 2 · 5 = 10 >= 4 + 5
@@ -125,7 +130,8 @@ TEST(FindUnobserved, TooLittleLeftIsAnErrorAndTooSmallDataIsLeftToInitialize) {
   Unobserved unobserved;
   const Status status = FindUnobserved(m, 1, &unobserved);
   ASSERT_FALSE(status.ok());
-  EXPECT_NE(status.message().find("too few observations for K = 1"), std::string::npos)
+  EXPECT_NE(status.message().find("too few observations for K = 1"),
+            std::string::npos)
       << status.message();
   // Points 0-5 are seen once, so frame 0 keeps 2 points; then no frame is
   // left and neither are points 6 and 7.
@@ -149,8 +155,10 @@ TEST(FindUnobserved, ExpandModelPutsTheKeptValuesBackAndNaNElsewhere) {
   ASSERT_TRUE(kept.Validate().ok());
   // Frame 5, camera 1, point 8 of the input is frame 4, camera 1, point 6 kept.
   const Eigen::Vector2d kept_w = kept.W.block<2, 1>(kept.Row(4, 1), 6);
-  const Eigen::Vector2d input_w = s.measurements.W.block<2, 1>(s.measurements.Row(5, 1), 8);
-  EXPECT_TRUE(kept_w == input_w || (kept_w.array().isNaN().all() && input_w.array().isNaN().all()));
+  const Eigen::Vector2d input_w =
+      s.measurements.W.block<2, 1>(s.measurements.Row(5, 1), 8);
+  EXPECT_TRUE(kept_w == input_w ||
+              (kept_w.array().isNaN().all() && input_w.array().isNaN().all()));
   EXPECT_EQ(kept.visible(kept.View(4, 1), 6),
             s.measurements.visible(s.measurements.View(5, 1), 8));
 
@@ -160,8 +168,10 @@ TEST(FindUnobserved, ExpandModelPutsTheKeptValuesBackAndNaNElsewhere) {
   for (int t = 0, k = 0; t < 10; ++t) {
     if (t == 4) continue;
     for (int c = 0; c < 2; ++c) {
-      small.rotations.col(small.View(k, c)) = s.truth.rotations.col(s.truth.View(t, c));
-      small.translations.col(small.View(k, c)) = s.truth.translations.col(s.truth.View(t, c));
+      small.rotations.col(small.View(k, c)) =
+          s.truth.rotations.col(s.truth.View(t, c));
+      small.translations.col(small.View(k, c)) =
+          s.truth.translations.col(s.truth.View(t, c));
       small.scales(small.View(k, c)) = s.truth.scales(s.truth.View(t, c));
     }
     small.weights.col(k++) = s.truth.weights.col(t);
@@ -179,9 +189,11 @@ TEST(FindUnobserved, ExpandModelPutsTheKeptValuesBackAndNaNElsewhere) {
       const Eigen::Matrix2Xd projected = full.Project(t, c);
       for (int p = 0; p < 12; ++p) {
         const bool left_out = t == 4 || p == 0 || p == 7;
-        EXPECT_EQ(projected.col(p).array().isNaN().all(), left_out) << t << " " << p;
+        EXPECT_EQ(projected.col(p).array().isNaN().all(), left_out)
+            << t << " " << p;
         if (!left_out) {
-          EXPECT_LT((projected.col(p) - s.truth.Project(t, c).col(p)).norm(), 1e-12);
+          EXPECT_LT((projected.col(p) - s.truth.Project(t, c).col(p)).norm(),
+                    1e-12);
         }
       }
     }
@@ -194,7 +206,8 @@ TEST(FindUnobserved, ExpandModelPutsTheKeptValuesBackAndNaNElsewhere) {
 // WithoutUnobserved keeps: value 100·view + point of the input lands where
 // that observation lands; an array of another size is left as it is.
 TEST(FindUnobserved, PerObservationValuesFollowTheKeptObservations) {
-  const SyntheticSequence s = Sequence(10, 12, 2, 0.0, 2);  // F = 10, M = 2, P = 12
+  const SyntheticSequence s =
+      Sequence(10, 12, 2, 0.0, 2);  // F = 10, M = 2, P = 12
   Unobserved unobserved;
   unobserved.num_bases = 2;
   unobserved.points = {0, 7};
@@ -203,7 +216,8 @@ TEST(FindUnobserved, PerObservationValuesFollowTheKeptObservations) {
   for (int view = 0; view < 20; ++view) {
     for (int p = 0; p < 12; ++p) values(view, p) = 100 * view + p;
   }
-  const Eigen::ArrayXXd kept = WithoutUnobserved(values, s.measurements, unobserved);
+  const Eigen::ArrayXXd kept =
+      WithoutUnobserved(values, s.measurements, unobserved);
   const Measurements kept_m = WithoutUnobserved(s.measurements, unobserved);
   ASSERT_EQ(kept.rows(), kept_m.NumViews());  // 8 frames × 2 cameras
   ASSERT_EQ(kept.rows(), 16);
@@ -214,15 +228,19 @@ TEST(FindUnobserved, PerObservationValuesFollowTheKeptObservations) {
   // Kept frame 7 is input frame 8 (frames 4 and 9 left out); point 0 is 1.
   EXPECT_EQ(kept(kept_m.View(7, 0), 0), 1601.0);
   EXPECT_EQ(kept(0, 0), 1.0);
-  EXPECT_EQ(kept(kept_m.View(3, 1), 9), 711.0);  // input frame 3, camera 1, point 11
+  EXPECT_EQ(kept(kept_m.View(3, 1), 9),
+            711.0);  // input frame 3, camera 1, point 11
 
-  EXPECT_EQ(WithoutUnobserved(Eigen::ArrayXXd(), s.measurements, unobserved).size(), 0);
+  EXPECT_EQ(
+      WithoutUnobserved(Eigen::ArrayXXd(), s.measurements, unobserved).size(),
+      0);
   const Eigen::ArrayXXd wrong = Eigen::ArrayXXd::Ones(19, 12);
   EXPECT_EQ(WithoutUnobserved(wrong, s.measurements, unobserved).rows(), 19);
 }
 
 // Reconstruct() with default options and K bases; a usable refinement.
-void ReconstructWithK(const Measurements& m, int num_bases, ReconstructResult* result) {
+void ReconstructWithK(const Measurements& m, int num_bases,
+                      ReconstructResult* result) {
   ReconstructOptions options;
   options.start.num_bases = num_bases;
   ASSERT_TRUE(Reconstruct(options, m, result).ok());
@@ -235,14 +253,15 @@ void ReconstructWithK(const Measurements& m, int num_bases, ReconstructResult* r
 TEST(Reconstruct, LeavesOutAPointSeenOnceAndAFrameThatSeesNothing) {
   SyntheticSequence s = Sequence(60, 20, 2, 0.1);
   Measurements& m = s.measurements;
-  for (int t = 1; t < 60; ++t) Hide(&m, t, 6);  // point 6: frame 0 only
+  for (int t = 1; t < 60; ++t) Hide(&m, t, 6);   // point 6: frame 0 only
   for (int p = 0; p < 20; ++p) Hide(&m, 17, p);  // frame 17: nothing
   ReconstructResult result;
   ASSERT_NO_FATAL_FAILURE(ReconstructWithK(m, 2, &result));
   EXPECT_EQ(result.dropped_points, (std::vector<int>{6}));
   EXPECT_EQ(result.dropped_frames, (std::vector<int>{17}));
   ASSERT_FALSE(result.warnings.empty());
-  EXPECT_NE(result.warnings[0].find("point 6 (seen in 1 view); frame 17 (sees 0 points"),
+  EXPECT_NE(result.warnings[0].find(
+                "point 6 (seen in 1 view); frame 17 (sees 0 points"),
             std::string::npos)
       << result.warnings[0];
   const Model& model = result.model;
@@ -256,14 +275,18 @@ TEST(Reconstruct, LeavesOutAPointSeenOnceAndAFrameThatSeesNothing) {
   // Scored against the truth, the left-out frame and point are not counted
   // and the rest is exact.
   ShapeErrors errors;
-  ASSERT_TRUE(EvaluateShapes(ShapesOfModel(s.truth), ShapesOfModel(model), &errors).ok());
+  ASSERT_TRUE(
+      EvaluateShapes(ShapesOfModel(s.truth), ShapesOfModel(model), &errors)
+          .ok());
   EXPECT_EQ(errors.unscored_points, (std::vector<int>{6}));
   EXPECT_EQ(errors.unscored_frames, (std::vector<int>{17}));
   EXPECT_EQ(errors.num_frames, 60);
   EXPECT_EQ(errors.num_points, 20);
-  std::printf("left out point 6 and frame 17: e3D %.2e (object frame %.2e), reprojection "
-              "RMS %.2e\n",
-              errors.e3d_camera, errors.e3d, result.refine.reprojection_rms);
+  std::printf(
+      "left out point 6 and frame 17: e3D %.2e (object frame %.2e), "
+      "reprojection "
+      "RMS %.2e\n",
+      errors.e3d_camera, errors.e3d, result.refine.reprojection_rms);
   EXPECT_LT(errors.e3d_camera, 1e-4);
   EXPECT_LT(result.refine.reprojection_rms, 1e-6);
 }
@@ -283,7 +306,8 @@ TEST(Reconstruct, ObservationWeightsAndReferenceFrameFollowTheKeptFrames) {
   options.problem.term_weights = {{"smoothness", 1e-6}};
   options.problem.smoothness_edges.reference_frame = 59;
   options.problem.observation_weights = Eigen::ArrayXXd::Ones(60, 20);
-  options.solver.max_iterations = 5;  // the smoothness term's cgnr is slow; 5 steps show it
+  options.solver.max_iterations =
+      5;  // the smoothness term's cgnr is slow; 5 steps show it
   ReconstructResult weighted;
   ASSERT_TRUE(Reconstruct(options, m, &weighted).ok());
   ASSERT_TRUE(weighted.refine.usable) << weighted.refine.message;
@@ -314,10 +338,13 @@ TEST(Reconstruct, APointSeenTooRarelyForKIsLeftOutAndTheStartKeepsK) {
   EXPECT_EQ(result.dropped_points, (std::vector<int>{5}));
   EXPECT_TRUE(result.dropped_frames.empty());
   for (const std::string& warning : result.start.warnings) {
-    EXPECT_EQ(warning.find("allow a start with at most"), std::string::npos) << warning;
+    EXPECT_EQ(warning.find("allow a start with at most"), std::string::npos)
+        << warning;
   }
   ShapeErrors errors;
-  ASSERT_TRUE(EvaluateShapes(ShapesOfModel(s.truth), ShapesOfModel(result.model), &errors).ok());
+  ASSERT_TRUE(EvaluateShapes(ShapesOfModel(s.truth),
+                             ShapesOfModel(result.model), &errors)
+                  .ok());
   EXPECT_EQ(errors.unscored_points, (std::vector<int>{5}));
   EXPECT_LT(errors.e3d_camera, 1e-4);
 }

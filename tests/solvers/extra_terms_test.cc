@@ -1,13 +1,13 @@
 // End-to-end effect of the extra terms (problems/extra_terms.h) through
 // Refine(): smoothness, multi-camera rigidity, temporal priors.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
 #include <cmath>
 #include <iostream>
 #include <random>
 #include <vector>
-
-#include <gtest/gtest.h>
-#include <Eigen/Geometry>
-#include <Eigen/SVD>
 
 #include "core/metrics.h"
 #include "core/rotation.h"
@@ -45,7 +45,8 @@ SyntheticSequence BendingSheet(int num_frames) {
     truth.SetRotation(
         t, 0,
         (Eigen::AngleAxisd(0.5 * std::sin(phase), Eigen::Vector3d::UnitY()) *
-         Eigen::AngleAxisd(0.4 * std::cos(1.5 * phase), Eigen::Vector3d::UnitX()))
+         Eigen::AngleAxisd(0.4 * std::cos(1.5 * phase),
+                           Eigen::Vector3d::UnitX()))
             .toRotationMatrix());
   }
   Measurements& m = s.measurements;
@@ -54,7 +55,8 @@ SyntheticSequence BendingSheet(int num_frames) {
   m.num_points = n * n;
   m.W.resize(2 * num_frames, n * n);
   m.visible = VisibilityMask::Constant(num_frames, n * n, true);
-  for (int t = 0; t < num_frames; ++t) m.W.middleRows(2 * t, 2) = truth.Project(t, 0);
+  for (int t = 0; t < num_frames; ++t)
+    m.W.middleRows(2 * t, 2) = truth.Project(t, 0);
   return s;
 }
 
@@ -132,7 +134,8 @@ TEST(ExtraTerms, SmoothnessPullsAPoorlySeenPointToItsNeighbours) {
 
 // Angle between the estimated and the true rig rotation, up to the depth
 // reflection (R → D R D) that orthographic cameras cannot resolve.
-double RigErrorDegrees(const Eigen::Matrix3d& estimate, const Eigen::Matrix3d& truth) {
+double RigErrorDegrees(const Eigen::Matrix3d& estimate,
+                       const Eigen::Matrix3d& truth) {
   const Eigen::Matrix3d d = Eigen::Vector3d(1, 1, -1).asDiagonal();
   return std::min(RotationAngleBetween(estimate, truth),
                   RotationAngleBetween(estimate, d * truth * d)) /
@@ -162,16 +165,20 @@ void RefineShoeWithoutAndWith(const ShoeOptions& shoe, StartMethod start_method,
   init.method = start_method;
   Model start;
   StartSummary init_summary;
-  ASSERT_TRUE(Initialize(init, out->sequence.measurements, &start, &init_summary).ok());
+  ASSERT_TRUE(
+      Initialize(init, out->sequence.measurements, &start, &init_summary).ok());
   SolverOptions solver;
   solver.max_iterations = 100;
   RefineSummary summary;
   out->off = start;
-  ASSERT_TRUE(Refine(ProblemOptions(), solver, out->sequence.measurements, &out->off,
-                     &summary).ok());
+  ASSERT_TRUE(Refine(ProblemOptions(), solver, out->sequence.measurements,
+                     &out->off, &summary)
+                  .ok());
   ASSERT_TRUE(summary.usable) << summary.message;
   out->on = start;
-  ASSERT_TRUE(Refine(with, solver, out->sequence.measurements, &out->on, &summary).ok());
+  ASSERT_TRUE(
+      Refine(with, solver, out->sequence.measurements, &out->on, &summary)
+          .ok());
   ASSERT_TRUE(summary.usable) << summary.message;
 }
 
@@ -190,7 +197,8 @@ TEST(ExtraTerms, RigidityRecoversTheRigAndImprovesTheShapes) {
   const Model& off = run.off;
   const Model& on = run.on;
 
-  const Eigen::Matrix3d rig_truth = AngleAxisToRotation(s.truth.rig_rotations.col(0));
+  const Eigen::Matrix3d rig_truth =
+      AngleAxisToRotation(s.truth.rig_rotations.col(0));
   const double rig_on =
       RigErrorDegrees(AngleAxisToRotation(on.rig_rotations.col(0)), rig_truth);
   const double rig_off = RigErrorDegrees(MeanRelativeRotation(off), rig_truth);
@@ -198,8 +206,8 @@ TEST(ExtraTerms, RigidityRecoversTheRigAndImprovesTheShapes) {
   const double e3d_off = ComputeE3D(truth, CameraFrameShapes(off, 0));
   const double e3d_on = ComputeE3D(truth, CameraFrameShapes(on, 0));
   std::cout << "[ measured ] rigidity (shoe F = 60, M = 2, noise 0.01): rig "
-            << "rotation error " << rig_on << " deg with the term, "
-            << rig_off << " deg (mean of R_t1 R_t0^T) without; rig scale "
+            << "rotation error " << rig_on << " deg with the term, " << rig_off
+            << " deg (mean of R_t1 R_t0^T) without; rig scale "
             << on.rig_scales(0) << " (truth " << s.truth.rig_scales(0)
             << "); e3D " << e3d_on << " with, " << e3d_off << " without\n";
   EXPECT_LT(rig_on, 0.5);

@@ -23,10 +23,14 @@ TEST(FactorizationStart, RigidDataIsTomasiKanadeExactly) {
   ASSERT_TRUE(GenerateRandomBasis(options, &sequence).ok());
   Model model;
   FactorizationStartSummary summary;
-  ASSERT_TRUE(FactorizationStart(Centered(sequence.measurements), 1, &model, &summary).ok());
+  ASSERT_TRUE(
+      FactorizationStart(Centered(sequence.measurements), 1, &model, &summary)
+          .ok());
   // A 1 × 6 block is always rank 1.
   EXPECT_EQ(summary.mean_subblock_rank1_defect, 0.0);
-  EXPECT_LT(ComputeE3D(CameraFrameShapes(sequence.truth), CameraFrameShapes(model)), 1e-10);
+  EXPECT_LT(
+      ComputeE3D(CameraFrameShapes(sequence.truth), CameraFrameShapes(model)),
+      1e-10);
 }
 
 // Torresani et al. 2001: the SVD's Q̂ is Q A for an arbitrary 3K × 3K A, so the
@@ -40,7 +44,9 @@ TEST(FactorizationStart, SubBlocksAreNotRankOneForSeveralBases) {
   ASSERT_TRUE(GenerateRandomBasis(options, &sequence).ok());
   Model model;
   FactorizationStartSummary summary;
-  ASSERT_TRUE(FactorizationStart(Centered(sequence.measurements), 3, &model, &summary).ok());
+  ASSERT_TRUE(
+      FactorizationStart(Centered(sequence.measurements), 3, &model, &summary)
+          .ok());
   ASSERT_TRUE(model.Validate().ok());
   // Measured 0.48 (seed 1): σ₂ of a reordered block is half its σ₁.
   EXPECT_GT(summary.mean_subblock_rank1_defect, 0.1);
@@ -55,7 +61,9 @@ TEST(FactorizationStart, TooManyBasesIsAnError) {
   ASSERT_TRUE(GenerateRandomBasis(options, &sequence).ok());
   Model model;
   FactorizationStartSummary summary;
-  EXPECT_FALSE(FactorizationStart(Centered(sequence.measurements), 3, &model, &summary).ok());
+  EXPECT_FALSE(
+      FactorizationStart(Centered(sequence.measurements), 3, &model, &summary)
+          .ok());
 }
 
 }  // namespace

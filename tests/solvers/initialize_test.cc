@@ -1,5 +1,10 @@
 #include "solvers/initialize.h"
 
+#include <glog/logging.h>
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -7,11 +12,6 @@
 #include <limits>
 #include <random>
 #include <vector>
-
-#include <Eigen/Geometry>
-#include <Eigen/SVD>
-#include <glog/logging.h>
-#include <gtest/gtest.h>
 
 #include "core/mat_io.h"
 #include "core/metrics.h"
@@ -58,7 +58,9 @@ double RotationErrorUpToGauge(const Model& truth, const Model& estimate) {
     const Eigen::Matrix3d a = svd.matrixU() * svd.matrixV().transpose();
     double worst = 0.0;
     for (int t = 0; t < truth.num_frames; ++t) {
-      worst = std::max(worst, (estimate.Rotation(t, 0) - e * truth.Rotation(t, 0) * a).norm());
+      worst = std::max(
+          worst,
+          (estimate.Rotation(t, 0) - e * truth.Rotation(t, 0) * a).norm());
     }
     best = std::min(best, worst);
   }
@@ -66,11 +68,13 @@ double RotationErrorUpToGauge(const Model& truth, const Model& estimate) {
 }
 
 double E3D(const SyntheticSequence& sequence, const Model& model) {
-  return ComputeE3D(CameraFrameShapes(sequence.truth), CameraFrameShapes(model));
+  return ComputeE3D(CameraFrameShapes(sequence.truth),
+                    CameraFrameShapes(model));
 }
 
 SyntheticSequence RandomSequence(int num_frames, int num_points, int num_bases,
-                                 double noise, double missing, std::uint64_t seed) {
+                                 double noise, double missing,
+                                 std::uint64_t seed) {
   RandomBasisOptions options;
   options.num_frames = num_frames;
   options.num_points = num_points;
@@ -85,25 +89,29 @@ SyntheticSequence RandomSequence(int num_frames, int num_points, int num_bases,
 
 TEST(Initialize, RigidNoiseFreeIsExactForEveryStart) {
   const SyntheticSequence sequence = RandomSequence(100, 30, 1, 0.0, 0.0, 1);
-  for (StartMethod method :
-       {StartMethod::kFactorization, StartMethod::kRigid, StartMethod::kTriple}) {
+  for (StartMethod method : {StartMethod::kFactorization, StartMethod::kRigid,
+                             StartMethod::kTriple}) {
     SCOPED_TRACE(StartMethodName(method));
     StartOptions options;
     options.method = method;
     Model model;
     StartSummary summary;
-    ASSERT_TRUE(Initialize(options, sequence.measurements, &model, &summary).ok());
+    ASSERT_TRUE(
+        Initialize(options, sequence.measurements, &model, &summary).ok());
     ASSERT_TRUE(model.Validate().ok());
     EXPECT_LT(RotationErrorUpToGauge(sequence.truth, model), 1e-8);
     EXPECT_LT(E3D(sequence, model), 1e-8);
     EXPECT_LT(summary.reprojection_rms, 1e-9);
     EXPECT_EQ(summary.completion_rms, -1.0);
-    EXPECT_TRUE(summary.warnings.empty());  // no clamped metric upgrade among them
+    EXPECT_TRUE(
+        summary.warnings.empty());  // no clamped metric upgrade among them
     EXPECT_EQ(summary.method, method);
     // Each start's own diagnostics; -1 for the others'.
-    EXPECT_EQ(summary.subblock_rank1_defect >= 0.0, method == StartMethod::kFactorization);
+    EXPECT_EQ(summary.subblock_rank1_defect >= 0.0,
+              method == StartMethod::kFactorization);
     EXPECT_EQ(summary.rigid_rms >= 0.0, method != StartMethod::kFactorization);
-    EXPECT_EQ(summary.triple_sign_segments == 1, method == StartMethod::kTriple);
+    EXPECT_EQ(summary.triple_sign_segments == 1,
+              method == StartMethod::kTriple);
   }
 }
 
@@ -115,9 +123,11 @@ TEST(Initialize, AutoIsNotAStart) {
   ASSERT_EQ(options.method, StartMethod::kAuto);
   Model model;
   StartSummary summary;
-  const Status status = Initialize(options, sequence.measurements, &model, &summary);
+  const Status status =
+      Initialize(options, sequence.measurements, &model, &summary);
   ASSERT_FALSE(status.ok());
-  EXPECT_NE(status.message().find("auto is Reconstruct()'s choice"), std::string::npos)
+  EXPECT_NE(status.message().find("auto is Reconstruct()'s choice"),
+            std::string::npos)
       << status.message();
 }
 
@@ -132,11 +142,14 @@ TEST(Initialize, AutoIsNotAStart) {
 // seeds 1-10 (F = 200, P = 50) the better start's RMS was at most 0.18 of
 // the spread, the non-rigid RMS at least 0.29 of it.
 TEST(Initialize, NonRigidStartsTable) {
-  std::cout << "   K  noise  start          rms/spread  e3D      (seed 1, F = 150, P = 40)\n";
+  std::cout << "   K  noise  start          rms/spread  e3D      (seed 1, F = "
+               "150, P = 40)\n";
   for (double noise : {0.0, 0.01}) {
     for (int k = 2; k <= 5; ++k) {
-      SCOPED_TRACE("K = " + std::to_string(k) + ", noise " + std::to_string(noise));
-      const SyntheticSequence sequence = RandomSequence(150, 40, k, noise, 0.0, 1);
+      SCOPED_TRACE("K = " + std::to_string(k) + ", noise " +
+                   std::to_string(noise));
+      const SyntheticSequence sequence =
+          RandomSequence(150, 40, k, noise, 0.0, 1);
       const double spread = sequence.measurements.ImageSpreadRms();
       StartOptions options;
       options.num_bases = k;
@@ -144,19 +157,22 @@ TEST(Initialize, NonRigidStartsTable) {
       double e3d[2] = {0.0, 0.0};
       double rigid_rms = 0.0;  // of the rigid start's rigid Tomasi-Kanade model
       int i = 0;
-      for (StartMethod method : {StartMethod::kFactorization, StartMethod::kRigid}) {
+      for (StartMethod method :
+           {StartMethod::kFactorization, StartMethod::kRigid}) {
         options.method = method;
         Model model;
         StartSummary summary;
-        ASSERT_TRUE(Initialize(options, sequence.measurements, &model, &summary).ok());
+        ASSERT_TRUE(
+            Initialize(options, sequence.measurements, &model, &summary).ok());
         ASSERT_TRUE(model.Validate().ok());
         rms[i] = summary.reprojection_rms;
         e3d[i++] = E3D(sequence, model);
         if (method == StartMethod::kRigid) rigid_rms = summary.rigid_rms;
         std::cout << std::setw(4) << k << std::setw(7) << noise << "  "
-                  << std::setw(14) << std::left << StartMethodName(method) << std::right
-                  << std::setw(10) << std::setprecision(3) << summary.reprojection_rms / spread
-                  << "  " << std::setw(8) << e3d[i - 1] << "\n";
+                  << std::setw(14) << std::left << StartMethodName(method)
+                  << std::right << std::setw(10) << std::setprecision(3)
+                  << summary.reprojection_rms / spread << "  " << std::setw(8)
+                  << e3d[i - 1] << "\n";
       }
       // Monotone alternation: rigid start ≤ its rigid Tomasi-Kanade model.
       EXPECT_LE(rms[1], rigid_rms * (1.0 + 1e-9));
@@ -197,8 +213,9 @@ TEST(Initialize, ThirtyPercentMissing) {
   const int k = 3;
   const SyntheticSequence sequence = RandomSequence(150, 40, k, 0.0, 0.3, 2);
   LowRankCompletion completion;  // what Initialize does
-  ASSERT_TRUE(CompleteLowRankAffine(sequence.measurements, 3 * k, options.completion,
-                                    &completion).ok());
+  ASSERT_TRUE(CompleteLowRankAffine(sequence.measurements, 3 * k,
+                                    options.completion, &completion)
+                  .ok());
   const Measurements& m = sequence.measurements;
   double max_error = 0.0;
   for (int t = 0; t < m.num_frames; ++t) {
@@ -206,14 +223,17 @@ TEST(Initialize, ThirtyPercentMissing) {
     for (int p = 0; p < m.num_points; ++p) {
       if (m.visible(t, p)) continue;
       max_error = std::max(
-          max_error, (completion.completed.block<2, 1>(2 * t, p) - truth.col(p)).norm());
+          max_error,
+          (completion.completed.block<2, 1>(2 * t, p) - truth.col(p)).norm());
     }
   }
-  std::cout << "30 % missing, K = 3: completion max error " << max_error << "\n";
+  std::cout << "30 % missing, K = 3: completion max error " << max_error
+            << "\n";
   EXPECT_LT(max_error, 1e-6);
 
   options.num_bases = k;
-  ASSERT_TRUE(Initialize(options, sequence.measurements, &model, &summary).ok());
+  ASSERT_TRUE(
+      Initialize(options, sequence.measurements, &model, &summary).ok());
   ASSERT_TRUE(model.Validate().ok());
   const double spread = sequence.measurements.ImageSpreadRms();
   std::cout << "30 % missing, K = 3: kept " << StartMethodName(summary.method)
@@ -236,17 +256,20 @@ TEST(Initialize, TwoCamerasRecoverTheRigRotation) {
     // with it.
     StartOptions options;
     options.num_bases = 2;
-    options.method = occlusion ? StartMethod::kFactorization : StartMethod::kRigid;
+    options.method =
+        occlusion ? StartMethod::kFactorization : StartMethod::kRigid;
     Model model;
     StartSummary summary;
-    ASSERT_TRUE(Initialize(options, sequence.measurements, &model, &summary).ok());
+    ASSERT_TRUE(
+        Initialize(options, sequence.measurements, &model, &summary).ok());
     ASSERT_TRUE(model.Validate().ok());
     ASSERT_EQ(model.num_cameras, 2);
     EXPECT_DOUBLE_EQ(model.scales(model.View(0, 0)), 1.0);
     // Orthographic cameras leave a global depth reflection, which maps the
     // rig rotation R to D R D (solvers/multi_camera_start.h).
     const Eigen::Matrix3d d = Eigen::Vector3d(1.0, 1.0, -1.0).asDiagonal();
-    const Eigen::Matrix3d rig_truth = AngleAxisToRotation(sequence.truth.rig_rotations.col(0));
+    const Eigen::Matrix3d rig_truth =
+        AngleAxisToRotation(sequence.truth.rig_rotations.col(0));
     const Eigen::Matrix3d rig = AngleAxisToRotation(model.rig_rotations.col(0));
     const double error_deg =
         kRadToDeg * std::min(RotationAngleBetween(rig, rig_truth),
@@ -254,11 +277,14 @@ TEST(Initialize, TwoCamerasRecoverTheRigRotation) {
     const double missing =
         1.0 - static_cast<double>(sequence.measurements.NumVisible()) /
                   sequence.measurements.visible.size();
-    std::cout << "shoe, 2 cameras, " << 100.0 * missing << " % missing: rig rotation error "
-              << error_deg << " deg (baseline " << shoe.camera_baseline_deg
+    std::cout << "shoe, 2 cameras, " << 100.0 * missing
+              << " % missing: rig rotation error " << error_deg
+              << " deg (baseline " << shoe.camera_baseline_deg
               << "), rig scale " << model.rig_scales(0) << " (truth "
-              << sequence.truth.rig_scales(0) << "), kept " << StartMethodName(summary.method)
-              << ", rms/spread " << summary.reprojection_rms / sequence.measurements.ImageSpreadRms()
+              << sequence.truth.rig_scales(0) << "), kept "
+              << StartMethodName(summary.method) << ", rms/spread "
+              << summary.reprojection_rms /
+                     sequence.measurements.ImageSpreadRms()
               << "\n";
     EXPECT_LT(error_deg, 5.0);
     EXPECT_NEAR(model.rig_scales(0), sequence.truth.rig_scales(0),
@@ -272,8 +298,10 @@ void ExpectError(const StartOptions& options, const Measurements& m,
   Model model;
   StartSummary summary;
   const Status status = Initialize(options, m, &model, &summary);
-  ASSERT_FALSE(status.ok()) << "expected an error containing \"" << needle << "\"";
-  EXPECT_NE(status.message().find(needle), std::string::npos) << status.message();
+  ASSERT_FALSE(status.ok())
+      << "expected an error containing \"" << needle << "\"";
+  EXPECT_NE(status.message().find(needle), std::string::npos)
+      << status.message();
   VLOG(1) << status.message();
 }
 
@@ -284,8 +312,10 @@ TEST(Initialize, MissingEntriesThatAllowFewerBasesStartWithFewer) {
   const SyntheticSequence sequence = RandomSequence(30, 20, 2, 0.0, 0.0, 3);
   Measurements sparse_frame = sequence.measurements;
   sparse_frame.visible.row(4).setConstant(false);
-  sparse_frame.visible.row(4).head(5).setConstant(true);  // 5 < 3·2 + 1, ≥ 3·1 + 1
-  for (int c = 5; c < 20; ++c) sparse_frame.W.block<2, 1>(8, c).setConstant(std::nan(""));
+  sparse_frame.visible.row(4).head(5).setConstant(
+      true);  // 5 < 3·2 + 1, ≥ 3·1 + 1
+  for (int c = 5; c < 20; ++c)
+    sparse_frame.W.block<2, 1>(8, c).setConstant(std::nan(""));
   StartOptions options;
   options.num_bases = 2;
   options.method = StartMethod::kTriple;
@@ -300,8 +330,9 @@ TEST(Initialize, MissingEntriesThatAllowFewerBasesStartWithFewer) {
   EXPECT_LT(model.weights.row(1).cwiseAbs().maxCoeff(),
             0.1 * model.weights.row(0).cwiseAbs().maxCoeff());
   ASSERT_FALSE(summary.warnings.empty());
-  EXPECT_NE(summary.warnings[0].find("allow a start with at most K = 1 (a view sees only 5 "
-                                     "points"),
+  EXPECT_NE(summary.warnings[0].find(
+                "allow a start with at most K = 1 (a view sees only 5 "
+                "points"),
             std::string::npos)
       << summary.warnings[0];
   EXPECT_TRUE(model.Validate().ok());
@@ -336,7 +367,8 @@ TEST(Initialize, DegenerateDataGivesClearErrors) {
 
   Measurements sparse_frame = sequence.measurements;
   sparse_frame.visible.row(4).setConstant(false);
-  sparse_frame.visible.row(4).head(3).setConstant(true);  // 3 < 3·1 + 1: not even K = 1
+  sparse_frame.visible.row(4).head(3).setConstant(
+      true);  // 3 < 3·1 + 1: not even K = 1
   ExpectError(options, sparse_frame, "frame 4 sees 3 points");
 
   StartOptions no_bases = options;
@@ -355,8 +387,8 @@ TEST(Initialize, DegenerateDataGivesClearErrors) {
     ASSERT_TRUE(GenerateRandomBasis(still, &static_sequence).ok());
     StartOptions static_options;
     static_options.num_bases = k;
-    for (StartMethod method :
-         {StartMethod::kFactorization, StartMethod::kRigid, StartMethod::kTriple}) {
+    for (StartMethod method : {StartMethod::kFactorization, StartMethod::kRigid,
+                               StartMethod::kTriple}) {
       static_options.method = method;
       ExpectError(static_options, static_sequence.measurements, "no rotation");
     }
@@ -375,15 +407,19 @@ TEST(Initialize, TripleRecoversNoiseFreeNonRigidRotations) {
     options.method = StartMethod::kTriple;
     Model model;
     StartSummary summary;
-    ASSERT_TRUE(Initialize(options, sequence.measurements, &model, &summary).ok());
+    ASSERT_TRUE(
+        Initialize(options, sequence.measurements, &model, &summary).ok());
     EXPECT_EQ(summary.method, StartMethod::kTriple);
-    EXPECT_EQ(summary.triple_sign_segments, 1);  // smooth rotations: linked in time
+    EXPECT_EQ(summary.triple_sign_segments,
+              1);  // smooth rotations: linked in time
     EXPECT_TRUE(summary.warnings.empty());
     const double rotation_error = RotationErrorUpToGauge(sequence.truth, model);
     const double e3d = E3D(sequence, model);
     std::cout << "triple K = " << k << ": rotation error " << rotation_error
               << ", e3D " << e3d << ", rms/spread "
-              << summary.reprojection_rms / sequence.measurements.ImageSpreadRms() << "\n";
+              << summary.reprojection_rms /
+                     sequence.measurements.ImageSpreadRms()
+              << "\n";
     // Measured: rotation error 1.2e-7 / 1.8e-7 / 1.2e-7 and e3D 1.6e-7 /
     // 4.2e-6 / 7.6e-7 for K = 2 / 3 / 4 (LM tolerances of the triple solve).
     EXPECT_LT(rotation_error, 1e-6);
@@ -393,7 +429,8 @@ TEST(Initialize, TripleRecoversNoiseFreeNonRigidRotations) {
 
 // The same frames in shuffled order: the generator's truth with frame t
 // moved to order[t].
-SyntheticSequence ShuffledFrames(const SyntheticSequence& sequence, std::uint64_t seed) {
+SyntheticSequence ShuffledFrames(const SyntheticSequence& sequence,
+                                 std::uint64_t seed) {
   const int f = sequence.measurements.num_frames;
   std::vector<int> order(f);
   for (int t = 0; t < f; ++t) order[t] = t;
@@ -403,9 +440,11 @@ SyntheticSequence ShuffledFrames(const SyntheticSequence& sequence, std::uint64_
   for (int t = 0; t < f; ++t) {
     shuffled.measurements.W.middleRows<2>(2 * order[t]) =
         sequence.measurements.W.middleRows<2>(2 * t);
-    shuffled.measurements.visible.row(order[t]) = sequence.measurements.visible.row(t);
+    shuffled.measurements.visible.row(order[t]) =
+        sequence.measurements.visible.row(t);
     shuffled.truth.rotations.col(order[t]) = sequence.truth.rotations.col(t);
-    shuffled.truth.translations.col(order[t]) = sequence.truth.translations.col(t);
+    shuffled.truth.translations.col(order[t]) =
+        sequence.truth.translations.col(t);
     shuffled.truth.weights.col(order[t]) = sequence.truth.weights.col(t);
   }
   return shuffled;
@@ -420,11 +459,13 @@ TEST(Initialize, TripleSignsLinkATimeSequenceButNotShuffledFrames) {
   const SyntheticSequence sequence = RandomSequence(150, 40, 3, 0.0, 0.0, 2);
   for (bool shuffle : {false, true}) {
     SCOPED_TRACE(shuffle ? "shuffled" : "in order");
-    const SyntheticSequence input = shuffle ? ShuffledFrames(sequence, 5) : sequence;
+    const SyntheticSequence input =
+        shuffle ? ShuffledFrames(sequence, 5) : sequence;
     Model model;
     TripleStartSummary summary;
-    ASSERT_TRUE(
-        TripleStart(input.measurements, 3, AlternationOptions(), 1, 1, &model, &summary).ok());
+    ASSERT_TRUE(TripleStart(input.measurements, 3, AlternationOptions(), 1, 1,
+                            &model, &summary)
+                    .ok());
     EXPECT_EQ(summary.triple.sign_segments, shuffle ? 150 : 1);
     EXPECT_LT(RotationErrorUpToGauge(input.truth, model), 1e-6);
   }
@@ -438,7 +479,9 @@ TEST(Initialize, TripleSignsLinkATimeSequenceButNotShuffledFrames) {
 TEST(Initialize, TripleRotationsOfPickupWithinTwentyFiveDegrees) {
   NRSFM_SKIP_WITHOUT_SHARED_DATA(dir);
   Measurements measurements;
-  ASSERT_TRUE(ReadMeasurements(dir + "/pickup.mat", InputOptions(), &measurements).ok());
+  ASSERT_TRUE(
+      ReadMeasurements(dir + "/pickup.mat", InputOptions(), &measurements)
+          .ok());
   Eigen::MatrixXd rs;
   ASSERT_TRUE(ReadMatVariable(dir + "/pickup.mat", "Rs", &rs).ok());
   ASSERT_EQ(rs.rows(), 2 * measurements.num_frames);
@@ -453,11 +496,14 @@ TEST(Initialize, TripleRotationsOfPickupWithinTwentyFiveDegrees) {
   }
   Model model;
   TripleStartSummary summary;
-  ASSERT_TRUE(TripleStart(measurements, 12, AlternationOptions(), 1, 1, &model, &summary).ok());
+  ASSERT_TRUE(TripleStart(measurements, 12, AlternationOptions(), 1, 1, &model,
+                          &summary)
+                  .ok());
   EXPECT_EQ(summary.triple.sign_segments, 1);
   // RotationErrorUpToGauge is a Frobenius norm: 2√2 sin(θ/2) for angle θ.
   const double frobenius = RotationErrorUpToGauge(truth, model);
-  const double degrees = 2.0 * std::asin(frobenius / (2.0 * std::sqrt(2.0))) * 180.0 / M_PI;
+  const double degrees =
+      2.0 * std::asin(frobenius / (2.0 * std::sqrt(2.0))) * 180.0 / M_PI;
   std::cout << "pickup triple rotations: largest error " << degrees << " deg\n";
   EXPECT_LT(degrees, 25.0);
 }
@@ -474,19 +520,22 @@ TEST(Initialize, MethodNamesAndOptions) {
   EXPECT_EQ(method, StartMethod::kTriple);
   const Status status = ParseStartMethod("svd", &method);
   ASSERT_FALSE(status.ok());
-  EXPECT_NE(status.message().find("auto, factorization, rigid, triple"), std::string::npos);
+  EXPECT_NE(status.message().find("auto, factorization, rigid, triple"),
+            std::string::npos);
   EXPECT_STREQ(StartMethodName(StartMethod::kFactorization), "factorization");
 
   StartOptions options;
   EXPECT_TRUE(options.Check().ok());
   options.completion.max_iterations = 0;
-  EXPECT_NE(options.Check().message().find(
-                "start options: low-rank completion options: max_iterations must be >= 1"),
-            std::string::npos)
+  EXPECT_NE(
+      options.Check().message().find("start options: low-rank completion "
+                                     "options: max_iterations must be >= 1"),
+      std::string::npos)
       << options.Check().message();
   options = StartOptions();
   options.alternation.initial_deformation = -1.0;
-  EXPECT_NE(options.Check().message().find("initial_deformation must be finite and >= 0"),
+  EXPECT_NE(options.Check().message().find(
+                "initial_deformation must be finite and >= 0"),
             std::string::npos);
   options = StartOptions();
   options.alternation.rounds = -1;

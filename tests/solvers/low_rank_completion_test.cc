@@ -1,8 +1,8 @@
 #include "solvers/low_rank_completion.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "core/synthetic.h"
 
@@ -24,7 +24,8 @@ void MissingErrors(const SyntheticSequence& sequence,
       for (int p = 0; p < m.num_points; ++p) {
         if (m.visible(m.View(t, c), p)) continue;
         const double e =
-            (completion.completed.block<2, 1>(m.Row(t, c), p) - truth.col(p)).norm();
+            (completion.completed.block<2, 1>(m.Row(t, c), p) - truth.col(p))
+                .norm();
         *max_error = std::max(*max_error, e);
         sum += e * e;
         ++count;
@@ -53,7 +54,9 @@ TEST(LowRankCompletion, RecoversMissingEntriesOfNoiseFreeData) {
   LowRankCompletionOptions options;
   int rank = 9;
   LowRankCompletion completion;
-  ASSERT_TRUE(CompleteLowRankAffine(sequence.measurements, rank, options, &completion).ok());
+  ASSERT_TRUE(
+      CompleteLowRankAffine(sequence.measurements, rank, options, &completion)
+          .ok());
   double max_error = 0.0, rms_error = 0.0;
   MissingErrors(sequence, completion, &max_error, &rms_error);
   // Ridge bias only (header: about ridge_floor² relative).
@@ -70,7 +73,9 @@ TEST(LowRankCompletion, RecoversMissingEntriesOfNoiseFreeData) {
 
   // Without the ridge the fit is exact to round-off.
   options.ridge_floor = 0.0;
-  ASSERT_TRUE(CompleteLowRankAffine(sequence.measurements, rank, options, &completion).ok());
+  ASSERT_TRUE(
+      CompleteLowRankAffine(sequence.measurements, rank, options, &completion)
+          .ok());
   MissingErrors(sequence, completion, &max_error, &rms_error);
   EXPECT_LT(max_error, 1e-9);
 }
@@ -81,7 +86,9 @@ TEST(LowRankCompletion, NoisyCompletionStaysAtTheNoiseLevel) {
   LowRankCompletionOptions options;
   int rank = 6;
   LowRankCompletion completion;
-  ASSERT_TRUE(CompleteLowRankAffine(sequence.measurements, rank, options, &completion).ok());
+  ASSERT_TRUE(
+      CompleteLowRankAffine(sequence.measurements, rank, options, &completion)
+          .ok());
   double max_error = 0.0, rms_error = 0.0;
   MissingErrors(sequence, completion, &max_error, &rms_error);
   // A 2D point with noise σ per coordinate is off by σ√2 RMS; the completed
@@ -127,11 +134,14 @@ TEST(LowRankCompletion, UnderdeterminedRowsAndColumnsAreErrors) {
   few_views.visible.col(11).head(2).setConstant(true);  // 2 views < ⌈6/2⌉
   status = CompleteLowRankAffine(few_views, rank, options, &completion);
   ASSERT_FALSE(status.ok());
-  EXPECT_NE(status.message().find("point 11 is seen in 2 views"), std::string::npos)
+  EXPECT_NE(status.message().find("point 11 is seen in 2 views"),
+            std::string::npos)
       << status.message();
 
   rank = 0;
-  EXPECT_FALSE(CompleteLowRankAffine(sequence.measurements, rank, options, &completion).ok());
+  EXPECT_FALSE(
+      CompleteLowRankAffine(sequence.measurements, rank, options, &completion)
+          .ok());
 }
 
 }  // namespace

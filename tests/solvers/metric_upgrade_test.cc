@@ -1,10 +1,10 @@
 #include "solvers/metric_upgrade.h"
 
-#include <random>
+#include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
-#include <gtest/gtest.h>
+#include <random>
 
 #include "core/rotation.h"
 
@@ -34,24 +34,30 @@ TEST(MetricUpgrade, RecoversTheGaugeOfScaledRotations) {
   // H ∝ G Gᵀ of the truth; every upgraded block has orthogonal rows of
   // equal norm.
   const Eigen::Matrix3d h_true = g_true * g_true.transpose();
-  EXPECT_LT((upgrade.h / upgrade.h.norm() - h_true / h_true.norm()).norm(), 1e-10);
+  EXPECT_LT((upgrade.h / upgrade.h.norm() - h_true / h_true.norm()).norm(),
+            1e-10);
   EXPECT_LT((upgrade.g * upgrade.g.transpose() - upgrade.h).norm(), 1e-10);
   for (int i = 0; i < n; ++i) {
-    const Eigen::Matrix<double, 2, 3> m = blocks.middleRows<2>(2 * i) * upgrade.g;
+    const Eigen::Matrix<double, 2, 3> m =
+        blocks.middleRows<2>(2 * i) * upgrade.g;
     EXPECT_NEAR(m.row(0).dot(m.row(1)) / m.squaredNorm(), 0.0, 1e-10);
-    EXPECT_NEAR((m.row(0).squaredNorm() - m.row(1).squaredNorm()) / m.squaredNorm(),
-                0.0, 1e-10);
+    EXPECT_NEAR(
+        (m.row(0).squaredNorm() - m.row(1).squaredNorm()) / m.squaredNorm(),
+        0.0, 1e-10);
   }
 }
 
 TEST(MetricUpgrade, NoRotationIsAnError) {
-  const Eigen::Matrix3d r = AngleAxisToRotation(Eigen::Vector3d(0.2, 0.1, -0.3));
+  const Eigen::Matrix3d r =
+      AngleAxisToRotation(Eigen::Vector3d(0.2, 0.1, -0.3));
   Eigen::MatrixX3d blocks(2 * 10, 3);
-  for (int i = 0; i < 10; ++i) blocks.middleRows<2>(2 * i) = (1.0 + i) * r.topRows<2>();
+  for (int i = 0; i < 10; ++i)
+    blocks.middleRows<2>(2 * i) = (1.0 + i) * r.topRows<2>();
   MetricUpgrade upgrade;
   const Status status = SolveMetricUpgrade(blocks, &upgrade);
   ASSERT_FALSE(status.ok());
-  EXPECT_NE(status.message().find("rotation"), std::string::npos) << status.message();
+  EXPECT_NE(status.message().find("rotation"), std::string::npos)
+      << status.message();
   EXPECT_LT(upgrade.conditioning, kMinMetricConditioning);
 }
 
@@ -63,12 +69,14 @@ TEST(MetricUpgrade, IndefiniteMetricIsClampedToPositiveDefinite) {
   int indefinite = 0;
   for (int trial = 0; trial < 30; ++trial) {
     Eigen::MatrixX3d blocks(2 * 12, 3);
-    for (int i = 0; i < 24; ++i) blocks.row(i) = RandomVector(&engine).transpose();
+    for (int i = 0; i < 24; ++i)
+      blocks.row(i) = RandomVector(&engine).transpose();
     MetricUpgrade upgrade;
     if (!SolveMetricUpgrade(blocks, &upgrade).ok()) continue;
     const Eigen::Vector3d values =
         Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(upgrade.h).eigenvalues();
-    EXPECT_GE(values.minCoeff(), (1.0 - 1e-9) * kMinEigenvalueFraction * values.maxCoeff());
+    EXPECT_GE(values.minCoeff(),
+              (1.0 - 1e-9) * kMinEigenvalueFraction * values.maxCoeff());
     EXPECT_TRUE(upgrade.g.allFinite());
     if (upgrade.was_indefinite) ++indefinite;
   }
@@ -77,7 +85,8 @@ TEST(MetricUpgrade, IndefiniteMetricIsClampedToPositiveDefinite) {
 
 TEST(MetricUpgrade, RankBelowThreeMeansNoRotation) {
   EXPECT_TRUE(CheckRotationObservable(Eigen::Vector3d(3.0, 2.0, 0.1)).ok());
-  const Status status = CheckRotationObservable(Eigen::Vector3d(3.0, 2.0, 1e-9));
+  const Status status =
+      CheckRotationObservable(Eigen::Vector3d(3.0, 2.0, 1e-9));
   ASSERT_FALSE(status.ok());
   EXPECT_NE(status.message().find("no rotation"), std::string::npos);
   EXPECT_FALSE(CheckRotationObservable(Eigen::Vector2d(3.0, 2.0)).ok());

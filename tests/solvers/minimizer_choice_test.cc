@@ -38,8 +38,9 @@ TEST(MinimizerChoice, StructuredIsAMinimizerOfItsOwn) {
   // Any other name is a linear solver of Ceres' minimiser, as given.
   for (LinearSolverChoice linear :
        {LinearSolverChoice::kDenseSchur, LinearSolverChoice::kSparseSchur,
-        LinearSolverChoice::kIterativeSchur, LinearSolverChoice::kSparseNormalCholesky,
-        LinearSolverChoice::kCgnr, LinearSolverChoice::kDenseQr}) {
+        LinearSolverChoice::kIterativeSchur,
+        LinearSolverChoice::kSparseNormalCholesky, LinearSolverChoice::kCgnr,
+        LinearSolverChoice::kDenseQr}) {
     choice = ChooseMinimizer(linear, &builder);
     EXPECT_EQ(choice.minimizer, Minimizer::kCeres) << LinearSolverName(linear);
     EXPECT_EQ(choice.ceres_linear_solver, linear) << LinearSolverName(linear);
@@ -52,9 +53,11 @@ TEST(MinimizerChoice, AutoWithoutFreePointsRunsCeres) {
   ProblemOptions options;
   options.constant_basis = true;
   ASSERT_TRUE(builder.AddReprojectionTerms(options).ok());
-  const MinimizerChoice choice = ChooseMinimizer(LinearSolverChoice::kAuto, &builder);
+  const MinimizerChoice choice =
+      ChooseMinimizer(LinearSolverChoice::kAuto, &builder);
   EXPECT_EQ(choice.minimizer, Minimizer::kCeres);
-  EXPECT_EQ(choice.ceres_linear_solver, ChooseLinearSolver(DescribeProblem(&builder)));
+  EXPECT_EQ(choice.ceres_linear_solver,
+            ChooseLinearSolver(DescribeProblem(&builder)));
   EXPECT_NE(choice.ceres_linear_solver, LinearSolverChoice::kStructured);
 }
 

@@ -3,11 +3,11 @@
 // use of them.
 #include "solvers/prior_rule.h"
 
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
 #include <cmath>
 #include <random>
-
-#include <gtest/gtest.h>
-#include <Eigen/Geometry>
 
 #include "core/rotation.h"
 #include "core/synthetic.h"
@@ -32,8 +32,9 @@ Model PathModel(const std::vector<double>& angles_deg) {
   Model model;
   model.Resize(static_cast<int>(angles_deg.size()), 1, 4, 1);
   for (int t = 0; t < model.num_frames; ++t) {
-    model.SetRotation(t, 0, AngleAxisToRotation(Eigen::Vector3d(
-                                0, angles_deg[t] * M_PI / 180.0, 0)));
+    model.SetRotation(t, 0,
+                      AngleAxisToRotation(
+                          Eigen::Vector3d(0, angles_deg[t] * M_PI / 180.0, 0)));
   }
   return model;
 }
@@ -79,11 +80,14 @@ TEST(PriorRule, TrackStepSkipsPointsMissingInEitherFrame) {
 
 TEST(PriorRule, PathAccelerationOfConstantAndAcceleratingPaths) {
   // Constant 5 degrees per frame: no acceleration.
-  EXPECT_NEAR(MedianPathAccelerationDeg(PathModel({0, 5, 10, 15, 20})), 0.0, 1e-9);
+  EXPECT_NEAR(MedianPathAccelerationDeg(PathModel({0, 5, 10, 15, 20})), 0.0,
+              1e-9);
   // Steps 1, 2, 3, 4 degrees: acceleration 1 degree per frame² everywhere.
-  EXPECT_NEAR(MedianPathAccelerationDeg(PathModel({0, 1, 3, 6, 10})), 1.0, 1e-9);
+  EXPECT_NEAR(MedianPathAccelerationDeg(PathModel({0, 1, 3, 6, 10})), 1.0,
+              1e-9);
   EXPECT_EQ(MedianPathAccelerationDeg(PathModel({0, 1})), -1.0);
-  EXPECT_EQ(MedianPathAccelerationDeg(PathModel({0, 1, 3, 6}), 2), -1.0);  // F < 2L + 1
+  EXPECT_EQ(MedianPathAccelerationDeg(PathModel({0, 1, 3, 6}), 2),
+            -1.0);  // F < 2L + 1
   // θ_t = t²/2: a_L = 1 at every lag, so a_4 − a_1 / 16 = 15 / 16.
   std::vector<double> accelerating, jittered;
   for (int t = 0; t < 12; ++t) {
@@ -95,7 +99,8 @@ TEST(PriorRule, PathAccelerationOfConstantAndAcceleratingPaths) {
   EXPECT_NEAR(PathAccelerationDeg(PathModel(accelerating)), 15.0 / 16.0, 1e-9);
   EXPECT_NEAR(MedianPathAccelerationDeg(PathModel(jittered)), 2.0, 1e-9);
   EXPECT_NEAR(PathAccelerationDeg(PathModel(jittered)), 0.0, 1e-9);
-  EXPECT_EQ(PathAccelerationDeg(PathModel({0, 1, 2, 3, 4, 5, 6, 7})), -1.0);  // F < 9
+  EXPECT_EQ(PathAccelerationDeg(PathModel({0, 1, 2, 3, 4, 5, 6, 7})),
+            -1.0);  // F < 9
 }
 
 TEST(PriorRule, LargestViewAngle) {
@@ -109,12 +114,14 @@ TEST(PriorRule, DecisionsFollowTheThresholds) {
   // P = 2 points, K = 1: 3K ≥ P / 2.
   ASSERT_TRUE(DecidePriors(options, Translating(12, 0.05), 1, &video).ok());
   EXPECT_TRUE(video.video);
-  EXPECT_EQ(video.term_weights.at("temporal_shape"), options.temporal_shape_weight);
+  EXPECT_EQ(video.term_weights.at("temporal_shape"),
+            options.temporal_shape_weight);
 
   std::vector<double> constant, shaking;
   for (int t = 0; t < 12; ++t) {
     constant.push_back(5.0 * t);
-    shaking.push_back(5.0 * t + 2.0 * std::sin(0.5 * t));  // a real, varying path
+    shaking.push_back(5.0 * t +
+                      2.0 * std::sin(0.5 * t));  // a real, varying path
   }
   PriorDecision smooth = video;
   DecidePathPrior(options, PathModel(constant), &smooth);
@@ -142,11 +149,13 @@ TEST(PriorRule, DecisionsFollowTheThresholds) {
   // Frames in no order get the deformation prior instead of a temporal
   // term, and no path prior after.
   PriorDecision unordered;
-  ASSERT_TRUE(DecidePriors(options, Translating(7, 0.05), 1, &unordered).ok());  // too short to tell
+  ASSERT_TRUE(DecidePriors(options, Translating(7, 0.05), 1, &unordered)
+                  .ok());  // too short to tell
   EXPECT_FALSE(unordered.video);
   DecidePathPrior(options, PathModel(constant), &unordered);
   ASSERT_EQ(unordered.term_weights.size(), 1u);
-  EXPECT_EQ(unordered.term_weights.at("deformation"), options.deformation_weight);
+  EXPECT_EQ(unordered.term_weights.at("deformation"),
+            options.deformation_weight);
   EXPECT_EQ(unordered.path_acceleration_deg, -1.0);
 }
 
@@ -202,13 +211,18 @@ TEST(PriorRule, TemporalNoiseRmsReadsTheNoiseOfSmoothTracks) {
     }
   }
   Measurements exact, noisy;
-  ASSERT_TRUE(Measurements::FromMatrixWithNaN(smooth, 1, "smooth", &exact).ok());
-  ASSERT_TRUE(Measurements::FromMatrixWithNaN(smooth + 0.01 * noise, 1, "noisy", &noisy).ok());
+  ASSERT_TRUE(
+      Measurements::FromMatrixWithNaN(smooth, 1, "smooth", &exact).ok());
+  ASSERT_TRUE(
+      Measurements::FromMatrixWithNaN(smooth + 0.01 * noise, 1, "noisy", &noisy)
+          .ok());
   EXPECT_LT(TemporalNoiseRms(exact), 1e-12);
   // 7 880 differences: the median's standard error is ~1.5 %.
   EXPECT_NEAR(TemporalNoiseRms(noisy), 0.01, 0.0006);
   // Fewer than four frames: nothing to measure.
-  ASSERT_TRUE(Measurements::FromMatrixWithNaN(smooth.topRows(6), 1, "short", &exact).ok());
+  ASSERT_TRUE(
+      Measurements::FromMatrixWithNaN(smooth.topRows(6), 1, "short", &exact)
+          .ok());
   EXPECT_EQ(TemporalNoiseRms(exact), -1.0);
 }
 
@@ -230,13 +244,18 @@ TEST(PriorRule, TrackRankFindsTheBasesThatExplainTheTracks) {
     SyntheticSequence s;
     ASSERT_TRUE(GenerateRandomBasis(data, &s).ok());
     for (const bool video : {false, true}) {
-      SCOPED_TRACE(::testing::Message() << "noise " << noise << ", video " << video);
+      SCOPED_TRACE(::testing::Message()
+                   << "noise " << noise << ", video " << video);
       PriorDecision three;
-      ASSERT_TRUE(AnalyseTrackRank(PriorRuleOptions(), s.measurements, 3, video, &three).ok());
+      ASSERT_TRUE(
+          AnalyseTrackRank(PriorRuleOptions(), s.measurements, 3, video, &three)
+              .ok());
       EXPECT_TRUE(three.model_explains_tracks);
       EXPECT_EQ(three.camera_num_bases, 3);
       PriorDecision two;
-      ASSERT_TRUE(AnalyseTrackRank(PriorRuleOptions(), s.measurements, 2, video, &two).ok());
+      ASSERT_TRUE(
+          AnalyseTrackRank(PriorRuleOptions(), s.measurements, 2, video, &two)
+              .ok());
       EXPECT_EQ(two.model_explains_tracks, video);
       EXPECT_EQ(two.camera_num_bases, video ? 2 : 3);
       if (noise > 0.0 && !video) {
@@ -286,29 +305,36 @@ TEST(PriorRule, CameraBasesStopAtTheCap) {
 TEST(PriorRule, OptionsAreChecked) {
   PriorRuleOptions options;
   options.min_track_order = 1.0;
-  EXPECT_NE(options.Check().message().find("min_track_order"), std::string::npos);
+  EXPECT_NE(options.Check().message().find("min_track_order"),
+            std::string::npos);
   options = PriorRuleOptions();
   options.rotation_acceleration_weight = NAN;
   EXPECT_NE(options.Check().message().find("rotation_acceleration_weight"),
             std::string::npos);
   options = PriorRuleOptions();
   options.min_basis_fraction = 0.0;
-  EXPECT_NE(options.Check().message().find("min_basis_fraction"), std::string::npos);
+  EXPECT_NE(options.Check().message().find("min_basis_fraction"),
+            std::string::npos);
   options = PriorRuleOptions();
   options.deformation_weight = 0.0;
-  EXPECT_NE(options.Check().message().find("deformation_weight"), std::string::npos);
+  EXPECT_NE(options.Check().message().find("deformation_weight"),
+            std::string::npos);
   options = PriorRuleOptions();
   options.camera_rank_fraction = 1.0;
-  EXPECT_NE(options.Check().message().find("camera_rank_fraction"), std::string::npos);
+  EXPECT_NE(options.Check().message().find("camera_rank_fraction"),
+            std::string::npos);
   options = PriorRuleOptions();
   options.camera_fit_threshold = 0.9;
-  EXPECT_NE(options.Check().message().find("camera_fit_threshold"), std::string::npos);
+  EXPECT_NE(options.Check().message().find("camera_fit_threshold"),
+            std::string::npos);
   options = PriorRuleOptions();
   options.camera_function_tolerance = 0.0;
-  EXPECT_NE(options.Check().message().find("camera_function_tolerance"), std::string::npos);
+  EXPECT_NE(options.Check().message().find("camera_function_tolerance"),
+            std::string::npos);
   options = PriorRuleOptions();
   options.temporal_shape_weight = -1.0;
-  EXPECT_NE(options.Check().message().find("temporal_shape_weight"), std::string::npos);
+  EXPECT_NE(options.Check().message().find("temporal_shape_weight"),
+            std::string::npos);
   options = PriorRuleOptions();
   options.max_path_acceleration_deg = -0.1;
   EXPECT_NE(options.Check().message().find("max_path_acceleration_deg"),

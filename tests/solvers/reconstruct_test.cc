@@ -1,17 +1,16 @@
 // End to end (closed-form start + refinement) on seeded random-basis data.
 #include "solvers/reconstruct.h"
 
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <thread>
 #include <utility>
 #include <vector>
-
-#include <Eigen/Core>
-#include <Eigen/Geometry>
-
-#include <gtest/gtest.h>
 
 #include "core/metrics.h"
 #include "core/random.h"
@@ -55,14 +54,17 @@ TEST(Reconstruct, NoiseFreeIsExact) {
   ASSERT_TRUE(Reconstruct(Options(), s.measurements, &result).ok());
   EXPECT_TRUE(result.refine.usable) << result.refine.message;
   const double e3d = E3D(s.truth, result.model);
-  std::printf("noise-free: start %s rms %.3e, refined rms %.3e (spread %.3f), e3D %.2e\n",
-              StartMethodName(result.start.method), result.start.reprojection_rms,
-              result.refine.reprojection_rms, spread, e3d);
+  std::printf(
+      "noise-free: start %s rms %.3e, refined rms %.3e (spread %.3f), e3D "
+      "%.2e\n",
+      StartMethodName(result.start.method), result.start.reprojection_rms,
+      result.refine.reprojection_rms, spread, e3d);
   EXPECT_LT(result.refine.reprojection_rms, 1e-6 * spread);
   EXPECT_LT(e3d, 1e-3);
   // The reported RMS is the model's (computed on tracks of unit spread and
   // scaled back: equal to rounding, here 3e-8 of an RMS at 1e-11).
-  EXPECT_NEAR(result.refine.reprojection_rms, ReprojectionRms(s.measurements, result.model),
+  EXPECT_NEAR(result.refine.reprojection_rms,
+              ReprojectionRms(s.measurements, result.model),
               1e-6 * result.refine.reprojection_rms);
   EXPECT_GE(result.total_seconds, result.start.seconds + result.refine.seconds);
 }
@@ -85,20 +87,25 @@ TEST(Reconstruct, OnePercentNoiseIsWithinTwiceTheTrueModelRefit) {
 
   Model refit = s.truth;
   RefineSummary refit_summary;
-  ASSERT_TRUE(Refine(ProblemOptions(), SolverOptions(), s.measurements, &refit, &refit_summary).ok());
+  ASSERT_TRUE(Refine(ProblemOptions(), SolverOptions(), s.measurements, &refit,
+                     &refit_summary)
+                  .ok());
   ASSERT_TRUE(refit_summary.usable);
 
   const double frob = ComputeFrobeniusZSign(CameraFrameShapes(s.truth),
                                             CameraFrameShapes(result.model));
-  const double frob_refit =
-      ComputeFrobeniusZSign(CameraFrameShapes(s.truth), CameraFrameShapes(refit));
+  const double frob_refit = ComputeFrobeniusZSign(CameraFrameShapes(s.truth),
+                                                  CameraFrameShapes(refit));
   std::printf(
-      "1%% noise: frob_zsign reconstruction %.4e (rms %.4e), true-model refit %.4e "
+      "1%% noise: frob_zsign reconstruction %.4e (rms %.4e), true-model refit "
+      "%.4e "
       "(rms %.4e), ratio %.3f\n",
-      frob, result.refine.reprojection_rms, frob_refit, refit_summary.reprojection_rms,
-      frob / frob_refit);
-  ::testing::Test::RecordProperty("frob_zsign_reconstruction", std::to_string(frob));
-  ::testing::Test::RecordProperty("frob_zsign_true_model_refit", std::to_string(frob_refit));
+      frob, result.refine.reprojection_rms, frob_refit,
+      refit_summary.reprojection_rms, frob / frob_refit);
+  ::testing::Test::RecordProperty("frob_zsign_reconstruction",
+                                  std::to_string(frob));
+  ::testing::Test::RecordProperty("frob_zsign_true_model_refit",
+                                  std::to_string(frob_refit));
   EXPECT_LT(frob, 2.0 * frob_refit);
   EXPECT_GT(frob_refit, 0.0);
 }
@@ -113,9 +120,11 @@ TEST(Reconstruct, ThirtyPercentMissingStillConverges) {
   EXPECT_NE(result.refine.message.find("tolerance"), std::string::npos)
       << result.refine.message;
   const double e3d = E3D(s.truth, result.model);
-  std::printf("30%% missing: start rms %.3e, refined rms %.3e, e3D %.2e, %d iterations\n",
-              result.start.reprojection_rms, result.refine.reprojection_rms, e3d,
-              result.refine.iterations);
+  std::printf(
+      "30%% missing: start rms %.3e, refined rms %.3e, e3D %.2e, %d "
+      "iterations\n",
+      result.start.reprojection_rms, result.refine.reprojection_rms, e3d,
+      result.refine.iterations);
   EXPECT_LT(result.refine.reprojection_rms, 1e-6 * spread);
   EXPECT_LT(e3d, 1e-3);
 }
@@ -134,14 +143,16 @@ TEST(Reconstruct, AutoKeepsTheLowerRefinedCostOfTwoStarts) {
   ReconstructOptions options;
   options.start.num_bases = 4;
   ReconstructResult by_method[2];
-  const StartMethod methods[2] = {StartMethod::kFactorization, StartMethod::kRigid};
+  const StartMethod methods[2] = {StartMethod::kFactorization,
+                                  StartMethod::kRigid};
   for (int i = 0; i < 2; ++i) {
     options.start.method = methods[i];
     ASSERT_TRUE(Reconstruct(options, s.measurements, &by_method[i]).ok());
     ASSERT_TRUE(by_method[i].refine.usable);
-    std::printf("%s start: rms %.3e, refined cost %.3e, e3D %.2e\n",
-                StartMethodName(methods[i]), by_method[i].start.reprojection_rms,
-                by_method[i].refine.final_cost, E3D(s.truth, by_method[i].model));
+    std::printf(
+        "%s start: rms %.3e, refined cost %.3e, e3D %.2e\n",
+        StartMethodName(methods[i]), by_method[i].start.reprojection_rms,
+        by_method[i].refine.final_cost, E3D(s.truth, by_method[i].model));
   }
   options.start.method = StartMethod::kAuto;
   ReconstructResult automatic;
@@ -153,13 +164,15 @@ TEST(Reconstruct, AutoKeepsTheLowerRefinedCostOfTwoStarts) {
   EXPECT_EQ(automatic.model.basis, by_method[better].model.basis);
   EXPECT_EQ(automatic.model.rotations, by_method[better].model.rotations);
   // The case the rule is for: the rigid start fits better, refines worse.
-  EXPECT_LT(by_method[1].start.reprojection_rms, by_method[0].start.reprojection_rms);
+  EXPECT_LT(by_method[1].start.reprojection_rms,
+            by_method[0].start.reprojection_rms);
   EXPECT_EQ(better, 0);
   EXPECT_LT(E3D(s.truth, automatic.model), 1e-6);
 }
 
 // `count` random modes of P points (standard normal coordinates).
-std::vector<Eigen::Matrix3Xd> RandomModes(int count, int num_points, std::uint64_t seed) {
+std::vector<Eigen::Matrix3Xd> RandomModes(int count, int num_points,
+                                          std::uint64_t seed) {
   Random random(seed, /*stream=*/1);
   std::vector<Eigen::Matrix3Xd> modes(count, Eigen::Matrix3Xd(3, num_points));
   for (Eigen::Matrix3Xd& mode : modes) {
@@ -222,10 +235,14 @@ TEST(Reconstruct, VideoWithLargeBasisTakesTheTripleStartAndTemporalTerms) {
   EXPECT_NEAR(result.largest_view_angle_deg, 150.0, 5.0);
 
   ShapeErrors errors;
-  ASSERT_TRUE(EvaluateShapes(video.truth, ShapesOfModel(result.model), &errors).ok());
-  std::printf("triple branch: %d + %d LM iterations, e3D %.4f (%s), camera %.4f, rotation %.2e\n",
-              result.camera_refine.iterations, result.refine.iterations, errors.e3d, EvaluationFrameName(errors.e3d_frame),
-              errors.e3d_camera, errors.rotation_error);
+  ASSERT_TRUE(
+      EvaluateShapes(video.truth, ShapesOfModel(result.model), &errors).ok());
+  std::printf(
+      "triple branch: %d + %d LM iterations, e3D %.4f (%s), camera %.4f, "
+      "rotation %.2e\n",
+      result.camera_refine.iterations, result.refine.iterations, errors.e3d,
+      EvaluationFrameName(errors.e3d_frame), errors.e3d_camera,
+      errors.rotation_error);
   // Measured: e3D 0.0679 (object frame), 0.0670 (camera frame); the
   // temporal shape term biases the noise-free answer. Rotation error 8.5e-6:
   // the corrective triple's rotations are exact on exact tracks and the
@@ -247,7 +264,8 @@ TEST(Reconstruct, VideoWithLargeBasisTakesTheTripleStartAndTemporalTerms) {
 // bends the camera to absorb what two bases cannot fit.
 TEST(Reconstruct, TooFewBasesEstimateTheCameraWithMore) {
   constexpr int kVideoFrames = 150, kVideoPoints = 30, kModes = 6;
-  const std::vector<Eigen::Matrix3Xd> modes = RandomModes(kModes, kVideoPoints, 11);
+  const std::vector<Eigen::Matrix3Xd> modes =
+      RandomModes(kModes, kVideoPoints, 11);
   std::vector<Eigen::Matrix3Xd> shapes;
   for (int t = 0; t < kVideoFrames; ++t) {
     const double phase = 2.0 * M_PI * t / kVideoFrames;
@@ -278,13 +296,17 @@ TEST(Reconstruct, TooFewBasesEstimateTheCameraWithMore) {
   ReconstructResult data_term;
   ASSERT_TRUE(Reconstruct(alone, video.measurements, &data_term).ok());
   ShapeErrors errors, errors_alone;
-  ASSERT_TRUE(EvaluateShapes(video.truth, ShapesOfModel(result.model), &errors).ok());
   ASSERT_TRUE(
-      EvaluateShapes(video.truth, ShapesOfModel(data_term.model), &errors_alone).ok());
-  std::printf("K = 2 of 6 modes: camera from K = %d, e3D %.4f, rotation %.4f; data term "
-              "alone e3D %.4f, rotation %.4f\n",
-              result.priors.camera_num_bases, errors.e3d, errors.rotation_error,
-              errors_alone.e3d, errors_alone.rotation_error);
+      EvaluateShapes(video.truth, ShapesOfModel(result.model), &errors).ok());
+  ASSERT_TRUE(
+      EvaluateShapes(video.truth, ShapesOfModel(data_term.model), &errors_alone)
+          .ok());
+  std::printf(
+      "K = 2 of 6 modes: camera from K = %d, e3D %.4f, rotation %.4f; data "
+      "term "
+      "alone e3D %.4f, rotation %.4f\n",
+      result.priors.camera_num_bases, errors.e3d, errors.rotation_error,
+      errors_alone.e3d, errors_alone.rotation_error);
   // Measured: e3D 0.229 and rotation error 0.0370 (two bases of six modes
   // cannot do much better: the rank-2 PCA of the truth is far from it), the
   // data term alone 39.5 and 0.399; bounds 10 % above.
@@ -300,7 +322,9 @@ TEST(Reconstruct, StopRequestEndsTheRefinementAndSkipsTheNextStart) {
   ReconstructOptions options = Options();
   options.start.method = StartMethod::kFactorization;
   int iterations = 0;
-  options.solver.progress = [&iterations](const IterationReport&) { ++iterations; };
+  options.solver.progress = [&iterations](const IterationReport&) {
+    ++iterations;
+  };
   options.solver.stop_requested = [&iterations] { return iterations >= 2; };
   ReconstructResult result;
   ASSERT_TRUE(Reconstruct(options, s.measurements, &result).ok());
@@ -381,7 +405,9 @@ TEST(Reconstruct, DepthRatioByHand) {
   // Frame 1 seen after a quarter turn about y: x ↔ z, so its depth is
   // (±1, 0, 0, 0) and its plane coordinates (±2, ±1): Σz² = 2,
   // Σ(x² + y²)/2 = 5; both frames: sqrt(10 / 7).
-  model.SetRotation(1, 0, Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()).toRotationMatrix());
+  model.SetRotation(
+      1, 0,
+      Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()).toRotationMatrix());
   EXPECT_NEAR(DepthRatio(model), std::sqrt(10.0 / 7.0), 1e-12);
 }
 
@@ -399,7 +425,8 @@ TEST(Reconstruct, OptionsAreCheckedFirst) {
   options.start.num_bases = 0;
   status = Reconstruct(options, s.measurements, &result);
   EXPECT_FALSE(status.ok());
-  EXPECT_NE(status.message().find("reconstruct: start options: num_bases"), std::string::npos)
+  EXPECT_NE(status.message().find("reconstruct: start options: num_bases"),
+            std::string::npos)
       << status.message();
 }
 

@@ -1,15 +1,15 @@
 #include "solvers/refine.h"
 
+#include <ceres/normal_prior.h>
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
 #include <chrono>
 #include <cmath>
 #include <random>
 #include <thread>
 #include <vector>
-
-#include <ceres/normal_prior.h>
-#include <Eigen/Geometry>
-#include <Eigen/LU>
-#include <gtest/gtest.h>
 
 #include "core/metrics.h"
 #include "core/synthetic.h"
@@ -37,7 +37,8 @@ Model Perturbed(const Model& model, double sigma, unsigned seed) {
   std::normal_distribution<double> normal(0.0, sigma);
   Model out = model;
   auto perturb = [&](auto& matrix) {
-    for (Eigen::Index i = 0; i < matrix.size(); ++i) matrix.data()[i] += normal(rng);
+    for (Eigen::Index i = 0; i < matrix.size(); ++i)
+      matrix.data()[i] += normal(rng);
   };
   perturb(out.rotations);
   perturb(out.weights);
@@ -51,7 +52,8 @@ Model Perturbed(const Model& model, double sigma, unsigned seed) {
 Model Regauged(const Model& model) {
   const int k = model.num_bases;
   const Eigen::Matrix3d q =
-      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, -1).normalized()).toRotationMatrix();
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, -1).normalized())
+          .toRotationMatrix();
   Eigen::MatrixXd a = Eigen::MatrixXd::Identity(k, k);
   for (int i = 0; i < k; ++i) {
     for (int j = 0; j < k; ++j) a(i, j) += 0.3 * std::sin(1.0 + i + 2.0 * j);
@@ -59,9 +61,10 @@ Model Regauged(const Model& model) {
   const Eigen::MatrixXd a_inverse = a.inverse();
   Model out = model;
   for (int v = 0; v < model.NumViews(); ++v) {
-    out.SetRotation(v / model.num_cameras, v % model.num_cameras,
-                    model.Rotation(v / model.num_cameras, v % model.num_cameras) *
-                        q.transpose());
+    out.SetRotation(
+        v / model.num_cameras, v % model.num_cameras,
+        model.Rotation(v / model.num_cameras, v % model.num_cameras) *
+            q.transpose());
   }
   out.weights = a * model.weights;
   for (int j = 0; j < k; ++j) {
@@ -84,7 +87,8 @@ TEST(SolverOptions, CheckNamesTheBadField) {
   auto expect_error = [](SolverOptions options, const std::string& text) {
     const Status status = options.Check();
     EXPECT_FALSE(status.ok()) << text;
-    EXPECT_NE(status.message().find(text), std::string::npos) << status.message();
+    EXPECT_NE(status.message().find(text), std::string::npos)
+        << status.message();
   };
   SolverOptions o;
   o.max_iterations = -1;
@@ -111,7 +115,8 @@ TEST(ProblemOptions, CheckNamesTheBadField) {
   auto expect_error = [](ProblemOptions options, const std::string& text) {
     const Status status = options.Check();
     EXPECT_FALSE(status.ok()) << text;
-    EXPECT_NE(status.message().find(text), std::string::npos) << status.message();
+    EXPECT_NE(status.message().find(text), std::string::npos)
+        << status.message();
   };
   ProblemOptions o;
   o.robust_scale = -2.0;
@@ -137,18 +142,22 @@ TEST(Refine, BadInputIsAnErrorAndLeavesTheModel) {
   model.Resize(10, 1, 11, 2);
   const Model before = model;
   RefineSummary summary;
-  const Status status = Refine(ProblemOptions(), SolverOptions(), s.measurements, &model, &summary);
+  const Status status = Refine(ProblemOptions(), SolverOptions(),
+                               s.measurements, &model, &summary);
   EXPECT_FALSE(status.ok());
-  EXPECT_NE(status.message().find("does not match the measurements"), std::string::npos)
+  EXPECT_NE(status.message().find("does not match the measurements"),
+            std::string::npos)
       << status.message();
   EXPECT_EQ(MaxAbsDifference(model, before), 0.0);
   SolverOptions huge;
   huge.linear_solver = LinearSolverChoice::kDenseQr;
   SyntheticSequence big = Sequence(300, 110, 5, 0.0);
   Model truth = big.truth;
-  const Status refused = Refine(ProblemOptions(), huge, big.measurements, &truth, &summary);
+  const Status refused =
+      Refine(ProblemOptions(), huge, big.measurements, &truth, &summary);
   EXPECT_FALSE(refused.ok());
-  EXPECT_NE(refused.message().find("dense Jacobian would take"), std::string::npos);
+  EXPECT_NE(refused.message().find("dense Jacobian would take"),
+            std::string::npos);
 }
 
 TEST(Refine, ModelAtTheOptimumDoesNotMove) {
@@ -156,7 +165,9 @@ TEST(Refine, ModelAtTheOptimumDoesNotMove) {
   SyntheticSequence exact = Sequence(40, 20, 3, 0.0);
   Model model = exact.truth;
   RefineSummary summary;
-  ASSERT_TRUE(Refine(ProblemOptions(), SolverOptions(), exact.measurements, &model, &summary).ok());
+  ASSERT_TRUE(Refine(ProblemOptions(), SolverOptions(), exact.measurements,
+                     &model, &summary)
+                  .ok());
   EXPECT_TRUE(summary.usable) << summary.message;
   EXPECT_LT(summary.initial_cost, 1e-28);
   EXPECT_LT(MaxAbsDifference(model, exact.truth), 1e-12);
@@ -164,11 +175,15 @@ TEST(Refine, ModelAtTheOptimumDoesNotMove) {
   // Noisy: refine once to the optimum, then again from there.
   SyntheticSequence noisy = Sequence(40, 20, 3, 0.01);
   Model optimum = noisy.truth;
-  ASSERT_TRUE(Refine(ProblemOptions(), SolverOptions(), noisy.measurements, &optimum, &summary).ok());
+  ASSERT_TRUE(Refine(ProblemOptions(), SolverOptions(), noisy.measurements,
+                     &optimum, &summary)
+                  .ok());
   ASSERT_TRUE(summary.usable);
   const double cost = summary.final_cost;
   Model again = optimum;
-  ASSERT_TRUE(Refine(ProblemOptions(), SolverOptions(), noisy.measurements, &again, &summary).ok());
+  ASSERT_TRUE(Refine(ProblemOptions(), SolverOptions(), noisy.measurements,
+                     &again, &summary)
+                  .ok());
   EXPECT_TRUE(summary.usable);
   EXPECT_NEAR(summary.initial_cost, cost, 1e-14 * cost);
   EXPECT_LE(summary.final_cost, cost);
@@ -193,11 +208,15 @@ TEST(Refine, GaugeFreedomsDoNotStopConvergenceWithAnySolver) {
     options.linear_solver = choice;
     options.max_iterations = 200;
     RefineSummary summary;
-    ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &model, &summary).ok());
-    EXPECT_TRUE(summary.usable) << LinearSolverName(choice) << ": " << summary.message;
+    ASSERT_TRUE(
+        Refine(ProblemOptions(), options, s.measurements, &model, &summary)
+            .ok());
+    EXPECT_TRUE(summary.usable)
+        << LinearSolverName(choice) << ": " << summary.message;
     EXPECT_LT(summary.reprojection_rms, 1e-8 * spread)
         << LinearSolverName(choice) << ": " << summary.message;
-    EXPECT_LT(ComputeE3D(CameraFrameShapes(s.truth), CameraFrameShapes(model)), 1e-6)
+    EXPECT_LT(ComputeE3D(CameraFrameShapes(s.truth), CameraFrameShapes(model)),
+              1e-6)
         << LinearSolverName(choice);
     if (choice == LinearSolverChoice::kAuto) {
       EXPECT_EQ(summary.linear_solver, "structured");
@@ -219,7 +238,9 @@ TEST(Refine, ConstantBlocksStayPut) {
     options.constant_rotations = options.constant_translations =
         options.constant_weights = true;
     RefineSummary summary;
-    ASSERT_TRUE(Refine(options, SolverOptions(), s.measurements, &model, &summary).ok());
+    ASSERT_TRUE(
+        Refine(options, SolverOptions(), s.measurements, &model, &summary)
+            .ok());
     EXPECT_EQ(model.rotations, s.truth.rotations);
     EXPECT_EQ(model.weights, s.truth.weights);
     EXPECT_EQ(model.translations, start.translations);
@@ -235,7 +256,9 @@ TEST(Refine, ConstantBlocksStayPut) {
     ProblemOptions options;
     options.constant_weights = options.constant_basis = true;
     RefineSummary summary;
-    ASSERT_TRUE(Refine(options, SolverOptions(), s.measurements, &model, &summary).ok());
+    ASSERT_TRUE(
+        Refine(options, SolverOptions(), s.measurements, &model, &summary)
+            .ok());
     EXPECT_EQ(model.basis, s.truth.basis);
     EXPECT_EQ(model.weights, s.truth.weights);
     EXPECT_EQ(summary.linear_solver, "sparse_normal_cholesky");
@@ -249,11 +272,15 @@ TEST(Refine, SummaryAndProgressCallback) {
   std::vector<IterationReport> reports;
   SolverOptions options;
   options.verbosity = 1;
-  options.progress = [&reports](const IterationReport& r) { reports.push_back(r); };
+  options.progress = [&reports](const IterationReport& r) {
+    reports.push_back(r);
+  };
   RefineSummary summary;
-  ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &model, &summary).ok());
+  ASSERT_TRUE(
+      Refine(ProblemOptions(), options, s.measurements, &model, &summary).ok());
   EXPECT_TRUE(summary.usable);
-  EXPECT_NE(summary.message.find("tolerance"), std::string::npos) << summary.message;
+  EXPECT_NE(summary.message.find("tolerance"), std::string::npos)
+      << summary.message;
   ASSERT_EQ(static_cast<int>(reports.size()), summary.iterations + 1);
   for (int i = 0; i < static_cast<int>(reports.size()); ++i) {
     EXPECT_EQ(reports[i].iteration, i);
@@ -268,24 +295,29 @@ TEST(Refine, SummaryAndProgressCallback) {
   // Cost and RMS agree (no robust loss, unit weights): rms² = 2 cost / N.
   EXPECT_EQ(summary.num_residual_blocks, 30 * 15);
   EXPECT_NEAR(summary.reprojection_rms,
-              std::sqrt(2.0 * summary.final_cost / summary.num_residual_blocks), 1e-12);
-  EXPECT_EQ(summary.reprojection_rms, ReprojectionRms(s.measurements, model));
-  EXPECT_NEAR(summary.initial_reprojection_rms,
-              std::sqrt(2.0 * summary.initial_cost / summary.num_residual_blocks),
+              std::sqrt(2.0 * summary.final_cost / summary.num_residual_blocks),
               1e-12);
+  EXPECT_EQ(summary.reprojection_rms, ReprojectionRms(s.measurements, model));
+  EXPECT_NEAR(
+      summary.initial_reprojection_rms,
+      std::sqrt(2.0 * summary.initial_cost / summary.num_residual_blocks),
+      1e-12);
   EXPECT_GT(summary.seconds, 0.0);
   EXPECT_GE(summary.seconds, summary.build_seconds + summary.minimizer_seconds);
   // The report of the solver that ran: `auto` takes the structured one here
   // (problems/linear_solver_choice.h); Ceres' own FullReport otherwise.
   EXPECT_EQ(summary.linear_solver, "structured");
   EXPECT_EQ(summary.ceres_report.find("structured Levenberg-Marquardt: " +
-                                      std::to_string(summary.iterations) + " iterations"),
+                                      std::to_string(summary.iterations) +
+                                      " iterations"),
             0u)
       << summary.ceres_report;
   options.linear_solver = LinearSolverChoice::kIterativeSchur;
   model = Perturbed(s.truth, 0.02, 3);
-  ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &model, &summary).ok());
-  EXPECT_NE(summary.ceres_report.find("LEVENBERG_MARQUARDT"), std::string::npos);
+  ASSERT_TRUE(
+      Refine(ProblemOptions(), options, s.measurements, &model, &summary).ok());
+  EXPECT_NE(summary.ceres_report.find("LEVENBERG_MARQUARDT"),
+            std::string::npos);
 }
 
 // stop_requested ends the solve after the iteration it first answers true,
@@ -302,7 +334,9 @@ TEST(Refine, StopRequestedEndsTheSolveAfterThatIteration) {
     options.progress = [&reports](const IterationReport&) { ++reports; };
     options.stop_requested = [&reports] { return reports >= 3; };
     RefineSummary summary;
-    ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &model, &summary).ok());
+    ASSERT_TRUE(
+        Refine(ProblemOptions(), options, s.measurements, &model, &summary)
+            .ok());
     SCOPED_TRACE(summary.linear_solver);
     EXPECT_TRUE(summary.stopped);
     EXPECT_FALSE(summary.converged);
@@ -318,7 +352,8 @@ TEST(Refine, StopRequestedEndsTheSolveAfterThatIteration) {
   SolverOptions options;
   options.stop_requested = [] { return false; };
   RefineSummary summary;
-  ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &model, &summary).ok());
+  ASSERT_TRUE(
+      Refine(ProblemOptions(), options, s.measurements, &model, &summary).ok());
   EXPECT_FALSE(summary.stopped);
   EXPECT_TRUE(summary.converged);
 }
@@ -344,7 +379,9 @@ TEST(Refine, TimeInTheCallbacksIsReportedApart) {
       return false;
     };
     RefineSummary summary;
-    ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &model, &summary).ok());
+    ASSERT_TRUE(
+        Refine(ProblemOptions(), options, s.measurements, &model, &summary)
+            .ok());
     SCOPED_TRACE(summary.linear_solver);
     EXPECT_GE(calls, 2 * summary.iterations);
     EXPECT_GE(summary.callback_seconds, 0.002 * calls);
@@ -353,7 +390,9 @@ TEST(Refine, TimeInTheCallbacksIsReportedApart) {
     model = Perturbed(s.truth, 0.02, 3);
     options.progress = nullptr;
     options.stop_requested = nullptr;
-    ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &model, &summary).ok());
+    ASSERT_TRUE(
+        Refine(ProblemOptions(), options, s.measurements, &model, &summary)
+            .ok());
     EXPECT_EQ(summary.callback_seconds, 0.0);
   }
 }
@@ -376,9 +415,12 @@ TEST(Refine, RobustLossResistsGrossOutliers) {
       options.robust_scale = 0.01;
     }
     RefineSummary summary;
-    ASSERT_TRUE(Refine(options, SolverOptions(), s.measurements, &model, &summary).ok());
+    ASSERT_TRUE(
+        Refine(options, SolverOptions(), s.measurements, &model, &summary)
+            .ok());
     EXPECT_TRUE(summary.usable);
-    e3d[robust] = ComputeE3D(CameraFrameShapes(s.truth), CameraFrameShapes(model));
+    e3d[robust] =
+        ComputeE3D(CameraFrameShapes(s.truth), CameraFrameShapes(model));
   }
   EXPECT_GT(e3d[0], 1e-2);
   EXPECT_LT(e3d[1], 1e-4);
@@ -391,7 +433,8 @@ TEST(Refine, RunTimeKAboveTheStaticRange) {
   SolverOptions options;
   options.max_iterations = 200;
   RefineSummary summary;
-  ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &model, &summary).ok());
+  ASSERT_TRUE(
+      Refine(ProblemOptions(), options, s.measurements, &model, &summary).ok());
   EXPECT_TRUE(summary.usable) << summary.message;
   EXPECT_LT(summary.reprojection_rms, 1e-8);
 }
@@ -402,7 +445,9 @@ TEST(Refine, SolveProblemRunsACallerBuiltProblem) {
   // Reprojection terms only: the same result as Refine(), bit for bit.
   Model by_refine = start, by_solve = start;
   RefineSummary refine_summary, solve_summary;
-  ASSERT_TRUE(Refine(ProblemOptions(), SolverOptions(), s.measurements, &by_refine, &refine_summary).ok());
+  ASSERT_TRUE(Refine(ProblemOptions(), SolverOptions(), s.measurements,
+                     &by_refine, &refine_summary)
+                  .ok());
   {
     ProblemBuilder builder(&s.measurements, &by_solve);
     ASSERT_TRUE(builder.AddReprojectionTerms(ProblemOptions()).ok());
@@ -423,14 +468,15 @@ TEST(Refine, SolveProblemRunsACallerBuiltProblem) {
   hold_shape.constant_weights = true;
   ASSERT_TRUE(builder.AddReprojectionTerms(hold_shape).ok());
   builder.problem()->AddResidualBlock(
-      new ceres::NormalPrior(100.0 * Eigen::Matrix2d::Identity(), Eigen::Vector2d(5, 5)),
+      new ceres::NormalPrior(100.0 * Eigen::Matrix2d::Identity(),
+                             Eigen::Vector2d(5, 5)),
       nullptr, builder.TranslationBlock(0, 0));
   RefineSummary summary;
   ASSERT_TRUE(SolveProblem(SolverOptions(), &builder, &summary).ok());
   EXPECT_TRUE(summary.usable);
   double cost = 0.0;
-  ASSERT_TRUE(builder.problem()->Evaluate(ceres::Problem::EvaluateOptions(), &cost,
-                                          nullptr, nullptr, nullptr));
+  ASSERT_TRUE(builder.problem()->Evaluate(ceres::Problem::EvaluateOptions(),
+                                          &cost, nullptr, nullptr, nullptr));
   EXPECT_NEAR(summary.final_cost, cost, 1e-12 * cost);
   const double data_cost =
       0.5 * summary.num_residual_blocks * std::pow(summary.reprojection_rms, 2);
@@ -449,8 +495,12 @@ TEST(Refine, OneThreadIsBitwiseDeterministicTwoThreadsAgreeClosely) {
     options.num_threads = threads;
     Model first = start, second = start;
     RefineSummary summary;
-    ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &first, &summary).ok());
-    ASSERT_TRUE(Refine(ProblemOptions(), options, s.measurements, &second, &summary).ok());
+    ASSERT_TRUE(
+        Refine(ProblemOptions(), options, s.measurements, &first, &summary)
+            .ok());
+    ASSERT_TRUE(
+        Refine(ProblemOptions(), options, s.measurements, &second, &summary)
+            .ok());
     if (threads == 1) {
       EXPECT_EQ(MaxAbsDifference(first, second), 0.0);
     } else {

@@ -2,10 +2,10 @@
 // random-basis sequences whose K is known.
 #include "solvers/select_num_bases.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
-
-#include <gtest/gtest.h>
 
 #include "core/metrics.h"
 #include "core/synthetic.h"
@@ -35,13 +35,16 @@ TEST(SelectNumBases, KeepsTheTrueKAndEstimatesTheNoise) {
     SelectNumBasesOptions select;
     select.max_num_bases = 5;
     SelectNumBasesResult result;
-    ASSERT_TRUE(SelectNumBases(ReconstructOptions(), select, s.measurements, &result).ok());
+    ASSERT_TRUE(
+        SelectNumBases(ReconstructOptions(), select, s.measurements, &result)
+            .ok());
     ASSERT_EQ(result.curve.size(), 5u);
     for (int i = 0; i < 5; ++i) {
       EXPECT_EQ(result.curve[i].num_bases, i + 1);
       EXPECT_TRUE(result.curve[i].ok) << result.curve[i].message;
       std::printf("true K %d: K %d rms %.5f expected %.5f\n", k, i + 1,
-                  result.curve[i].reprojection_rms, result.curve[i].expected_rms);
+                  result.curve[i].reprojection_rms,
+                  result.curve[i].expected_rms);
     }
     EXPECT_EQ(result.num_bases, k);
     EXPECT_EQ(result.reconstruction.model.num_bases, k);
@@ -50,11 +53,13 @@ TEST(SelectNumBases, KeepsTheTrueKAndEstimatesTheNoise) {
     EXPECT_NEAR(result.noise_stddev, kNoise, 0.2 * kNoise);
     // Fewer bases than the truth leave a residual well above the noise:
     // measured 9.4 (K = 2) and 9.2 (K = 3) times the RMS the noise leaves.
-    EXPECT_GT(result.curve[k - 2].reprojection_rms, 5.0 * result.curve[k - 2].expected_rms);
-    const double e3d = ComputeE3D(CameraFrameShapes(s.truth),
-                                  CameraFrameShapes(result.reconstruction.model));
-    std::printf("true K %d: chosen K %d, noise estimate %.5f, e3D %.4f\n", k, result.num_bases,
-                result.noise_stddev, e3d);
+    EXPECT_GT(result.curve[k - 2].reprojection_rms,
+              5.0 * result.curve[k - 2].expected_rms);
+    const double e3d =
+        ComputeE3D(CameraFrameShapes(s.truth),
+                   CameraFrameShapes(result.reconstruction.model));
+    std::printf("true K %d: chosen K %d, noise estimate %.5f, e3D %.4f\n", k,
+                result.num_bases, result.noise_stddev, e3d);
     // Measured 0.0216 (K = 2) and 0.0233 (K = 3), 2026-11-27.
     EXPECT_LT(e3d, 0.026);
   }
@@ -65,14 +70,18 @@ TEST(SelectNumBases, OptionsAreChecked) {
   SelectNumBasesOptions select;
   select.max_num_bases = 1;
   SelectNumBasesResult result;
-  Status status = SelectNumBases(ReconstructOptions(), select, s.measurements, &result);
+  Status status =
+      SelectNumBases(ReconstructOptions(), select, s.measurements, &result);
   ASSERT_FALSE(status.ok());
-  EXPECT_NE(status.message().find("max_num_bases"), std::string::npos) << status.message();
+  EXPECT_NE(status.message().find("max_num_bases"), std::string::npos)
+      << status.message();
   select = SelectNumBasesOptions();
   select.threshold = 0.5;
-  status = SelectNumBases(ReconstructOptions(), select, s.measurements, &result);
+  status =
+      SelectNumBases(ReconstructOptions(), select, s.measurements, &result);
   ASSERT_FALSE(status.ok());
-  EXPECT_NE(status.message().find("threshold"), std::string::npos) << status.message();
+  EXPECT_NE(status.message().find("threshold"), std::string::npos)
+      << status.message();
 }
 
 }  // namespace

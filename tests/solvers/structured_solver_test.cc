@@ -3,11 +3,11 @@
 // terms coupling the frames: the same optimum, and the `auto` rule picks it.
 #include "solvers/structured_solver.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
 #include <random>
-
-#include <gtest/gtest.h>
 
 #include "core/metrics.h"
 #include "core/synthetic.h"
@@ -35,8 +35,10 @@ Case MakeCase(double missing) {
   c.start = c.sequence.truth;
   std::mt19937 rng(7);
   std::normal_distribution<double> normal(0.0, 0.05);
-  for (Eigen::Index i = 0; i < c.start.rotations.size(); ++i) c.start.rotations.data()[i] += normal(rng);
-  for (Eigen::Index i = 0; i < c.start.basis.size(); ++i) c.start.basis.data()[i] += normal(rng);
+  for (Eigen::Index i = 0; i < c.start.rotations.size(); ++i)
+    c.start.rotations.data()[i] += normal(rng);
+  for (Eigen::Index i = 0; i < c.start.basis.size(); ++i)
+    c.start.basis.data()[i] += normal(rng);
   return c;
 }
 
@@ -62,16 +64,22 @@ TEST(StructuredSolver, ReachesTheOptimumOfTheExactSolver) {
     Model a = c.start, b = c.start;
     RefineSummary sa, sb;
     ASSERT_TRUE(Refine(Terms(), exact, c.sequence.measurements, &a, &sa).ok());
-    ASSERT_TRUE(Refine(Terms(), structured, c.sequence.measurements, &b, &sb).ok());
+    ASSERT_TRUE(
+        Refine(Terms(), structured, c.sequence.measurements, &b, &sb).ok());
     ASSERT_TRUE(sa.usable && sb.usable) << sa.message << " / " << sb.message;
     EXPECT_EQ(sb.linear_solver, "structured");
-    std::printf("missing %.1f: exact %d iterations cost %.10e (%s), structured %d iterations cost %.10e (%s)\n", missing, sa.iterations, sa.final_cost, sa.message.c_str(), sb.iterations, sb.final_cost, sb.message.c_str());
+    std::printf(
+        "missing %.1f: exact %d iterations cost %.10e (%s), structured %d "
+        "iterations cost %.10e (%s)\n",
+        missing, sa.iterations, sa.final_cost, sa.message.c_str(),
+        sb.iterations, sb.final_cost, sb.message.c_str());
     EXPECT_LT(sb.final_cost, 0.5 * sb.initial_cost);
     // Same optimum: costs to 1e-4 relative (the structured solver's steps are
     // inexact, CG to 0.1 of the right-hand side, so the two stop at slightly
     // different points of the flat gauge valley), shapes to 1e-3 of their size.
     EXPECT_NEAR(sb.final_cost, sa.final_cost, 1e-4 * sa.final_cost) << missing;
-    EXPECT_LT(ComputeE3D(CameraFrameShapes(a), CameraFrameShapes(b)), 1e-3) << missing;
+    EXPECT_LT(ComputeE3D(CameraFrameShapes(a), CameraFrameShapes(b)), 1e-3)
+        << missing;
   }
 }
 
@@ -79,11 +87,14 @@ TEST(StructuredSolver, AutoChoosesItWhenThePointsCanBeEliminated) {
   const Case c = MakeCase(0.0);
   Model model = c.start;
   RefineSummary summary;
-  ASSERT_TRUE(Refine(Terms(), SolverOptions(), c.sequence.measurements, &model, &summary).ok());
+  ASSERT_TRUE(Refine(Terms(), SolverOptions(), c.sequence.measurements, &model,
+                     &summary)
+                  .ok());
   EXPECT_EQ(summary.linear_solver, "structured");
   model = c.start;
-  ASSERT_TRUE(Refine(ProblemOptions(), SolverOptions(), c.sequence.measurements, &model,
-                     &summary).ok());
+  ASSERT_TRUE(Refine(ProblemOptions(), SolverOptions(), c.sequence.measurements,
+                     &model, &summary)
+                  .ok());
   EXPECT_EQ(summary.linear_solver, "structured");
 }
 

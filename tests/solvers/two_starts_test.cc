@@ -5,19 +5,20 @@
 // both.
 #include "solvers/two_starts.h"
 
+#include <gtest/gtest.h>
+
 #include <functional>
 #include <thread>
 #include <utility>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 namespace nrsfm {
 namespace {
 
 // A refinement whose cost after iteration i is cost(i), converging (ending
 // by a tolerance) after `converge_at` iterations (-1: never, up to 200).
-RaceRefinement Scripted(std::function<double(int)> cost, int converge_at, int* ran) {
+RaceRefinement Scripted(std::function<double(int)> cost, int converge_at,
+                        int* ran) {
   return [cost, converge_at, ran](const SolverOptions& solver) {
     RaceOutcome outcome;
     outcome.usable = true;
@@ -50,16 +51,18 @@ TEST(TwoStarts, TheOneFallingBehindIsAbandonedAtTheSameIterationInEitherMode) {
       reports.emplace_back(r.iteration, r.cost);
       on_caller &= std::this_thread::get_id() == caller;
     };
-    RunTwoRefinements(solver, concurrent,
-                      Scripted([](int i) { return 1.0 + 1.0 / (1 + i); }, 5, &ran_first),
-                      Scripted([](int) { return 10.0; }, -1, &ran_second));
+    RunTwoRefinements(
+        solver, concurrent,
+        Scripted([](int i) { return 1.0 + 1.0 / (1 + i); }, 5, &ran_first),
+        Scripted([](int) { return 10.0; }, -1, &ran_second));
     EXPECT_EQ(ran_first, 5);
     EXPECT_EQ(ran_second, RaceIterations(5));
     EXPECT_TRUE(on_caller);
     // The first's reports, then the second's.
     ASSERT_EQ(reports.size(), 6u + 21u);
     for (int i = 0; i < 6; ++i) EXPECT_EQ(reports[i].first, i);
-    for (int i = 0; i < 21; ++i) EXPECT_EQ(reports[6 + i], std::make_pair(i, 10.0));
+    for (int i = 0; i < 21; ++i)
+      EXPECT_EQ(reports[6 + i], std::make_pair(i, 10.0));
 
     // The same with the roles swapped: the first is abandoned.
     RunTwoRefinements(SolverOptions(), concurrent,
@@ -76,13 +79,15 @@ TEST(TwoStarts, OneThatGetsBelowTheConvergedCostGoesOn) {
     // The second passes below cost 1 at iteration 30: at 2 · 5 + 10 = 20 it
     // is still above it and is abandoned. Passing below it at iteration 15
     // instead, it goes on to its own convergence at 40.
-    RunTwoRefinements(SolverOptions(), concurrent,
-                      Scripted([](int) { return 1.0; }, 5, &ran_first),
-                      Scripted([](int i) { return i < 30 ? 5.0 : 0.5; }, 40, &ran_second));
+    RunTwoRefinements(
+        SolverOptions(), concurrent,
+        Scripted([](int) { return 1.0; }, 5, &ran_first),
+        Scripted([](int i) { return i < 30 ? 5.0 : 0.5; }, 40, &ran_second));
     EXPECT_EQ(ran_second, 20) << concurrent;
-    RunTwoRefinements(SolverOptions(), concurrent,
-                      Scripted([](int) { return 1.0; }, 5, &ran_first),
-                      Scripted([](int i) { return i < 15 ? 5.0 : 0.5; }, 40, &ran_second));
+    RunTwoRefinements(
+        SolverOptions(), concurrent,
+        Scripted([](int) { return 1.0; }, 5, &ran_first),
+        Scripted([](int i) { return i < 15 ? 5.0 : 0.5; }, 40, &ran_second));
     EXPECT_EQ(ran_second, 40) << concurrent;
     // A refinement that does not converge (iteration limit) abandons nothing.
     RunTwoRefinements(SolverOptions(), concurrent,
@@ -99,7 +104,8 @@ TEST(TwoStarts, AStopRequestEndsBoth) {
     SolverOptions solver;
     solver.progress = [&reports](const IterationReport&) { ++reports; };
     solver.stop_requested = [&reports] { return reports >= 3; };
-    RunTwoRefinements(solver, concurrent, Scripted([](int) { return 1.0; }, -1, &ran_first),
+    RunTwoRefinements(solver, concurrent,
+                      Scripted([](int) { return 1.0; }, -1, &ran_first),
                       Scripted([](int) { return 2.0; }, -1, &ran_second));
     // The third report is the first's iteration 2; each then stops within
     // the iterations the lockstep lets it run ahead (one). Both ran (the
@@ -114,7 +120,8 @@ TEST(TwoStarts, AStopRequestEndsBoth) {
     ran_first = -1;
     ran_second = -1;
     solver.stop_requested = [] { return true; };
-    RunTwoRefinements(solver, concurrent, Scripted([](int) { return 1.0; }, -1, &ran_first),
+    RunTwoRefinements(solver, concurrent,
+                      Scripted([](int) { return 1.0; }, -1, &ran_first),
                       Scripted([](int) { return 2.0; }, -1, &ran_second));
     EXPECT_EQ(ran_first, 0);
     EXPECT_EQ(ran_second, 0);

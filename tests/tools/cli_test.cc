@@ -1,16 +1,16 @@
 // Drives the real `nrsfm` binary: synth -> reconstruct -> evaluate round
 // trips, every bad-input class, --help and --flagfile.
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include "problems/extra_terms.h"
 #include "tests/test_util.h"
@@ -33,23 +33,26 @@ class CliTest : public ToolTest {
 
   // The evaluate JSON line of a result directory against a truth file.
   nlohmann::json Evaluate(const std::string& truth, const std::string& result) {
-    const RunResult r = Run("evaluate --truth " + truth + " --result " + result);
+    const RunResult r =
+        Run("evaluate --truth " + truth + " --result " + result);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     return nlohmann::json::parse(r.out);
   }
 
-  // Expects the failure of a bad input (docs/reliability.md, "Bad input and failure
-  // behaviour"): exit code `exit_code` (1; 2 for a command line that names
-  // no command), exactly one line on stderr that contains `needle` (the
+  // Expects the failure of a bad input (docs/reliability.md, "Bad input and
+  // failure behaviour"): exit code `exit_code` (1; 2 for a command line that
+  // names no command), exactly one line on stderr that contains `needle` (the
   // message's own text), no crash report, and no output `out` left behind.
   void ExpectFailure(const std::string& args, const std::string& needle,
                      const std::string& out = "", int exit_code = 1) {
     const RunResult r = Run(args);
     EXPECT_EQ(r.exit_code, exit_code) << args << "\n" << r.err;
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n"
+                                                               << r.err;
     EXPECT_NE(r.err.find(needle), std::string::npos)
         << "args: " << args << "\nstderr: " << r.err;
-    for (const char* crash : {"terminate", "Sanitizer", "Check failed", "runtime error"}) {
+    for (const char* crash :
+         {"terminate", "Sanitizer", "Check failed", "runtime error"}) {
       EXPECT_EQ(r.err.find(crash), std::string::npos) << args << "\n" << r.err;
     }
     if (!out.empty()) {
@@ -62,12 +65,15 @@ TEST_F(CliTest, HelpListsTheCommandsAndOnlyTheToolsFlags) {
   const RunResult r = Run("--help");
   EXPECT_EQ(r.exit_code, 0);
   const std::string text = r.out + r.err;
-  EXPECT_NE(text.find("nrsfm reconstruct --input PATH"), std::string::npos) << text;
+  EXPECT_NE(text.find("nrsfm reconstruct --input PATH"), std::string::npos)
+      << text;
   EXPECT_NE(text.find("-robust_scale"), std::string::npos) << text;
-  EXPECT_EQ(text.find("-logtostderr"), std::string::npos) << "glog flags leak into --help";
+  EXPECT_EQ(text.find("-logtostderr"), std::string::npos)
+      << "glog flags leak into --help";
   // One flag per row of the extra-term table, described by the table.
   for (const ExtraTerm& term : ExtraTerms()) {
-    EXPECT_NE(text.find(std::string("-") + term.name + " (reconstruct: weight of the"),
+    EXPECT_NE(text.find(std::string("-") + term.name +
+                        " (reconstruct: weight of the"),
               std::string::npos)
         << term.name;
   }
@@ -75,21 +81,30 @@ TEST_F(CliTest, HelpListsTheCommandsAndOnlyTheToolsFlags) {
 
 TEST_F(CliTest, MissingOrUnknownCommandIsAnError) {
   // A command line without a command is a usage error: exit code 2.
-  ExpectFailure("", "nrsfm: expected exactly one command (reconstruct, evaluate, synth or view), "
-                "got 0; see nrsfm --help", "", 2);
-  ExpectFailure("reconstrut", "nrsfm: unknown command 'reconstrut' (expected reconstruct, "
-                "evaluate, synth or view); see nrsfm --help", "", 2);
+  ExpectFailure("",
+                "nrsfm: expected exactly one command (reconstruct, evaluate, "
+                "synth or view), "
+                "got 0; see nrsfm --help",
+                "", 2);
+  ExpectFailure("reconstrut",
+                "nrsfm: unknown command 'reconstrut' (expected reconstruct, "
+                "evaluate, synth or view); see nrsfm --help",
+                "", 2);
 }
 
 TEST_F(CliTest, RandomBasisRoundTrip) {
   ASSERT_EQ(Run("synth --dataset random --K 2 --frames 80 --points 25 --seed 3 "
-                "--output r.mat").exit_code, 0);
-  const RunResult r = Run("reconstruct --input r.mat --K 2 --output out --truth r.mat");
+                "--output r.mat")
+                .exit_code,
+            0);
+  const RunResult r =
+      Run("reconstruct --input r.mat --K 2 --output out --truth r.mat");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("e3D"), std::string::npos);
   EXPECT_NE(r.err.find("iteration"), std::string::npos) << "no progress lines";
-  for (const char* file : {"points_camera.csv", "points_object.csv", "rotations.csv",
-                           "weights.csv", "basis.csv", "result.json"}) {
+  for (const char* file :
+       {"points_camera.csv", "points_object.csv", "rotations.csv",
+        "weights.csv", "basis.csv", "result.json"}) {
     EXPECT_TRUE(fs::exists(Path(std::string("out/") + file))) << file;
   }
   // Noise-free data with the generating K: the shapes are recovered.
@@ -97,7 +112,8 @@ TEST_F(CliTest, RandomBasisRoundTrip) {
   EXPECT_LT(e["e3d"].get<double>(), 1e-3);
   EXPECT_EQ(e["F"].get<int>(), 80);
   EXPECT_EQ(e["P"].get<int>(), 25);
-  const nlohmann::json result = nlohmann::json::parse(ReadFile(Path("out/result.json")));
+  const nlohmann::json result =
+      nlohmann::json::parse(ReadFile(Path("out/result.json")));
   EXPECT_TRUE(result.dump().find("e3d") != std::string::npos);
   // A result directory can also serve as the truth: comparing with itself is 0.
   EXPECT_LT(Evaluate("out", "out")["e3d"].get<double>(), 1e-12);
@@ -108,12 +124,16 @@ TEST_F(CliTest, RandomBasisRoundTrip) {
 // frame; noise-free exact-rank data are recovered in the camera frame.
 TEST_F(CliTest, ReprojectRoundTripAndBadFlags) {
   ASSERT_EQ(Run("synth --dataset random --K 2 --frames 80 --points 25 --seed 3 "
-                "--output r.mat").exit_code, 0);
-  RunResult r = Run("synth --dataset reproject --input r.mat --rotation 120 "
-                    "--profile ramp --output rp.mat");
+                "--output r.mat")
+                .exit_code,
+            0);
+  RunResult r =
+      Run("synth --dataset reproject --input r.mat --rotation 120 "
+          "--profile ramp --output rp.mat");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("rotation 120 deg (ramp)"), std::string::npos) << r.out;
-  r = Run("reconstruct --input rp.mat --K 2 --output out --truth rp.mat --quiet");
+  r = Run(
+      "reconstruct --input rp.mat --K 2 --output out --truth rp.mat --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const nlohmann::json e = Evaluate("rp.mat", "out");
   EXPECT_EQ(e["e3d_frame"].get<std::string>(), "object");
@@ -121,27 +141,37 @@ TEST_F(CliTest, ReprojectRoundTripAndBadFlags) {
   EXPECT_LT(e["e3d_camera"].get<double>(), 1e-6);
   EXPECT_EQ(e["F"].get<int>(), 80);
 
-  ExpectFailure("synth --dataset reproject --output x.mat", "--input is required", "x.mat");
-  ExpectFailure("synth --dataset reproject --input r.mat --profile jerky --output x.mat",
-                "unknown value \"jerky\" (expected one of constant, ramp, stopgo)", "x.mat");
-  ExpectFailure("synth --dataset reproject --input r.mat --axis 1,2 --output x.mat",
-                "--axis must be three numbers x,y,z, got '1,2'", "x.mat");
-  ExpectFailure("synth --dataset reproject --input r.mat --axis 0,0,0 --output x.mat",
-                "axis must be a finite, non-zero direction", "x.mat");
-  ExpectFailure("synth --dataset reproject --input r.mat --noise 0.1 --output x.mat",
-                "give --noise_fraction", "x.mat");
+  ExpectFailure("synth --dataset reproject --output x.mat",
+                "--input is required", "x.mat");
+  ExpectFailure(
+      "synth --dataset reproject --input r.mat --profile jerky --output x.mat",
+      "unknown value \"jerky\" (expected one of constant, ramp, stopgo)",
+      "x.mat");
+  ExpectFailure(
+      "synth --dataset reproject --input r.mat --axis 1,2 --output x.mat",
+      "--axis must be three numbers x,y,z, got '1,2'", "x.mat");
+  ExpectFailure(
+      "synth --dataset reproject --input r.mat --axis 0,0,0 --output x.mat",
+      "axis must be a finite, non-zero direction", "x.mat");
+  ExpectFailure(
+      "synth --dataset reproject --input r.mat --noise 0.1 --output x.mat",
+      "give --noise_fraction", "x.mat");
   ExpectFailure("synth --dataset reproject --input r.mat --K 3 --output x.mat",
                 "do not apply to --dataset reproject", "x.mat");
-  ExpectFailure("synth --dataset reproject --input r.mat --rotation -5 --output x.mat",
-                "total_rotation_deg", "x.mat");
+  ExpectFailure(
+      "synth --dataset reproject --input r.mat --rotation -5 --output x.mat",
+      "total_rotation_deg", "x.mat");
   ExpectFailure("synth --dataset reproject --input nope.mat --output x.mat",
                 "nope.mat: no such file", "x.mat");
 }
 
 TEST_F(CliTest, SuperquadricAndShoeRoundTrips) {
-  ASSERT_EQ(Run("synth --dataset superquadric --frames 80 --points 60 --output q.mat")
-                .exit_code, 0);
-  RunResult r = Run("reconstruct --input q.mat --K 4 --output q --truth q.mat --quiet");
+  ASSERT_EQ(
+      Run("synth --dataset superquadric --frames 80 --points 60 --output q.mat")
+          .exit_code,
+      0);
+  RunResult r =
+      Run("reconstruct --input q.mat --K 4 --output q --truth q.mat --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   // Noise-free: measured 2.0e-10 % (release, 2026-11-27); the bound leaves
   // room for where the stopping rule (a relative cost change) ends.
@@ -152,12 +182,16 @@ TEST_F(CliTest, SuperquadricAndShoeRoundTrips) {
   const int shoe_points = testing_util::kSanitizedBuild ? 60 : 110;
   ASSERT_EQ(Run("synth --dataset shoe --frames 100 --cameras 2 --points " +
                 std::to_string(shoe_points) + " --output s.mat")
-                .exit_code, 0);
-  r = Run("reconstruct --input s.mat --cameras 2 --K 4 --output s --truth s.mat --quiet");
+                .exit_code,
+            0);
+  r =
+      Run("reconstruct --input s.mat --cameras 2 --K 4 --output s --truth "
+          "s.mat --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   // points_camera.csv holds every frame, camera and point, missing ones too.
   const std::string csv = ReadFile(Path("s/points_camera.csv"));
-  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 100 * 2 * shoe_points);
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'),
+            1 + 100 * 2 * shoe_points);
   // Noise-free: measured 2.1e-11 % (110 points) and 5.1e-11 % (60), release,
   // 2026-11-27.
   EXPECT_LT(Evaluate("s.mat", "s")["error3d_pct"].get<double>(), 1e-6);
@@ -167,18 +201,24 @@ TEST_F(CliTest, SuperquadricAndShoeRoundTrips) {
 // `cameras`): a one-camera shoe read with --cameras 2 is an error naming
 // both counts, not 250 frames of two cameras; a two-camera file needs no flag.
 TEST_F(CliTest, CamerasComeFromTheFile) {
-  ASSERT_EQ(Run("synth --dataset shoe --frames 20 --output one.mat").exit_code, 0);
+  ASSERT_EQ(Run("synth --dataset shoe --frames 20 --output one.mat").exit_code,
+            0);
   ExpectFailure("reconstruct --input one.mat --K 2 --cameras 2 --output o",
-                "one.mat: the file records cameras = 1 (variable 'cameras') but 2 camera(s) "
+                "one.mat: the file records cameras = 1 (variable 'cameras') "
+                "but 2 camera(s) "
                 "were asked for",
                 "o");
-  ASSERT_EQ(Run("synth --dataset shoe --frames 20 --cameras 2 --output two.mat").exit_code, 0);
+  ASSERT_EQ(Run("synth --dataset shoe --frames 20 --cameras 2 --output two.mat")
+                .exit_code,
+            0);
   const RunResult r =
-      Run("reconstruct --input two.mat --K 2 --init factorization --max_iterations 3 "
+      Run("reconstruct --input two.mat --K 2 --init factorization "
+          "--max_iterations 3 "
           "--output t --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("F = 20, M = 2"), std::string::npos) << r.out;
-  const nlohmann::json result = nlohmann::json::parse(ReadFile(Path("t/result.json")));
+  const nlohmann::json result =
+      nlohmann::json::parse(ReadFile(Path("t/result.json")));
   EXPECT_EQ(result["num_cameras"], 2);
   EXPECT_EQ(result["options"]["cameras"], "0");  // as given: from the file
 }
@@ -204,18 +244,22 @@ TEST_F(CliTest, ShoeSeedsWithPointsSeenTooRarelyReconstruct) {
   for (int seed : seeds) {
     SCOPED_TRACE(seed);
     const std::string name = "shoe" + std::to_string(seed);
-    ASSERT_EQ(Run("synth --dataset shoe --frames " + std::to_string(frames) + " --seed " +
-                  std::to_string(seed) +
-                  " --output " + name + ".mat")
-                  .exit_code,
-              0);
-    const RunResult r = Run("reconstruct --input " + name + ".mat --K 4 --output " + name +
-                            " --truth " + name + ".mat --quiet");
+    ASSERT_EQ(
+        Run("synth --dataset shoe --frames " + std::to_string(frames) +
+            " --seed " + std::to_string(seed) + " --output " + name + ".mat")
+            .exit_code,
+        0);
+    const RunResult r =
+        Run("reconstruct --input " + name + ".mat --K 4 --output " + name +
+            " --truth " + name + ".mat --quiet");
     ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-    EXPECT_NE(r.out.find("warning: left out of the reconstruction"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("warning: left out of the reconstruction"),
+              std::string::npos)
+        << r.out;
     const nlohmann::json result =
         nlohmann::json::parse(ReadFile(Path(name + "/result.json")));
-    EXPECT_EQ(result["dropped_points"].get<std::vector<int>>(), dropped[seed - 6]);
+    EXPECT_EQ(result["dropped_points"].get<std::vector<int>>(),
+              dropped[seed - 6]);
     EXPECT_TRUE(result["dropped_frames"].empty());
     EXPECT_LT(result["metrics"]["e3d"].get<double>(), 1e-6);
     const nlohmann::json e = Evaluate(name + ".mat", name);
@@ -226,29 +270,43 @@ TEST_F(CliTest, ShoeSeedsWithPointsSeenTooRarelyReconstruct) {
 }
 
 TEST_F(CliTest, ExtraTermFlags) {
-  ASSERT_EQ(Run("synth --dataset shoe --frames 40 --cameras 2 --output s.mat").exit_code, 0);
-  ASSERT_EQ(Run("synth --dataset shoe --frames 40 --output s1.mat").exit_code, 0);
+  ASSERT_EQ(Run("synth --dataset shoe --frames 40 --cameras 2 --output s.mat")
+                .exit_code,
+            0);
+  ASSERT_EQ(Run("synth --dataset shoe --frames 40 --output s1.mat").exit_code,
+            0);
   ExpectFailure("reconstruct --input s1.mat --K 2 --rigidity 10 --output o",
-                "s1.mat: --rigidity: needs data from M >= 2 synchronised cameras, got M = 1",
+                "s1.mat: --rigidity: needs data from M >= 2 synchronised "
+                "cameras, got M = 1",
                 "o");
-  ExpectFailure("reconstruct --input s1.mat --K 2 --cameras 1 --rigidity 10 --output o",
-                "s1.mat: --rigidity: needs data from M >= 2 synchronised cameras, got M = 1",
-                "o");
-  ExpectFailure("reconstruct --input s.mat --cameras 2 --K 2 --temporal -1 --output o",
-                "--temporal: problem options: term weight temporal must be finite and >= 0, "
-                "got -1", "o");
-  ExpectFailure("reconstruct --input s.mat --K 2 --temporal_shape -1 --output o",
-                "term weight temporal_shape must be finite and >= 0, got -1", "o");
-  ExpectFailure("reconstruct --input s.mat --K 2 --rotation_acceleration nan --output o",
-                "term weight rotation_acceleration must be finite and >= 0, got nan", "o");
+  ExpectFailure(
+      "reconstruct --input s1.mat --K 2 --cameras 1 --rigidity 10 --output o",
+      "s1.mat: --rigidity: needs data from M >= 2 synchronised cameras, got M "
+      "= 1",
+      "o");
+  ExpectFailure(
+      "reconstruct --input s.mat --cameras 2 --K 2 --temporal -1 --output o",
+      "--temporal: problem options: term weight temporal must be finite and >= "
+      "0, "
+      "got -1",
+      "o");
+  ExpectFailure(
+      "reconstruct --input s.mat --K 2 --temporal_shape -1 --output o",
+      "term weight temporal_shape must be finite and >= 0, got -1", "o");
+  ExpectFailure(
+      "reconstruct --input s.mat --K 2 --rotation_acceleration nan --output o",
+      "term weight rotation_acceleration must be finite and >= 0, got nan",
+      "o");
   // The reconstruction with the terms: 29 s in the release build (the
   // smoothness term's cgnr, docs/performance.md), so not under the
   // sanitizers; the terms' code runs there in tests/solvers/extra_terms_test.
   if (testing_util::kSanitizedBuild) return;
-  const RunResult r = Run("reconstruct --input s.mat --cameras 2 --K 2 --rigidity 100 "
-                          "--smoothness 0.01 --temporal 1 --output s --truth s.mat --quiet");
+  const RunResult r =
+      Run("reconstruct --input s.mat --cameras 2 --K 2 --rigidity 100 "
+          "--smoothness 0.01 --temporal 1 --output s --truth s.mat --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  const nlohmann::json result = nlohmann::json::parse(ReadFile(Path("s/result.json")));
+  const nlohmann::json result =
+      nlohmann::json::parse(ReadFile(Path("s/result.json")));
   // Every term's weight is in result.json under its flag.
   for (const ExtraTerm& term : ExtraTerms()) {
     EXPECT_TRUE(result["options"].contains(term.name)) << term.name;
@@ -270,26 +328,30 @@ TEST_F(CliTest, YogaWithDefaultOptions) {
   NRSFM_SKIP_WITHOUT_SHARED_DATA(dir);
   // 45 s in the release build; the sanitizer build runs the same code paths
   // (structured solver, prior rule) on the smaller tests.
-  if (testing_util::kSanitizedBuild) GTEST_SKIP() << "accuracy run: release build only";
+  if (testing_util::kSanitizedBuild)
+    GTEST_SKIP() << "accuracy run: release build only";
   const std::string yoga = dir + "/yoga.mat";
-  const RunResult r = Run("reconstruct --input " + yoga + " --K 10 --output y --truth " +
-                          yoga + " --quiet");
+  const RunResult r = Run("reconstruct --input " + yoga +
+                          " --K 10 --output y --truth " + yoga + " --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  const nlohmann::json result = nlohmann::json::parse(ReadFile(Path("y/result.json")));
+  const nlohmann::json result =
+      nlohmann::json::parse(ReadFile(Path("y/result.json")));
   EXPECT_EQ(result["start_used"], "triple");
   EXPECT_EQ(result["options"]["priors"], "auto");
   EXPECT_EQ(result["term_weights"]["temporal_shape"].get<double>(), 1.0);
   EXPECT_EQ(result["term_weights"]["rotation_acceleration"].get<double>(), 1e6);
   EXPECT_LT(result["diagnostics"]["track_step"].get<double>(), 0.1);
   EXPECT_LT(result["diagnostics"]["path_acceleration_deg"].get<double>(), 0.05);
-  EXPECT_GT(result["diagnostics"]["largest_view_angle_deg"].get<double>(), 90.0);
+  EXPECT_GT(result["diagnostics"]["largest_view_angle_deg"].get<double>(),
+            90.0);
   EXPECT_TRUE(result["warnings"].empty()) << result["warnings"];
   const nlohmann::json e = Evaluate(yoga, "y");
   EXPECT_EQ(e["e3d_frame"], "object");
   EXPECT_EQ(result["metrics"]["e3d_frame"], "object");
   EXPECT_EQ(result["metrics"]["e3d"].get<double>(), e["e3d"].get<double>());
   std::cout << "yoga e3D " << e["e3d"] << " (object frame), camera frame "
-            << e["e3d_camera"] << ", rotation error " << e["rotation_error"] << "\n";
+            << e["e3d_camera"] << ", rotation error " << e["rotation_error"]
+            << "\n";
   // Measured 0.0238 / 0.0200 / 0.0096 (2026-11-27); bounds about 5 % above.
   EXPECT_LT(e["e3d"].get<double>(), 0.025);
   EXPECT_LT(e["e3d_camera"].get<double>(), 0.021);
@@ -311,27 +373,30 @@ struct RealSequence {
   double rotation_error;  // bound; 0 when the truth has no rotations
 };
 
-class RealSequenceTest : public CliTest, public ::testing::WithParamInterface<RealSequence> {};
+class RealSequenceTest : public CliTest,
+                         public ::testing::WithParamInterface<RealSequence> {};
 
 TEST_P(RealSequenceTest, DefaultOptions) {
   NRSFM_SKIP_WITHOUT_SHARED_DATA(dir);
-  if (testing_util::kSanitizedBuild) GTEST_SKIP() << "accuracy run: release build only";
+  if (testing_util::kSanitizedBuild)
+    GTEST_SKIP() << "accuracy run: release build only";
   const RealSequence& c = GetParam();
   const std::string file = dir + "/" + c.name + ".mat";
-  const RunResult r = Run("reconstruct --input " + file + " --K " + std::to_string(c.num_bases) +
-                          " --output o --quiet");
+  const RunResult r = Run("reconstruct --input " + file + " --K " +
+                          std::to_string(c.num_bases) + " --output o --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const nlohmann::json e = Evaluate(file, "o");
-  std::cout << c.name << " K = " << c.num_bases << ": e3D " << e["e3d"] << " (" << e["e3d_frame"]
-            << " frame), camera frame " << e["e3d_camera"] << ", rotation error "
-            << e.value("rotation_error", -1.0) << ", rank-K floor " << e.value("rank_floor", -1.0)
-            << "\n";
+  std::cout << c.name << " K = " << c.num_bases << ": e3D " << e["e3d"] << " ("
+            << e["e3d_frame"] << " frame), camera frame " << e["e3d_camera"]
+            << ", rotation error " << e.value("rotation_error", -1.0)
+            << ", rank-K floor " << e.value("rank_floor", -1.0) << "\n";
   EXPECT_EQ(e["e3d_frame"], c.frame);
   EXPECT_LT(e["e3d"].get<double>(), c.e3d);
   EXPECT_LT(e["e3d_camera"].get<double>(), c.e3d_camera);
   if (c.rotation_error > 0) {
     EXPECT_LT(e["rotation_error"].get<double>(), c.rotation_error);
-    EXPECT_EQ(e["K"].get<int>(), c.num_bases);  // evaluate read it from result.json
+    EXPECT_EQ(e["K"].get<int>(),
+              c.num_bases);  // evaluate read it from result.json
     // Never below the rank-K floor: the floor and e3D are the same measure.
     EXPECT_GT(e["e3d"].get<double>(), e["rank_floor"].get<double>());
   }
@@ -339,46 +404,63 @@ TEST_P(RealSequenceTest, DefaultOptions) {
 
 INSTANTIATE_TEST_SUITE_P(
     Published, RealSequenceTest,
-    ::testing::Values(RealSequence{"drink", 12, "object", 0.0134, 0.0111, 0.0062},    // [.01276 .01057 .00589]
-                      RealSequence{"pickup", 12, "object", 0.0263, 0.0254, 0.0050},   // [.02505 .02416 .00469]
-                      RealSequence{"face", 7, "camera", 0.0488, 0.0488, 0.0},         // [.04642]
-                      // K below the published one, where the data term alone stretched
-                      // the shapes (main 657e239: yoga K 4 18.5, K 6 5.49; pickup K 6 .492).
-                      RealSequence{"yoga", 4, "object", 0.0720, 0.0689, 0.0101},      // [.06856 .06555 .00957]
-                      RealSequence{"yoga", 6, "object", 0.0515, 0.0478, 0.0101},      // [.04902 .04552 .00957]
-                      RealSequence{"pickup", 6, "object", 0.0503, 0.0483, 0.0088}),   // [.04790 .04594 .00838]
+    ::testing::Values(
+        RealSequence{"drink", 12, "object", 0.0134, 0.0111,
+                     0.0062},  // [.01276 .01057 .00589]
+        RealSequence{"pickup", 12, "object", 0.0263, 0.0254,
+                     0.0050},  // [.02505 .02416 .00469]
+        RealSequence{"face", 7, "camera", 0.0488, 0.0488, 0.0},  // [.04642]
+        // K below the published one, where the data term alone stretched
+        // the shapes (main 657e239: yoga K 4 18.5, K 6 5.49; pickup K 6 .492).
+        RealSequence{"yoga", 4, "object", 0.0720, 0.0689,
+                     0.0101},  // [.06856 .06555 .00957]
+        RealSequence{"yoga", 6, "object", 0.0515, 0.0478,
+                     0.0101},  // [.04902 .04552 .00957]
+        RealSequence{"pickup", 6, "object", 0.0503, 0.0483,
+                     0.0088}),  // [.04790 .04594 .00838]
     [](const ::testing::TestParamInfo<RealSequence>& info) {
-      return std::string(info.param.name) + "_K" + std::to_string(info.param.num_bases);
+      return std::string(info.param.name) + "_K" +
+             std::to_string(info.param.num_bases);
     });
 
 // A term weight on the command line means manual priors: exactly that term.
 TEST_F(CliTest, TermFlagMeansManualPriors) {
-  ASSERT_EQ(Run("synth --dataset random --K 1 --frames 30 --points 12 --output r.mat")
-                .exit_code, 0);
-  const RunResult r = Run("reconstruct --input r.mat --K 1 --temporal 0.5 --output m --quiet");
+  ASSERT_EQ(
+      Run("synth --dataset random --K 1 --frames 30 --points 12 --output r.mat")
+          .exit_code,
+      0);
+  const RunResult r =
+      Run("reconstruct --input r.mat --K 1 --temporal 0.5 --output m --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const nlohmann::json result = nlohmann::json::parse(ReadFile(Path("m/result.json")));
+  const nlohmann::json result =
+      nlohmann::json::parse(ReadFile(Path("m/result.json")));
   EXPECT_EQ(result["term_weights"].size(), 1u);
   EXPECT_EQ(result["term_weights"]["temporal"].get<double>(), 0.5);
   ExpectFailure("reconstruct --input r.mat --K 1 --priors sometimes --output o",
-                "--priors: prior mode: unknown value \"sometimes\" (expected one of auto, manual)",
+                "--priors: prior mode: unknown value \"sometimes\" (expected "
+                "one of auto, manual)",
                 "o");
 }
 
 TEST_F(CliTest, FlagfileWorks) {
-  ASSERT_EQ(Run("synth --dataset random --K 1 --frames 30 --points 12 --output r.mat")
-                .exit_code, 0);
-  std::ofstream(Path("flags.txt")) << "--input=r.mat\n--K=1\n--output=ff\n--quiet\n";
+  ASSERT_EQ(
+      Run("synth --dataset random --K 1 --frames 30 --points 12 --output r.mat")
+          .exit_code,
+      0);
+  std::ofstream(Path("flags.txt"))
+      << "--input=r.mat\n--K=1\n--output=ff\n--quiet\n";
   const RunResult r = Run("reconstruct --flagfile=flags.txt");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(fs::exists(Path("ff/result.json")));
 }
 
 TEST_F(CliTest, BadInputGetsOneClearLineAndNoOutput) {
-  ASSERT_EQ(Run("synth --dataset random --K 1 --frames 20 --points 10 --output r.mat")
-                .exit_code, 0);
-  ExpectFailure("reconstruct --input nope.mat --K 1 --output o", "error: nope.mat: no such file",
-                "o");
+  ASSERT_EQ(
+      Run("synth --dataset random --K 1 --frames 20 --points 10 --output r.mat")
+          .exit_code,
+      0);
+  ExpectFailure("reconstruct --input nope.mat --K 1 --output o",
+                "error: nope.mat: no such file", "o");
   ExpectFailure("reconstruct --input r.mat --var Q --K 1 --output o",
                 "r.mat: no variable 'Q'; the file has: W, P3_gt,", "o");
   ExpectFailure("reconstruct --input r.mat --K 0 --output o",
@@ -386,35 +468,49 @@ TEST_F(CliTest, BadInputGetsOneClearLineAndNoOutput) {
   ExpectFailure("reconstruct --input r.mat --K many --output o",
                 "--K must be an integer >= 1 or 'auto', got 'many'", "o");
   ExpectFailure("reconstruct --input r.mat --K 9 --output o",  // 3K+1 > P
-                "r.mat: initialize: K = 9 needs 3K + 1 = 28 points and 2F >= 28; got P = 10, "
-                "F = 20", "o");
+                "r.mat: initialize: K = 9 needs 3K + 1 = 28 points and 2F >= "
+                "28; got P = 10, "
+                "F = 20",
+                "o");
   ExpectFailure("reconstruct --input r.mat --K 1 --init best --output o",
-                "--init: start: unknown value \"best\" (expected one of auto, factorization, "
-                "rigid, triple)", "o");
+                "--init: start: unknown value \"best\" (expected one of auto, "
+                "factorization, "
+                "rigid, triple)",
+                "o");
   ExpectFailure("reconstruct --input r.mat --K 1 --robust tukey --output o",
-                "--robust: robust loss: unknown value \"tukey\" (expected one of none, huber, "
-                "cauchy)", "o");
+                "--robust: robust loss: unknown value \"tukey\" (expected one "
+                "of none, huber, "
+                "cauchy)",
+                "o");
   // --quiet: the progress lines of the solve before the write go to stderr.
-  ExpectFailure("reconstruct --input r.mat --K 1 --output /proc/nrsfm_out --quiet",
-                "/proc: cannot create a directory there");
-  ExpectFailure("reconstruct --input r.mat --K 1", "error: --output is required");
-  ExpectFailure("reconstruct --input r.mat --K 1 --max_iterations -3 --output o",
-                "max_iterations must be >= 0, got -3", "o");
+  ExpectFailure(
+      "reconstruct --input r.mat --K 1 --output /proc/nrsfm_out --quiet",
+      "/proc: cannot create a directory there");
+  ExpectFailure("reconstruct --input r.mat --K 1",
+                "error: --output is required");
+  ExpectFailure(
+      "reconstruct --input r.mat --K 1 --max_iterations -3 --output o",
+      "max_iterations must be >= 0, got -3", "o");
 
   // Text inputs: Inf, odd rows, a bad token.
   std::ofstream(Path("inf.txt")) << "1 2 3\n4 inf 6\n";
   ExpectFailure("reconstruct --input inf.txt --K 1 --output o",
-                "inf.txt: line 2, column 2: infinite value 'inf'; use NaN to mark a missing "
-                "value", "o");
+                "inf.txt: line 2, column 2: infinite value 'inf'; use NaN to "
+                "mark a missing "
+                "value",
+                "o");
   std::ofstream(Path("odd.txt")) << "1 2 3\n4 5 6\n7 8 9\n";
-  ExpectFailure("reconstruct --input odd.txt --K 1 --output o",
-                "odd.txt: 3 rows is not a multiple of 2 (expected rows u, v per frame)", "o");
+  ExpectFailure(
+      "reconstruct --input odd.txt --K 1 --output o",
+      "odd.txt: 3 rows is not a multiple of 2 (expected rows u, v per frame)",
+      "o");
   std::ofstream(Path("token.txt")) << "1 2 x3\n4 5 6\n";
   ExpectFailure("reconstruct --input token.txt --K 1 --output o",
                 "token.txt: line 1, column 3: 'x3' is not a number", "o");
   // A truncated .mat file.
   const std::string mat = ReadFile(Path("r.mat"));
-  std::ofstream(Path("cut.mat"), std::ios::binary) << mat.substr(0, mat.size() / 2);
+  std::ofstream(Path("cut.mat"), std::ios::binary)
+      << mat.substr(0, mat.size() / 2);
   ExpectFailure("reconstruct --input cut.mat --K 1 --output o",
                 "cut.mat: the .mat file is truncated or corrupt (", "o");
 
@@ -422,16 +518,19 @@ TEST_F(CliTest, BadInputGetsOneClearLineAndNoOutput) {
   fs::create_directory(Path("full"));
   std::ofstream(Path("full/keep.txt")) << "x";
   ExpectFailure("reconstruct --input r.mat --K 1 --output full",
-                "output 'full' exists and is not an empty directory (use --overwrite to replace "
+                "output 'full' exists and is not an empty directory (use "
+                "--overwrite to replace "
                 "an earlier result)");
   EXPECT_TRUE(fs::exists(Path("full/keep.txt")));
 
   // evaluate and synth.
   ExpectFailure("evaluate --truth r.mat --result missing_dir",
                 "nrsfm evaluate: error: missing_dir: no such file");
-  ExpectFailure("evaluate --truth nope.mat --result o", "nrsfm evaluate: error: nope.mat: no such file");
-  ExpectFailure("synth --dataset cube --output c.mat",
-                "--dataset must be random, superquadric, shoe or reproject, got 'cube'");
+  ExpectFailure("evaluate --truth nope.mat --result o",
+                "nrsfm evaluate: error: nope.mat: no such file");
+  ExpectFailure(
+      "synth --dataset cube --output c.mat",
+      "--dataset must be random, superquadric, shoe or reproject, got 'cube'");
   ExpectFailure("synth --dataset random --frames 1 --output c.mat",
                 "num_frames must be >= 2, got 1");
   ExpectFailure("synth --dataset random --output c.txt",
@@ -444,19 +543,23 @@ TEST_F(CliTest, AutoKFindsTheGeneratingK) {
   // 20 s in the release build, 140 s under the sanitizers, which run the
   // same selection in tests/solvers/select_num_bases_test.
   if (testing_util::kSanitizedBuild) GTEST_SKIP() << "release build only";
-  const std::string size = testing_util::kSanitizedBuild ? " --frames 60 --points 30"
-                                                         : " --frames 100 --points 40";
+  const std::string size = testing_util::kSanitizedBuild
+                               ? " --frames 60 --points 30"
+                               : " --frames 100 --points 40";
   const std::string k_max = testing_util::kSanitizedBuild ? "6" : "7";
   for (int k : {2, 3, 5}) {
     const std::string mat = "k" + std::to_string(k) + ".mat";
     ASSERT_EQ(Run("synth --dataset random --K " + std::to_string(k) + size +
                   " --noise 0.005 --seed 7 --output " + mat)
-                  .exit_code, 0);
-    const RunResult r = Run("reconstruct --input " + mat + " --K auto --K_max " + k_max +
-                            " --output a" + std::to_string(k) + " --quiet");
+                  .exit_code,
+              0);
+    const RunResult r =
+        Run("reconstruct --input " + mat + " --K auto --K_max " + k_max +
+            " --output a" + std::to_string(k) + " --quiet");
     ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
     EXPECT_NE(r.out.find("K = " + std::to_string(k) + ","), std::string::npos)
-        << "generated with K = " << k << ":\n" << r.out;
+        << "generated with K = " << k << ":\n"
+        << r.out;
   }
 }
 

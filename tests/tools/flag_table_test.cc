@@ -1,9 +1,9 @@
 // The table of the tool's flags (tools/flag_table.h).
 #include "tools/flag_table.h"
 
-#include <map>
-
 #include <gtest/gtest.h>
+
+#include <map>
 
 namespace nrsfm {
 namespace tools {
@@ -24,8 +24,8 @@ TEST(CommandFlagTable, OneRowPerFlagAndTermWithItsCommands) {
   std::map<std::string, int> seen;
   for (const FlagInfo& flag : table) {
     EXPECT_EQ(++seen[flag.name], 1) << flag.name;
-    EXPECT_TRUE(flag.Serves(kReconstruct) || flag.Serves(kEvaluate) || flag.Serves(kSynth) ||
-                flag.Serves(kView))
+    EXPECT_TRUE(flag.Serves(kReconstruct) || flag.Serves(kEvaluate) ||
+                flag.Serves(kSynth) || flag.Serves(kView))
         << flag.name;
     // A flag that sets an option serves reconstruct or view (ApplyFlags).
     if (flag.sets_option) {
@@ -37,9 +37,13 @@ TEST(CommandFlagTable, OneRowPerFlagAndTermWithItsCommands) {
   ASSERT_NE(cameras, nullptr);
   EXPECT_EQ(cameras->HelpFor(kSynth), "cameras of the shoe (1 or 2; 0 = 1).");
   EXPECT_EQ(cameras->HelpFor(kEvaluate), "");
-  EXPECT_EQ(cameras->full_help.rfind("reconstruct: number of synchronised cameras", 0), 0u);
-  EXPECT_NE(cameras->full_help.find(" synth: cameras of the shoe"), std::string::npos);
-  EXPECT_EQ(FindFlag("var")->full_help.rfind("reconstruct, view: variable", 0), 0u);
+  EXPECT_EQ(cameras->full_help.rfind(
+                "reconstruct: number of synchronised cameras", 0),
+            0u);
+  EXPECT_NE(cameras->full_help.find(" synth: cameras of the shoe"),
+            std::string::npos);
+  EXPECT_EQ(FindFlag("var")->full_help.rfind("reconstruct, view: variable", 0),
+            0u);
   EXPECT_EQ(FindFlag("bogus"), nullptr);
 }
 
@@ -68,7 +72,8 @@ TEST(ApplyFlags, SetsTheOptionFieldOfEachFlag) {
   flags.alternation_rounds = 3;
   flags.rule_min_track_order = 2.0;
   flags.term_weights[0] = 2.5;
-  ASSERT_TRUE(ApplyFlags(flags, &targets).ok()) << ApplyFlags(flags, &targets).message();
+  ASSERT_TRUE(ApplyFlags(flags, &targets).ok())
+      << ApplyFlags(flags, &targets).message();
   EXPECT_EQ(targets.input.variable, "W2");
   EXPECT_EQ(targets.input.format, InputFormat::kText);
   EXPECT_EQ(targets.input.keypoints.min_confidence, 0.5);
@@ -108,8 +113,9 @@ TEST(ApplyFlags, NamesTheFlagAndTheValue) {
   flags.term_weights[0] = -1.0;
   // The rule is ProblemOptions::Check()'s; the message names the flag.
   EXPECT_EQ(ApplyFlags(flags, &targets).message(),
-            std::string("--") + ExtraTerms()[0].name + ": problem options: term weight " +
-                ExtraTerms()[0].name + " must be finite and >= 0, got -1");
+            std::string("--") + ExtraTerms()[0].name +
+                ": problem options: term weight " + ExtraTerms()[0].name +
+                " must be finite and >= 0, got -1");
   flags = CommandFlags();
   flags.K = "auto";
   flags.K_max = 1;
@@ -122,7 +128,8 @@ TEST(ApplyFlags, NamesTheFlagAndTheValue) {
   flags = CommandFlags();
   flags.hold = "basis,cameras";
   EXPECT_EQ(ApplyFlags(flags, &targets).message(),
-            "--hold: 'cameras' is not a kind of block (rotations, translations, weights, "
+            "--hold: 'cameras' is not a kind of block (rotations, "
+            "translations, weights, "
             "basis, scales, rig)");
   flags = CommandFlags();
   flags.cameras = -1;
@@ -131,7 +138,8 @@ TEST(ApplyFlags, NamesTheFlagAndTheValue) {
   flags = CommandFlags();
   flags.cg_tolerance = 1.5;
   EXPECT_EQ(ApplyFlags(flags, &targets).message(),
-            "--cg_tolerance: solver options: cg_relative_tolerance must be in (0, 1), got "
+            "--cg_tolerance: solver options: cg_relative_tolerance must be in "
+            "(0, 1), got "
             "1.500000");
   flags = CommandFlags();
   flags.threads = 0;
@@ -175,7 +183,8 @@ TEST(SetFlagFromText, ParsesByTheFlagsType) {
             "ply must be true or false, got 'yes'");
   EXPECT_EQ(SetFlagFromText("seed", "-1", &flags).message(),
             "seed must be an integer in [0, 2^64), got '-1'");
-  EXPECT_EQ(SetFlagFromText("bogus", "1", &flags).message(), "unknown option 'bogus'");
+  EXPECT_EQ(SetFlagFromText("bogus", "1", &flags).message(),
+            "unknown option 'bogus'");
   EXPECT_EQ(flags.max_iterations, 7);  // a failed parse leaves the flag
   EXPECT_EQ(flags.robust_scale, 0.25);
 }
@@ -183,22 +192,27 @@ TEST(SetFlagFromText, ParsesByTheFlagsType) {
 TEST(OptionList, EveryReconstructFlagOnce) {
   CommandFlags flags;
   flags.K = "auto";
-  const std::vector<std::pair<std::string, std::string>> list = OptionList(flags, 3);
+  const std::vector<std::pair<std::string, std::string>> list =
+      OptionList(flags, 3);
   std::map<std::string, std::string> options;
-  for (const auto& [name, value] : list) EXPECT_TRUE(options.emplace(name, value).second) << name;
+  for (const auto& [name, value] : list)
+    EXPECT_TRUE(options.emplace(name, value).second) << name;
   EXPECT_EQ(options["K"], "3");
   EXPECT_EQ(options["K_flag"], "auto");
   // Every flag of the roles of a reconstruction's options, none of the
   // tool's own files or the synthetic data.
   for (const FlagInfo& flag : CommandFlagTable()) {
-    const bool option = flag.role == FlagRole::kInput || flag.role == FlagRole::kWeights ||
-                        flag.role == FlagRole::kStart || flag.role == FlagRole::kOption;
-    EXPECT_EQ(options.count(flag.name) > 0, option || flag.name == "K") << flag.name;
+    const bool option =
+        flag.role == FlagRole::kInput || flag.role == FlagRole::kWeights ||
+        flag.role == FlagRole::kStart || flag.role == FlagRole::kOption;
+    EXPECT_EQ(options.count(flag.name) > 0, option || flag.name == "K")
+        << flag.name;
   }
   EXPECT_EQ(options.count("output"), 0u);
   EXPECT_EQ(options.count("dataset"), 0u);
   EXPECT_EQ(options["var"], "");
-  for (const ExtraTerm& term : ExtraTerms()) EXPECT_EQ(options[term.name], "0") << term.name;
+  for (const ExtraTerm& term : ExtraTerms())
+    EXPECT_EQ(options[term.name], "0") << term.name;
   EXPECT_EQ(options["K_threshold"], "1.1");
   EXPECT_EQ(options["seed"], "1");
 }

@@ -6,19 +6,19 @@
 // by the scores (--confidence_weights) beats the unweighted run when the
 // low-score keypoints are the noisy ones. Bad files get one error line.
 
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <set>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include "core/ground_truth.h"
 #include "core/mat_io.h"
@@ -45,7 +45,8 @@ struct PixelSequence {
   std::vector<Eigen::Matrix3Xd> truth;  // camera frame of the pixels, pixels
 };
 
-PixelSequence ToPixels(const std::vector<Eigen::Matrix3Xd>& camera_frame, double scale) {
+PixelSequence ToPixels(const std::vector<Eigen::Matrix3Xd>& camera_frame,
+                       double scale) {
   const int frames = static_cast<int>(camera_frame.size());
   const int points = static_cast<int>(camera_frame[0].cols());
   PixelSequence s;
@@ -63,7 +64,8 @@ PixelSequence ToPixels(const std::vector<Eigen::Matrix3Xd>& camera_frame, double
 
 // Writes `truth` as P3_gt (3F × P, rows x of every frame, then y, then z),
 // for --truth.
-void WriteTruth(const std::string& path, const std::vector<Eigen::Matrix3Xd>& truth) {
+void WriteTruth(const std::string& path,
+                const std::vector<Eigen::Matrix3Xd>& truth) {
   const int frames = static_cast<int>(truth.size());
   Eigen::MatrixXd p3(3 * frames, truth[0].cols());
   for (int t = 0; t < frames; ++t) {
@@ -73,7 +75,8 @@ void WriteTruth(const std::string& path, const std::vector<Eigen::Matrix3Xd>& tr
 }
 
 // The keypoints of frame t as [x, y, score, …].
-nlohmann::json Triples(const Eigen::MatrixXd& w, const Eigen::ArrayXXd& score, int t) {
+nlohmann::json Triples(const Eigen::MatrixXd& w, const Eigen::ArrayXXd& score,
+                       int t) {
   nlohmann::json values = nlohmann::json::array();
   for (int p = 0; p < w.cols(); ++p) {
     values.push_back(w(2 * t, p));
@@ -85,8 +88,8 @@ nlohmann::json Triples(const Eigen::MatrixXd& w, const Eigen::ArrayXXd& score, i
 
 // A COCO results file: one entry per frame (image_id = 1 + t) except the
 // frames in `no_person`, entries in reverse order (the reader sorts them).
-void WriteCoco(const std::string& path, const Eigen::MatrixXd& w, const Eigen::ArrayXXd& score,
-               const std::set<int>& no_person) {
+void WriteCoco(const std::string& path, const Eigen::MatrixXd& w,
+               const Eigen::ArrayXXd& score, const std::set<int>& no_person) {
   nlohmann::json entries = nlohmann::json::array();
   for (int t = static_cast<int>(w.rows() / 2) - 1; t >= 0; --t) {
     if (no_person.count(t) > 0) continue;
@@ -100,19 +103,23 @@ void WriteCoco(const std::string& path, const Eigen::MatrixXd& w, const Eigen::A
 
 // An OpenPose folder: frame_<t>_keypoints.json (no zero padding: the reader
 // orders the names naturally), "people": [] in the frames in `no_person`.
-void WriteOpenPose(const std::string& dir, const Eigen::MatrixXd& w, const Eigen::ArrayXXd& score,
+void WriteOpenPose(const std::string& dir, const Eigen::MatrixXd& w,
+                   const Eigen::ArrayXXd& score,
                    const std::set<int>& no_person) {
   fs::create_directories(dir);
   for (int t = 0; t < w.rows() / 2; ++t) {
-    nlohmann::json frame = {{"version", 1.3}, {"people", nlohmann::json::array()}};
+    nlohmann::json frame = {{"version", 1.3},
+                            {"people", nlohmann::json::array()}};
     if (no_person.count(t) == 0) {
-      frame["people"].push_back({{"person_id", {-1}},
-                                 {"pose_keypoints_2d", Triples(w, score, t)},
-                                 {"face_keypoints_2d", nlohmann::json::array()},
-                                 {"hand_left_keypoints_2d", nlohmann::json::array()},
-                                 {"hand_right_keypoints_2d", nlohmann::json::array()}});
+      frame["people"].push_back(
+          {{"person_id", {-1}},
+           {"pose_keypoints_2d", Triples(w, score, t)},
+           {"face_keypoints_2d", nlohmann::json::array()},
+           {"hand_left_keypoints_2d", nlohmann::json::array()},
+           {"hand_right_keypoints_2d", nlohmann::json::array()}});
     }
-    std::ofstream(dir + "/frame_" + std::to_string(t) + "_keypoints.json") << frame.dump();
+    std::ofstream(dir + "/frame_" + std::to_string(t) + "_keypoints.json")
+        << frame.dump();
   }
 }
 
@@ -120,7 +127,8 @@ class KeypointTest : public ToolTest {
  protected:
   KeypointTest() : ToolTest("nrsfm_keypoint") {}
   nlohmann::json Result(const std::string& out) {
-    return nlohmann::json::parse(testing_util::ReadFileToString(Path(out + "/result.json")));
+    return nlohmann::json::parse(
+        testing_util::ReadFileToString(Path(out + "/result.json")));
   }
   // Camera 0's points of a result directory.
   GroundTruth Points(const std::string& out) {
@@ -143,9 +151,11 @@ double MaxDifference(const GroundTruth& a, const GroundTruth& b) {
   EXPECT_EQ(a.NumFrames(), b.NumFrames());
   double largest = 0.0;
   for (int t = 0; t < a.NumFrames() && t < b.NumFrames(); ++t) {
-    const Eigen::ArrayXXd x = a.points_in_camera[t].array(), y = b.points_in_camera[t].array();
+    const Eigen::ArrayXXd x = a.points_in_camera[t].array(),
+                          y = b.points_in_camera[t].array();
     EXPECT_TRUE((x.isNaN() == y.isNaN()).all()) << "frame " << t;
-    largest = std::max(largest, (x.isNaN()).select(0.0, x - y).abs().maxCoeff());
+    largest =
+        std::max(largest, (x.isNaN()).select(0.0, x - y).abs().maxCoeff());
   }
   return largest;
 }
@@ -169,7 +179,8 @@ TEST_F(KeypointTest, PickupAsCocoResultsAndOpenPoseFolder) {
   double extent = 0.0;
   for (const Eigen::Matrix3Xd& x : pickup.points_in_camera) {
     extent = std::max(extent, (x.topRows<2>().rowwise().maxCoeff() -
-                               x.topRows<2>().rowwise().minCoeff()).maxCoeff());
+                               x.topRows<2>().rowwise().minCoeff())
+                                  .maxCoeff());
   }
   const PixelSequence s = ToPixels(pickup.points_in_camera, 500.0 / extent);
   const int frames = pickup.NumFrames(), points = pickup.NumPoints();
@@ -183,9 +194,9 @@ TEST_F(KeypointTest, PickupAsCocoResultsAndOpenPoseFolder) {
       w(2 * t, p) += noise(rng);
       w(2 * t + 1, p) += noise(rng);
       score(t, p) = uniform(rng) < 0.03 ? 0.05 : 0.3 + 0.7 * uniform(rng);
-      w_missing.block<2, 1>(2 * t, p) = score(t, p) < 0.1
-                                            ? Eigen::Vector2d::Constant(NAN)
-                                            : Eigen::Vector2d(w.block<2, 1>(2 * t, p));
+      w_missing.block<2, 1>(2 * t, p) =
+          score(t, p) < 0.1 ? Eigen::Vector2d::Constant(NAN)
+                            : Eigen::Vector2d(w.block<2, 1>(2 * t, p));
     }
   }
   const std::set<int> no_person = {30, 31, 50};
@@ -203,27 +214,36 @@ TEST_F(KeypointTest, PickupAsCocoResultsAndOpenPoseFolder) {
     ASSERT_TRUE(ReadMeasurements(Path(name), input, &m, &details).ok()) << name;
     ASSERT_EQ(m.W.rows(), w_missing.rows());
     EXPECT_TRUE((m.W.array() == w_missing.array() ||
-                 (m.W.array().isNaN() && w_missing.array().isNaN())).all())
+                 (m.W.array().isNaN() && w_missing.array().isNaN()))
+                    .all())
         << name;
-    EXPECT_EQ(m.NumVisible(), (w_missing.array().isNaN() == false).count() / 2) << name;
-    EXPECT_TRUE((details.confidence.isNaN() || details.confidence == score).all()) << name;
+    EXPECT_EQ(m.NumVisible(), (w_missing.array().isNaN() == false).count() / 2)
+        << name;
+    EXPECT_TRUE(
+        (details.confidence.isNaN() || details.confidence == score).all())
+        << name;
   }
 
-  RunResult r = Run("reconstruct --input keypoints.json --K 12 --min_confidence 0.1 --output o "
-                    "--truth truth.mat --quiet" +
-                    std::string(testing_util::kSanitizedBuild ? " --max_iterations 5" : ""));
+  RunResult r = Run(
+      "reconstruct --input keypoints.json --K 12 --min_confidence 0.1 --output "
+      "o "
+      "--truth truth.mat --quiet" +
+      std::string(testing_util::kSanitizedBuild ? " --max_iterations 5" : ""));
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const std::string no_person_warning =
-      "3 of " + std::to_string(frames) + " frames have no person, their points are missing (";
-  EXPECT_NE(r.out.find("warning: " + no_person_warning + "image_id 31, 32, 51)"),
-            std::string::npos)
+      "3 of " + std::to_string(frames) +
+      " frames have no person, their points are missing (";
+  EXPECT_NE(
+      r.out.find("warning: " + no_person_warning + "image_id 31, 32, 51)"),
+      std::string::npos)
       << r.out;
   const nlohmann::json result = Result("o");
   EXPECT_EQ(result["dropped_frames"], nlohmann::json({30, 31, 50}));
-  EXPECT_EQ(result["warnings"][0].get<std::string>().rfind(no_person_warning, 0), 0u);
+  EXPECT_EQ(
+      result["warnings"][0].get<std::string>().rfind(no_person_warning, 0), 0u);
   const double e3d = result["metrics"]["e3d"].get<double>();
-  std::cout << "pickup as keypoints, K = 12: camera-frame e3D " << e3d << ", reprojection RMS "
-            << result["reprojection_rms"] << " px\n";
+  std::cout << "pickup as keypoints, K = 12: camera-frame e3D " << e3d
+            << ", reprojection RMS " << result["reprojection_rms"] << " px\n";
   EXPECT_EQ(result["metrics"]["e3d_frame"], "camera");
   if (testing_util::kSanitizedBuild) return;
   // Measured 0.0273 (2026-11-27).
@@ -233,10 +253,13 @@ TEST_F(KeypointTest, PickupAsCocoResultsAndOpenPoseFolder) {
   // measured): 0.92 px (the first 60 frames: 0.90 px).
   EXPECT_LT(result["reprojection_rms"].get<double>(), 1.0);
 
-  r = Run("reconstruct --input openpose --K 12 --min_confidence 0.1 --output p --quiet "
+  r =
+      Run("reconstruct --input openpose --K 12 --min_confidence 0.1 --output p "
+          "--quiet "
           "--max_iterations 3");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-  EXPECT_NE(r.out.find(no_person_warning + "files frame_30_keypoints.json, "
+  EXPECT_NE(r.out.find(no_person_warning +
+                       "files frame_30_keypoints.json, "
                        "frame_31_keypoints.json, frame_50_keypoints.json)"),
             std::string::npos)
       << r.out;
@@ -259,7 +282,8 @@ TEST_F(KeypointTest, ConfidenceWeightsBeatUnweightedWhenLowScoresAreNoisy) {
   SyntheticSequence sequence;
   ASSERT_TRUE(GenerateRandomBasis(options, &sequence).ok());
   std::vector<Eigen::Matrix3Xd> camera;
-  for (int t = 0; t < options.num_frames; ++t) camera.push_back(sequence.truth.ShapeInCamera(t, 0));
+  for (int t = 0; t < options.num_frames; ++t)
+    camera.push_back(sequence.truth.ShapeInCamera(t, 0));
   const PixelSequence s = ToPixels(camera, 400.0);
   std::mt19937 rng(7);
   std::normal_distribution<double> normal(0.0, 1.0);
@@ -275,22 +299,26 @@ TEST_F(KeypointTest, ConfidenceWeightsBeatUnweightedWhenLowScoresAreNoisy) {
   }
   WriteCoco(Path("k.json"), w, score, {});
   WriteTruth(Path("truth.mat"), s.truth);
-  const std::string common = " --input k.json --K 3 --min_confidence 0.1 --truth truth.mat --quiet";
+  const std::string common =
+      " --input k.json --K 3 --min_confidence 0.1 --truth truth.mat --quiet";
   RunResult r = Run("reconstruct --output plain" + common);
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   r = Run("reconstruct --output weighted --confidence_weights" + common);
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   const double plain = Result("plain")["metrics"]["e3d"].get<double>();
   const double weighted = Result("weighted")["metrics"]["e3d"].get<double>();
-  std::cout << "noisy low scores: e3D unweighted " << plain << ", weighted " << weighted << "\n";
+  std::cout << "noisy low scores: e3D unweighted " << plain << ", weighted "
+            << weighted << "\n";
   EXPECT_LT(plain, 0.03);
   EXPECT_LT(weighted, 0.8 * plain);
   EXPECT_EQ(Result("weighted")["options"]["confidence_weights"], "true");
 
   // Equal scores: the weights are all 1 after scaling, the same result.
-  WriteCoco(Path("equal.json"), w, Eigen::ArrayXXd::Constant(score.rows(), score.cols(), 0.5),
-            {});
-  r = Run("reconstruct --input equal.json --K 3 --output equal --confidence_weights --quiet");
+  WriteCoco(Path("equal.json"), w,
+            Eigen::ArrayXXd::Constant(score.rows(), score.cols(), 0.5), {});
+  r =
+      Run("reconstruct --input equal.json --K 3 --output equal "
+          "--confidence_weights --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   r = Run("reconstruct --input equal.json --K 3 --output equal_plain --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
@@ -298,28 +326,39 @@ TEST_F(KeypointTest, ConfidenceWeightsBeatUnweightedWhenLowScoresAreNoisy) {
 }
 
 TEST_F(KeypointTest, BadFilesAndFlagsGetOneErrorLine) {
-  std::ofstream(Path("annotations.json")) << R"({"annotations": [], "images": []})";
+  std::ofstream(Path("annotations.json"))
+      << R"({"annotations": [], "images": []})";
   ExpectError("reconstruct --input annotations.json --K 2 --output o",
               "annotations.json: expected a list of COCO keypoint results");
   std::ofstream(Path("nokeypoints.json")) << R"([{"image_id": 3, "score": 1}])";
   ExpectError("reconstruct --input nokeypoints.json --K 2 --output o",
               "nokeypoints.json: entry 0 (image_id 3) has no 'keypoints'");
   std::ofstream(Path("text.json")) << "image_id,x,y";
-  ExpectError("reconstruct --input text.json --K 2 --output o", "text.json: not valid JSON");
-  ExpectError("reconstruct --input nokeypoints.json --K 2 --output o --part feet",
-              "--part: keypoint part: unknown value \"feet\" (expected one of pose, face, "
-              "hand_left, hand_right)");
-  ExpectError("reconstruct --input nokeypoints.json --K 2 --output o --min_confidence -1",
-              "--min_confidence: keypoint options: min_confidence must be finite and >= 0");
-  ExpectError("reconstruct --input nokeypoints.json --K 2 --output o --frame_key=",
-              "--frame_key: keypoint options: frame_key must name a field");
+  ExpectError("reconstruct --input text.json --K 2 --output o",
+              "text.json: not valid JSON");
+  ExpectError(
+      "reconstruct --input nokeypoints.json --K 2 --output o --part feet",
+      "--part: keypoint part: unknown value \"feet\" (expected one of pose, "
+      "face, "
+      "hand_left, hand_right)");
+  ExpectError(
+      "reconstruct --input nokeypoints.json --K 2 --output o --min_confidence "
+      "-1",
+      "--min_confidence: keypoint options: min_confidence must be finite and "
+      ">= 0");
+  ExpectError(
+      "reconstruct --input nokeypoints.json --K 2 --output o --frame_key=",
+      "--frame_key: keypoint options: frame_key must name a field");
   fs::create_directory(Path("empty"));
-  ExpectError("reconstruct --input empty --K 2 --output o", "empty: no .json files in the folder");
+  ExpectError("reconstruct --input empty --K 2 --output o",
+              "empty: no .json files in the folder");
 
   // Scores that cannot weight: a .mat holds none; a frame with no person
   // would be left out, which a weighted run cannot do yet.
-  ASSERT_EQ(Run("synth --dataset superquadric --frames 30 --points 20 --output s.mat").exit_code,
-            0);
+  ASSERT_EQ(
+      Run("synth --dataset superquadric --frames 30 --points 20 --output s.mat")
+          .exit_code,
+      0);
   ExpectError("reconstruct --input s.mat --K 2 --output o --confidence_weights",
               "--confidence_weights: s.mat holds no detector scores");
   SyntheticSequence sequence;
@@ -329,13 +368,16 @@ TEST_F(KeypointTest, BadFilesAndFlagsGetOneErrorLine) {
   ASSERT_TRUE(GenerateSuperquadric(options, &sequence).ok());
   WriteCoco(Path("gap.json"), sequence.measurements.W,
             Eigen::ArrayXXd::Constant(30, 20, 0.9), {7});
-  ExpectError("reconstruct --input gap.json --K 2 --output o --confidence_weights",
-              "gap.json: observation weights (--confidence_weights) with K = 2: the "
-              "reconstruction would leave points or frames out, which a weighted run cannot "
-              "do yet (left out of the reconstruction");
+  ExpectError(
+      "reconstruct --input gap.json --K 2 --output o --confidence_weights",
+      "gap.json: observation weights (--confidence_weights) with K = 2: the "
+      "reconstruction would leave points or frames out, which a weighted run "
+      "cannot "
+      "do yet (left out of the reconstruction");
   EXPECT_FALSE(fs::exists(Path("o")));
   // Unweighted, the frame is left out and the rest reconstructed.
-  const RunResult r = Run("reconstruct --input gap.json --K 2 --output o --quiet");
+  const RunResult r =
+      Run("reconstruct --input gap.json --K 2 --output o --quiet");
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(Result("o")["dropped_frames"], nlohmann::json({7}));
 }
@@ -353,33 +395,38 @@ TEST_F(KeypointTest, ViewShowsTheKeypointsAsGiven) {
   options.seed = 3;
   ASSERT_TRUE(GenerateRandomBasis(options, &sequence).ok());
   std::vector<Eigen::Matrix3Xd> camera;
-  for (int t = 0; t < 40; ++t) camera.push_back(sequence.truth.ShapeInCamera(t, 0));
+  for (int t = 0; t < 40; ++t)
+    camera.push_back(sequence.truth.ShapeInCamera(t, 0));
   const PixelSequence s = ToPixels(camera, 300.0);
   Eigen::ArrayXXd score = Eigen::ArrayXXd::Constant(40, 20, 0.9);
   score(4, 6) = 0.01;
   WriteCoco(Path("k.json"), s.w, score, {12});
   WriteTruth(Path("truth.mat"), s.truth);
-  ASSERT_EQ(Run("reconstruct --input k.json --K 2 --output o --quiet").exit_code, 0);
+  ASSERT_EQ(
+      Run("reconstruct --input k.json --K 2 --output o --quiet").exit_code, 0);
   ASSERT_EQ(Result("o")["dropped_frames"], nlohmann::json({12}));
-  const RunResult r = Run("view --result o --input k.json --truth truth.mat --output v.html");
+  const RunResult r =
+      Run("view --result o --input k.json --truth truth.mat --output v.html");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("note: k.json: 1 of 40 frames have no person, their points are missing "
+  EXPECT_NE(r.out.find("note: k.json: 1 of 40 frames have no person, their "
+                       "points are missing "
                        "(image_id 13)"),
             std::string::npos)
       << r.out;
   const std::string html = testing_util::ReadFileToString(Path("v.html"));
-  const std::string open = "<script id=\"nrsfm-data\" type=\"application/json\">";
+  const std::string open =
+      "<script id=\"nrsfm-data\" type=\"application/json\">";
   const std::size_t start = html.find(open) + open.size();
-  const nlohmann::json data =
-      nlohmann::json::parse(html.substr(start, html.find("</script>", start) - start));
+  const nlohmann::json data = nlohmann::json::parse(
+      html.substr(start, html.find("</script>", start) - start));
   const nlohmann::json& tracks = data["tracks"];
   ASSERT_EQ(tracks.size(), 2u * 40 * 20);
   // Frame 3, point 5: u, v in pixels as in the file (the page keeps 7
   // digits).
   EXPECT_NEAR(tracks[2 * (3 * 20 + 5)].get<double>(), s.w(6, 5), 1e-4);
   EXPECT_NEAR(tracks[2 * (3 * 20 + 5) + 1].get<double>(), s.w(7, 5), 1e-4);
-  EXPECT_TRUE(tracks[2 * (4 * 20 + 6)].is_null());    // below min_confidence
-  EXPECT_TRUE(tracks[2 * (12 * 20 + 0)].is_null());   // no person
+  EXPECT_TRUE(tracks[2 * (4 * 20 + 6)].is_null());   // below min_confidence
+  EXPECT_TRUE(tracks[2 * (12 * 20 + 0)].is_null());  // no person
   // The left-out frame is not scored: no error, no reprojection; the others
   // are (noise-free data with the generating K: small errors).
   EXPECT_TRUE(data["frame_error"][12].is_null());

@@ -4,11 +4,11 @@
 #ifndef NRSFM_TESTS_TOOLS_TOOL_TEST_H_
 #define NRSFM_TESTS_TOOLS_TOOL_TEST_H_
 
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <string>
 #include <utility>
-
-#include <gtest/gtest.h>
 
 #include "tests/test_util.h"
 

@@ -10,6 +10,7 @@
 //   * the console shows no script error and no blocked load.
 // Skips when Chromium is not installed.
 
+#include <gtest/gtest.h>
 #include <zlib.h>
 
 #include <array>
@@ -20,8 +21,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "tests/test_util.h"
 
@@ -53,11 +52,14 @@ std::string FindChromium() {
 struct Image {
   int width = 0, height = 0;
   std::vector<std::array<uint8_t, 3>> pixels;  // row-major
-  const std::array<uint8_t, 3>& at(int x, int y) const { return pixels[y * width + x]; }
+  const std::array<uint8_t, 3>& at(int x, int y) const {
+    return pixels[y * width + x];
+  }
 };
 
 uint32_t BigEndian32(const std::string& s, size_t at) {
-  return (uint32_t(uint8_t(s[at])) << 24) | (uint32_t(uint8_t(s[at + 1])) << 16) |
+  return (uint32_t(uint8_t(s[at])) << 24) |
+         (uint32_t(uint8_t(s[at + 1])) << 16) |
          (uint32_t(uint8_t(s[at + 2])) << 8) | uint32_t(uint8_t(s[at + 3]));
 }
 
@@ -77,7 +79,8 @@ bool DecodePng(const std::string& file, Image* image, std::string* error) {
       image->width = static_cast<int>(BigEndian32(body, 0));
       image->height = static_cast<int>(BigEndian32(body, 4));
       color_type = uint8_t(body[9]);
-      if (uint8_t(body[8]) != 8 || (color_type != 2 && color_type != 6) || body[12] != 0) {
+      if (uint8_t(body[8]) != 8 || (color_type != 2 && color_type != 6) ||
+          body[12] != 0) {
         *error = "unsupported PNG format";
         return false;
       }
@@ -94,7 +97,8 @@ bool DecodePng(const std::string& file, Image* image, std::string* error) {
   const size_t stride = size_t(image->width) * channels;
   std::vector<uint8_t> raw((stride + 1) * image->height);
   uLongf raw_size = raw.size();
-  if (uncompress(raw.data(), &raw_size, reinterpret_cast<const Bytef*>(compressed.data()),
+  if (uncompress(raw.data(), &raw_size,
+                 reinterpret_cast<const Bytef*>(compressed.data()),
                  compressed.size()) != Z_OK ||
       raw_size != raw.size()) {
     *error = "bad image data";
@@ -112,10 +116,18 @@ bool DecodePng(const std::string& file, Image* image, std::string* error) {
       const int c = i >= size_t(channels) ? previous[i - channels] : 0;
       int predictor = 0;
       switch (filter) {
-        case 0: predictor = 0; break;
-        case 1: predictor = a; break;
-        case 2: predictor = b; break;
-        case 3: predictor = (a + b) / 2; break;
+        case 0:
+          predictor = 0;
+          break;
+        case 1:
+          predictor = a;
+          break;
+        case 2:
+          predictor = b;
+          break;
+        case 3:
+          predictor = (a + b) / 2;
+          break;
         case 4: {
           const int p = a + b - c, pa = std::abs(p - a), pb = std::abs(p - b),
                     pc = std::abs(p - c);
@@ -129,8 +141,8 @@ bool DecodePng(const std::string& file, Image* image, std::string* error) {
       row[i] = static_cast<uint8_t>(in[i] + predictor);
     }
     for (int x = 0; x < image->width; ++x) {
-      image->pixels[size_t(y) * image->width + x] = {row[x * channels], row[x * channels + 1],
-                                                     row[x * channels + 2]};
+      image->pixels[size_t(y) * image->width + x] = {
+          row[x * channels], row[x * channels + 1], row[x * channels + 2]};
     }
     previous.swap(row);
   }
@@ -142,12 +154,14 @@ struct Rect {
 };
 
 // Pixels of `r` within `tolerance` (per channel) of `rgb`.
-int CountColour(const Image& image, const Rect& r, std::array<int, 3> rgb, int tolerance) {
+int CountColour(const Image& image, const Rect& r, std::array<int, 3> rgb,
+                int tolerance) {
   int count = 0;
   for (int y = r.y; y < r.y + r.h; ++y) {
     for (int x = r.x; x < r.x + r.w; ++x) {
       const auto& p = image.at(x, y);
-      if (std::abs(p[0] - rgb[0]) <= tolerance && std::abs(p[1] - rgb[1]) <= tolerance &&
+      if (std::abs(p[0] - rgb[0]) <= tolerance &&
+          std::abs(p[1] - rgb[1]) <= tolerance &&
           std::abs(p[2] - rgb[2]) <= tolerance) {
         ++count;
       }
@@ -186,17 +200,21 @@ class ViewBrowserTest : public ::testing::Test {
   void SetUp() override {
     chromium_ = FindChromium();
     if (chromium_.empty()) {
-      GTEST_SKIP() << "chromium is not installed (apt-get install --no-install-recommends "
-                      "chromium); the page's data are checked by tools_view_test";
+      GTEST_SKIP()
+          << "chromium is not installed (apt-get install "
+             "--no-install-recommends "
+             "chromium); the page's data are checked by tools_view_test";
     }
     dir_ = testing_util::MakeTempDir("nrsfm_view_browser");
     ASSERT_FALSE(dir_.empty());
-    RunResult r = Run(NRSFM_CLI, "synth --dataset random --K 2 --frames 40 --points 25 "
-                                 "--seed 3 --noise 0.02 --missing 0.1 --output r.mat");
+    RunResult r = Run(NRSFM_CLI,
+                      "synth --dataset random --K 2 --frames 40 --points 25 "
+                      "--seed 3 --noise 0.02 --missing 0.1 --output r.mat");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     r = Run(NRSFM_CLI, "reconstruct --input r.mat --K 2 --output r --quiet");
     ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
-    r = Run(NRSFM_CLI, "view --result r --truth r.mat --input r.mat --output page.html");
+    r = Run(NRSFM_CLI,
+            "view --result r --truth r.mat --input r.mat --output page.html");
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
   void TearDown() override {
@@ -213,20 +231,28 @@ class ViewBrowserTest : public ::testing::Test {
   // no network (every host lookup fails) and the console on stderr; the DOM
   // after `virtual_time_ms` of (virtual) time is the output. With
   // `screenshot`, also writes a 1200 x 800 screenshot there.
-  RunResult Chromium(const std::string& fragment, const std::string& screenshot = "",
+  RunResult Chromium(const std::string& fragment,
+                     const std::string& screenshot = "",
                      int virtual_time_ms = 500) {
-    const std::string profile = (fs::path(dir_) / ("profile" + std::to_string(runs_++))).string();
-    const std::string url = "file://" + (fs::path(dir_) / "page.html").string() + "#" + fragment;
+    const std::string profile =
+        (fs::path(dir_) / ("profile" + std::to_string(runs_++))).string();
+    const std::string url =
+        "file://" + (fs::path(dir_) / "page.html").string() + "#" + fragment;
     const std::string args =
         "120 env HOME='" + dir_ + "' '" + chromium_ +
         "' --headless --no-sandbox --disable-gpu --disable-quic --no-first-run"
-        " --disable-background-networking --disable-component-update --disable-sync"
-        " --user-data-dir='" + profile + "'"
-        " --enable-unsafe-swiftshader --window-size=1200,800 --force-device-scale-factor=1"
+        " --disable-background-networking --disable-component-update "
+        "--disable-sync"
+        " --user-data-dir='" +
+        profile +
+        "'"
+        " --enable-unsafe-swiftshader --window-size=1200,800 "
+        "--force-device-scale-factor=1"
         " --hide-scrollbars --host-resolver-rules='MAP * ~NOTFOUND'"
         " --enable-logging=stderr --v=0 --virtual-time-budget=" +
         std::to_string(virtual_time_ms) + " --dump-dom" +
-        (screenshot.empty() ? "" : " --screenshot='" + screenshot + "'") + " '" + url + "'";
+        (screenshot.empty() ? "" : " --screenshot='" + screenshot + "'") +
+        " '" + url + "'";
     RunResult r = Run("timeout", args);
     std::error_code ec;
     fs::remove_all(profile, ec);
@@ -242,20 +268,24 @@ class ViewBrowserTest : public ::testing::Test {
     while (std::getline(lines, line)) {
       if (line.find("CONSOLE") == std::string::npos) continue;
       EXPECT_EQ(line.find("Uncaught"), std::string::npos) << line;
-      EXPECT_EQ(line.find("Content Security Policy"), std::string::npos) << line;
+      EXPECT_EQ(line.find("Content Security Policy"), std::string::npos)
+          << line;
       EXPECT_EQ(line.find("Refused"), std::string::npos) << line;
     }
   }
 
   static std::string Title(const std::string& dom) {
     std::smatch m;
-    return std::regex_search(dom, m, std::regex("<title>([^<]*)</title>")) ? m[1].str() : "";
+    return std::regex_search(dom, m, std::regex("<title>([^<]*)</title>"))
+               ? m[1].str()
+               : "";
   }
 
   static Rect BodyRect(const std::string& dom, const std::string& name) {
     std::smatch m;
     Rect r;
-    if (std::regex_search(dom, m, std::regex(name + "=\"(\\d+) (\\d+) (\\d+) (\\d+)\""))) {
+    if (std::regex_search(
+            dom, m, std::regex(name + "=\"(\\d+) (\\d+) (\\d+) (\\d+)\""))) {
       r = {std::stoi(m[1]), std::stoi(m[2]), std::stoi(m[3]), std::stoi(m[4])};
     }
     return r;
@@ -271,7 +301,8 @@ class ViewBrowserTest : public ::testing::Test {
     Image image;
     std::string error;
     EXPECT_TRUE(DecodePng(testing_util::ReadFileToString(file), &image, &error))
-        << name << ": " << error << "\n" << r.err;
+        << name << ": " << error << "\n"
+        << r.err;
     return image;
   }
 
@@ -324,13 +355,16 @@ TEST_F(ViewBrowserTest, SliderAndPlaybackMoveTheFrame) {
   RunResult r = Chromium("frame=2&slide_to=9");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(Title(r.out), "nrsfm view: frame 9 of 40");
-  EXPECT_NE(r.out.find("frame 9 / 39"), std::string::npos) << "frame label not updated";
+  EXPECT_NE(r.out.find("frame 9 / 39"), std::string::npos)
+      << "frame label not updated";
   // Playing at 10 frames/s for 3 s of (virtual) time advances the frame.
   r = Chromium("frame=0&play=1&fps=10", "", /*virtual_time_ms=*/3000);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::smatch m;
   const std::string title = Title(r.out);
-  ASSERT_TRUE(std::regex_match(title, m, std::regex("nrsfm view: frame (\\d+) of 40"))) << title;
+  ASSERT_TRUE(
+      std::regex_match(title, m, std::regex("nrsfm view: frame (\\d+) of 40")))
+      << title;
   EXPECT_GE(std::stoi(m[1]), 10) << title;
 }
 

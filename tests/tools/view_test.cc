@@ -5,16 +5,16 @@
 // error line naming the path and no page. The page in a real browser:
 // tests/tools/view_browser_test.cc.
 
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include "core/ground_truth.h"
 #include "core/mat_io.h"
@@ -31,7 +31,8 @@ namespace fs = std::filesystem;
 
 using RunResult = testing_util::CommandResult;
 
-constexpr char kDataOpen[] = "<script id=\"nrsfm-data\" type=\"application/json\">";
+constexpr char kDataOpen[] =
+    "<script id=\"nrsfm-data\" type=\"application/json\">";
 
 // The data object of a page (null when the page has none).
 nlohmann::json PageData(const std::string& html) {
@@ -44,7 +45,8 @@ nlohmann::json PageData(const std::string& html) {
 }
 
 std::string Lowercase(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (char& c : s)
+    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;
 }
 
@@ -83,30 +85,37 @@ void ExpectSelfContained(const std::string& html) {
   EXPECT_EQ(ours.find("https:"), std::string::npos);
   EXPECT_EQ(ours.find("//www."), std::string::npos);
   const std::string lower = Lowercase(markup);
-  for (const char* needle : {"src=", "href=", "url(", "@import", "<link", "<img", "<iframe",
-                             "<object", "<embed", "http:", "https:"}) {
-    EXPECT_EQ(lower.find(needle), std::string::npos) << needle << " in the page's markup";
+  for (const char* needle :
+       {"src=", "href=", "url(", "@import", "<link", "<img", "<iframe",
+        "<object", "<embed", "http:", "https:"}) {
+    EXPECT_EQ(lower.find(needle), std::string::npos)
+        << needle << " in the page's markup";
   }
-  EXPECT_NE(markup.find("content=\"default-src 'none'; script-src 'unsafe-inline'; "
-                        "style-src 'unsafe-inline'\""),
-            std::string::npos)
+  EXPECT_NE(
+      markup.find("content=\"default-src 'none'; script-src 'unsafe-inline'; "
+                  "style-src 'unsafe-inline'\""),
+      std::string::npos)
       << "no Content-Security-Policy";
 }
 
-std::vector<Eigen::Matrix3Xd> Centred(const std::vector<Eigen::Matrix3Xd>& shapes) {
+std::vector<Eigen::Matrix3Xd> Centred(
+    const std::vector<Eigen::Matrix3Xd>& shapes) {
   std::vector<Eigen::Matrix3Xd> out;
-  for (const Eigen::Matrix3Xd& x : shapes) out.push_back(x.colwise() - x.rowwise().mean());
+  for (const Eigen::Matrix3Xd& x : shapes)
+    out.push_back(x.colwise() - x.rowwise().mean());
   return out;
 }
 
 // F frames of 3 × P from a flat page array (x y z per point, frame-major).
-std::vector<Eigen::Matrix3Xd> Shapes(const nlohmann::json& array, int frames, int points) {
+std::vector<Eigen::Matrix3Xd> Shapes(const nlohmann::json& array, int frames,
+                                     int points) {
   std::vector<Eigen::Matrix3Xd> shapes(frames, Eigen::Matrix3Xd(3, points));
   EXPECT_EQ(array.size(), static_cast<size_t>(3 * frames * points));
   if (array.size() != static_cast<size_t>(3 * frames * points)) return shapes;
   for (int t = 0; t < frames; ++t) {
     for (int p = 0; p < points; ++p) {
-      for (int i = 0; i < 3; ++i) shapes[t](i, p) = array[3 * (t * points + p) + i].get<double>();
+      for (int i = 0; i < 3; ++i)
+        shapes[t](i, p) = array[3 * (t * points + p) + i].get<double>();
     }
   }
   return shapes;
@@ -142,8 +151,9 @@ class ViewTest : public ToolTest {
   // A noisy random-basis sequence with missing entries (r.mat) and its
   // K = 2 reconstruction (r/).
   void MakeReconstruction() {
-    RunResult r = Run("synth --dataset random --K 2 --frames 40 --points 25 --seed 3 "
-                      "--noise 0.02 --missing 0.1 --output r.mat");
+    RunResult r =
+        Run("synth --dataset random --K 2 --frames 40 --points 25 --seed 3 "
+            "--noise 0.02 --missing 0.1 --output r.mat");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     r = Run("reconstruct --input r.mat --K 2 --output r --truth r.mat --quiet");
     ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
@@ -156,14 +166,17 @@ class ViewTest : public ToolTest {
     const bool existed = fs::exists(Path(page));
     const RunResult r = Run("view " + args);
     EXPECT_EQ(r.exit_code, 1) << args << "\n" << r.err;
-    EXPECT_EQ(r.err.rfind("nrsfm view: error: ", 0), 0u) << args << "\n" << r.err;
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n" << r.err;
+    EXPECT_EQ(r.err.rfind("nrsfm view: error: ", 0), 0u) << args << "\n"
+                                                         << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << "\n"
+                                                               << r.err;
     EXPECT_NE(r.err.find(needle), std::string::npos) << args << "\n" << r.err;
     if (!existed) {
       EXPECT_FALSE(fs::exists(Path(page))) << args;
     }
     for (const auto& entry : fs::directory_iterator(dir_)) {
-      EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos)
+      EXPECT_EQ(entry.path().filename().string().find(".tmp-"),
+                std::string::npos)
           << "left behind: " << entry.path();
     }
   }
@@ -171,12 +184,14 @@ class ViewTest : public ToolTest {
 
 TEST_F(ViewTest, PageIsSelfContainedAndHoldsTheReconstruction) {
   MakeReconstruction();
-  const RunResult r = Run("view --result r --truth r.mat --input r.mat --output page.html");
+  const RunResult r =
+      Run("view --result r --truth r.mat --input r.mat --output page.html");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("wrote page.html"), std::string::npos) << r.out;
   const std::string html = testing_util::ReadFileToString(Path("page.html"));
   ExpectSelfContained(html);
-  EXPECT_NE(html.find("REVISION=\"111\""), std::string::npos) << "three.js r111 not inlined";
+  EXPECT_NE(html.find("REVISION=\"111\""), std::string::npos)
+      << "three.js r111 not inlined";
   EXPECT_NE(html.find("OrbitControls"), std::string::npos);
 
   const nlohmann::json data = PageData(html);
@@ -199,19 +214,21 @@ TEST_F(ViewTest, PageIsSelfContainedAndHoldsTheReconstruction) {
   const double e3d = evaluated["e3d"].get<double>();
   EXPECT_GT(e3d, 0.01) << "the noisy reconstruction should not be exact";
   EXPECT_NEAR(meta["metrics"]["e3d"].get<double>(), e3d, 1e-12 * e3d);
-  EXPECT_NEAR(meta["metrics"]["frob_zsign"].get<double>(), evaluated["frob_zsign"].get<double>(),
-              1e-12);
+  EXPECT_NEAR(meta["metrics"]["frob_zsign"].get<double>(),
+              evaluated["frob_zsign"].get<double>(), 1e-12);
   ASSERT_EQ(data["frame_error"].size(), static_cast<size_t>(f));
   EXPECT_NEAR(Mean(data["frame_error"]), e3d, 1e-8 * e3d);
 
   // The estimate is camera 0's points_camera.csv, centred per frame.
   GroundTruth points;
   ASSERT_TRUE(ReadPointsCameraCsv(Path("r"), 0, &points).ok());
-  const std::vector<Eigen::Matrix3Xd> expected = Centred(points.points_in_camera);
+  const std::vector<Eigen::Matrix3Xd> expected =
+      Centred(points.points_in_camera);
   const std::vector<Eigen::Matrix3Xd> estimate = Shapes(data["estimate"], f, p);
   const double size = expected[0].norm() / std::sqrt(p);
   for (int t = 0; t < f; ++t) {
-    EXPECT_LT((estimate[t] - expected[t]).cwiseAbs().maxCoeff(), 1e-6 * size) << "frame " << t;
+    EXPECT_LT((estimate[t] - expected[t]).cwiseAbs().maxCoeff(), 1e-6 * size)
+        << "frame " << t;
   }
 
   // The truth is shown in the estimate's frame after the e3D alignment: the
@@ -219,7 +236,8 @@ TEST_F(ViewTest, PageIsSelfContainedAndHoldsTheReconstruction) {
   // average to e3D, frame by frame.
   GroundTruth truth;
   ASSERT_TRUE(ReadGroundTruth(Path("r.mat"), "", &truth).ok());
-  const std::vector<Eigen::Matrix3Xd> truth_centred = Centred(truth.points_in_camera);
+  const std::vector<Eigen::Matrix3Xd> truth_centred =
+      Centred(truth.points_in_camera);
   double s = 0.0;
   for (const Eigen::Matrix3Xd& x : truth_centred) {
     s += (x.rowwise().squaredNorm() / p).cwiseSqrt().sum();
@@ -228,12 +246,15 @@ TEST_F(ViewTest, PageIsSelfContainedAndHoldsTheReconstruction) {
   const std::vector<Eigen::Matrix3Xd> shown_truth = Shapes(data["truth"], f, p);
   double sum = 0.0;
   for (int t = 0; t < f; ++t) {
-    const double frame_error = (shown_truth[t] - estimate[t]).colwise().norm().mean() / s;
-    EXPECT_NEAR(frame_error, data["frame_error"][t].get<double>(), 1e-4 * frame_error)
+    const double frame_error =
+        (shown_truth[t] - estimate[t]).colwise().norm().mean() / s;
+    EXPECT_NEAR(frame_error, data["frame_error"][t].get<double>(),
+                1e-4 * frame_error)
         << "frame " << t;
     sum += frame_error;
     // An orthogonal map of the centred truth: the same shape.
-    EXPECT_NEAR(shown_truth[t].norm(), truth_centred[t].norm(), 1e-6 * truth_centred[t].norm());
+    EXPECT_NEAR(shown_truth[t].norm(), truth_centred[t].norm(),
+                1e-6 * truth_centred[t].norm());
   }
   EXPECT_NEAR(sum / f, e3d, 1e-4 * e3d);
 
@@ -253,11 +274,13 @@ TEST_F(ViewTest, PageIsSelfContainedAndHoldsTheReconstruction) {
       }
       EXPECT_NEAR(tracks(2 * t, q), input.W(2 * t, q), 1e-6 * size);
       EXPECT_NEAR(tracks(2 * t + 1, q), input.W(2 * t + 1, q), 1e-6 * size);
-      squared += (tracks.block<2, 1>(2 * t, q) - reprojection.block<2, 1>(2 * t, q)).squaredNorm();
+      squared +=
+          (tracks.block<2, 1>(2 * t, q) - reprojection.block<2, 1>(2 * t, q))
+              .squaredNorm();
     }
   }
-  const nlohmann::json result =
-      nlohmann::json::parse(testing_util::ReadFileToString(Path("r/result.json")));
+  const nlohmann::json result = nlohmann::json::parse(
+      testing_util::ReadFileToString(Path("r/result.json")));
   const double rms = result["reprojection_rms"].get<double>();
   EXPECT_GT(rms, 0.005);
   EXPECT_NEAR(std::sqrt(squared / input.NumVisible()), rms, 1e-3 * rms);
@@ -271,14 +294,16 @@ TEST_F(ViewTest, PageIsSelfContainedAndHoldsTheReconstruction) {
     EXPECT_EQ(data["edges"][i][0].get<int>(), edges[i].i);
     EXPECT_EQ(data["edges"][i][1].get<int>(), edges[i].j);
   }
-  EXPECT_NE(meta["edge_source"].get<std::string>().find("Delaunay"), std::string::npos);
+  EXPECT_NE(meta["edge_source"].get<std::string>().find("Delaunay"),
+            std::string::npos);
 }
 
 TEST_F(ViewTest, WithoutTruthOrTracksThePageSaysSo) {
   MakeReconstruction();
   const RunResult r = Run("view --result r --output bare.html");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const nlohmann::json data = PageData(testing_util::ReadFileToString(Path("bare.html")));
+  const nlohmann::json data =
+      PageData(testing_util::ReadFileToString(Path("bare.html")));
   ASSERT_TRUE(data.is_object());
   EXPECT_TRUE(data["truth"].is_null());
   EXPECT_TRUE(data["tracks"].is_null());
@@ -286,13 +311,17 @@ TEST_F(ViewTest, WithoutTruthOrTracksThePageSaysSo) {
   EXPECT_EQ(data["estimate"].size(), 3u * 40 * 25);
   EXPECT_EQ(data["reprojection"].size(), 2u * 40 * 25);
   const std::string notes = data["meta"]["notes"].dump();
-  EXPECT_NE(notes.find("2D tracks were not given (--input)"), std::string::npos) << notes;
-  EXPECT_NE(notes.find("no ground truth given (--truth)"), std::string::npos) << notes;
-  EXPECT_NE(r.out.find("note: the 2D tracks were not given"), std::string::npos) << r.out;
+  EXPECT_NE(notes.find("2D tracks were not given (--input)"), std::string::npos)
+      << notes;
+  EXPECT_NE(notes.find("no ground truth given (--truth)"), std::string::npos)
+      << notes;
+  EXPECT_NE(r.out.find("note: the 2D tracks were not given"), std::string::npos)
+      << r.out;
   // Edges from the reprojected points.
   EXPECT_GT(data["edges"].size(), 25u);
-  EXPECT_NE(data["meta"]["edge_source"].get<std::string>().find("reprojected points"),
-            std::string::npos);
+  EXPECT_NE(
+      data["meta"]["edge_source"].get<std::string>().find("reprojected points"),
+      std::string::npos);
 }
 
 TEST_F(ViewTest, SkeletonListOfTheTruthIsDrawn) {
@@ -306,13 +335,16 @@ TEST_F(ViewTest, SkeletonListOfTheTruthIsDrawn) {
   ASSERT_TRUE(WriteMat(Path("skeleton.mat"), MatVersion::kV5,
                        {{"W", w, {}}, {"P3_gt", p3_gt, {}}, {"list", list, {}}})
                   .ok());
-  const RunResult r = Run("view --result r --truth skeleton.mat --output s.html");
+  const RunResult r =
+      Run("view --result r --truth skeleton.mat --output s.html");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const nlohmann::json data = PageData(testing_util::ReadFileToString(Path("s.html")));
+  const nlohmann::json data =
+      PageData(testing_util::ReadFileToString(Path("s.html")));
   ASSERT_TRUE(data.is_object());
   EXPECT_EQ(data["edges"], nlohmann::json::parse("[[0,1],[0,2],[23,24]]"));
-  EXPECT_NE(data["meta"]["edge_source"].get<std::string>().find("skeleton 'list' of"),
-            std::string::npos);
+  EXPECT_NE(
+      data["meta"]["edge_source"].get<std::string>().find("skeleton 'list' of"),
+      std::string::npos);
 
   // A list that does not index the points is an error naming it.
   list(2, 0) = 26;
@@ -320,36 +352,41 @@ TEST_F(ViewTest, SkeletonListOfTheTruthIsDrawn) {
                        {{"W", w, {}}, {"P3_gt", p3_gt, {}}, {"list", list, {}}})
                   .ok());
   ExpectRejected("--result r --truth bad_list.mat --output v.html",
-                 "bad_list.mat: variable 'list' (skeleton edges, 1-based point indices): row 3 "
+                 "bad_list.mat: variable 'list' (skeleton edges, 1-based point "
+                 "indices): row 3 "
                  "holds 26; expected an integer in 1..25");
 }
 
 TEST_F(ViewTest, TwoCamerasHaveTheirOwnReprojections) {
-  RunResult r = Run("synth --dataset shoe --frames 30 --cameras 2 --points 60 --noise 0.002 "
-                    "--output s.mat");
+  RunResult r = Run(
+      "synth --dataset shoe --frames 30 --cameras 2 --points 60 --noise 0.002 "
+      "--output s.mat");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   r = Run("reconstruct --input s.mat --cameras 2 --K 2 --output s --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
   r = Run("view --result s --input s.mat --output two.html");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const nlohmann::json data = PageData(testing_util::ReadFileToString(Path("two.html")));
+  const nlohmann::json data =
+      PageData(testing_util::ReadFileToString(Path("two.html")));
   ASSERT_TRUE(data.is_object());
   EXPECT_EQ(data["meta"]["num_cameras"], 2);
   InputOptions options;
   options.num_cameras = 2;
   Measurements input;
   ASSERT_TRUE(ReadMeasurements(Path("s.mat"), options, &input).ok());
-  const Eigen::MatrixXd reprojection = Tracks(data["reprojection"], 60, input.num_points);
+  const Eigen::MatrixXd reprojection =
+      Tracks(data["reprojection"], 60, input.num_points);
   double squared = 0.0;
   for (int view = 0; view < input.NumViews(); ++view) {
     for (int q = 0; q < input.num_points; ++q) {
       if (!input.visible(view, q)) continue;
-      squared += (input.W.block<2, 1>(2 * view, q) - reprojection.block<2, 1>(2 * view, q))
+      squared += (input.W.block<2, 1>(2 * view, q) -
+                  reprojection.block<2, 1>(2 * view, q))
                      .squaredNorm();
     }
   }
-  const nlohmann::json result =
-      nlohmann::json::parse(testing_util::ReadFileToString(Path("s/result.json")));
+  const nlohmann::json result = nlohmann::json::parse(
+      testing_util::ReadFileToString(Path("s/result.json")));
   const double rms = result["reprojection_rms"].get<double>();
   EXPECT_NEAR(std::sqrt(squared / input.NumVisible()), rms, 1e-3 * rms);
   EXPECT_NEAR(data["meta"]["reprojection_rms"].get<double>(), rms, 1e-9 * rms);
@@ -359,18 +396,23 @@ TEST_F(ViewTest, HelpDescribesTheCommand) {
   const RunResult r = Run("--help");
   EXPECT_EQ(r.exit_code, 0);
   const std::string text = r.out + r.err;
-  EXPECT_NE(text.find("nrsfm view --result DIR [--truth PATH] [--input PATH] --output FILE.html"),
+  EXPECT_NE(text.find("nrsfm view --result DIR [--truth PATH] [--input PATH] "
+                      "--output FILE.html"),
             std::string::npos)
       << text;
-  EXPECT_NE(text.find("view writes one self-contained HTML page"), std::string::npos) << text;
+  EXPECT_NE(text.find("view writes one self-contained HTML page"),
+            std::string::npos)
+      << text;
 }
 
 TEST_F(ViewTest, BadInputGetsOneLineNamingThePathAndNoPage) {
   MakeReconstruction();
   ExpectRejected("--output v.html", "--result DIR is required");
   ExpectRejected("--result r", "--output FILE.html is required");
-  ExpectRejected("--result nope --output v.html", "--result 'nope': no such directory");
-  ExpectRejected("--result r.mat --output v.html", "--result 'r.mat' is not a directory");
+  ExpectRejected("--result nope --output v.html",
+                 "--result 'nope': no such directory");
+  ExpectRejected("--result r.mat --output v.html",
+                 "--result 'r.mat' is not a directory");
   // A directory without a result.
   fs::create_directory(Path("empty"));
   ExpectRejected("--result empty --output v.html", "empty/points_camera.csv");
@@ -379,31 +421,42 @@ TEST_F(ViewTest, BadInputGetsOneLineNamingThePathAndNoPage) {
   fs::copy_file(Path("r/points_camera.csv"), Path("half/points_camera.csv"));
   ExpectRejected("--result half --output v.html", "half/translations.csv");
   // Truth and tracks of another size.
-  ASSERT_EQ(Run("synth --dataset random --K 2 --frames 30 --points 25 --output other.mat")
-                .exit_code, 0);
+  ASSERT_EQ(Run("synth --dataset random --K 2 --frames 30 --points 25 --output "
+                "other.mat")
+                .exit_code,
+            0);
   ExpectRejected("--result r --truth other.mat --output v.html",
-                 "--truth 'other.mat' has F = 30, P = 25 but the result 'r' has F = 40, P = 25");
+                 "--truth 'other.mat' has F = 30, P = 25 but the result 'r' "
+                 "has F = 40, P = 25");
   ExpectRejected("--result r --input other.mat --output v.html",
-                 "--input 'other.mat' has F = 30, M = 1, P = 25 but the result 'r' has F = 40");
-  ExpectRejected("--result r --truth missing.mat --output v.html", "missing.mat");
-  ExpectRejected("--result r --input missing.mat --output v.html", "missing.mat");
+                 "--input 'other.mat' has F = 30, M = 1, P = 25 but the result "
+                 "'r' has F = 40");
+  ExpectRejected("--result r --truth missing.mat --output v.html",
+                 "missing.mat");
+  ExpectRejected("--result r --input missing.mat --output v.html",
+                 "missing.mat");
   // Outputs that cannot be written.
-  ExpectRejected("--result r --output v.txt", "--output must name a .html file, got 'v.txt'",
-                 "v.txt");
-  ExpectRejected("--result r --output /proc/nrsfm_view.html", "'/proc/nrsfm_view.html'",
-                 "nope.html");
+  ExpectRejected("--result r --output v.txt",
+                 "--output must name a .html file, got 'v.txt'", "v.txt");
+  ExpectRejected("--result r --output /proc/nrsfm_view.html",
+                 "'/proc/nrsfm_view.html'", "nope.html");
   fs::create_directory(Path("d.html"));
-  ExpectRejected("--result r --output d.html", "--output 'd.html' is a directory", "d.html");
-  ExpectRejected("--result r --output no/such/v.html",
-                 "--output 'no/such/v.html': the directory 'no/such' does not exist");
+  ExpectRejected("--result r --output d.html",
+                 "--output 'd.html' is a directory", "d.html");
+  ExpectRejected(
+      "--result r --output no/such/v.html",
+      "--output 'no/such/v.html': the directory 'no/such' does not exist");
   // An existing page is replaced only with --overwrite.
   ASSERT_EQ(Run("view --result r --output v.html").exit_code, 0);
   const auto before = fs::last_write_time(Path("v.html"));
-  ExpectRejected("--result r --output v.html", "--output 'v.html' exists (use --overwrite");
+  ExpectRejected("--result r --output v.html",
+                 "--output 'v.html' exists (use --overwrite");
   EXPECT_EQ(fs::last_write_time(Path("v.html")), before);
-  const RunResult r = Run("view --result r --truth r.mat --output v.html --overwrite");
+  const RunResult r =
+      Run("view --result r --truth r.mat --output v.html --overwrite");
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_TRUE(PageData(testing_util::ReadFileToString(Path("v.html")))["meta"]["has_truth"]
+  EXPECT_TRUE(PageData(testing_util::ReadFileToString(
+      Path("v.html")))["meta"]["has_truth"]
                   .get<bool>());
 }
 
