@@ -248,7 +248,8 @@ Status Run(int nlhs, int nrhs, const mxArray* prhs[], Outcome* outcome) {
     return Status::Error("K must be a positive integer or 'auto'");
   NRSFM_RETURN_IF_ERROR(ValueText(prhs[1], "K", &flags.K));
   nrsfm::tools::NumBasesFlag num_bases;
-  NRSFM_RETURN_IF_ERROR(nrsfm::tools::ParseNumBasesFlag(flags.K, &num_bases));
+  NRSFM_RETURN_IF_ERROR(
+      nrsfm::tools::ParseNumBasesFlag(flags.K, &num_bases).WithContext("--K"));
 
   Eigen::MatrixXd w, mask, observation_weights;
   NRSFM_RETURN_IF_ERROR(ToMatrix(prhs[0], "W", &w));

@@ -134,6 +134,20 @@ py::dict JsonToDict(const std::string& text) {
   return py::module_::import("json").attr("loads")(text);
 }
 
+// The options of a reconstruction or refinement of arrays from `flags` (the
+// keywords and K set) and the measurements of W and mask they apply to, as
+// the tool's steps check them (tools/reconstruction_steps.h).
+Measurements ArrayTargets(py::handle w, py::handle mask, int cameras,
+                          py::handle observation_weights, CommandFlags* flags,
+                          tools::FlagTargets* targets) {
+  flags->cameras = cameras;
+  Check(tools::ApplyFlags(*flags, targets));
+  Measurements measurements = MeasurementsOf(w, mask, cameras);
+  Check(tools::ArrayReconstructOptions(
+      measurements, ObservationWeightsOf(observation_weights), flags, targets));
+  return measurements;
+}
+
 // ---------------------------------------------------------------------------
 // The functions.
 
@@ -148,13 +162,9 @@ Reconstruction Reconstruct(py::handle w, py::handle k, py::handle mask,
   } else {
     flags.K = std::to_string(IntegerFromPython(k, "K"));
   }
-  flags.cameras = cameras;
   tools::FlagTargets targets;
-  Check(tools::ApplyFlags(flags, &targets));
-  const Measurements measurements = MeasurementsOf(w, mask, cameras);
-  Check(tools::ArrayReconstructOptions(
-      measurements, ObservationWeightsOf(observation_weights), &flags,
-      &targets));
+  const Measurements measurements =
+      ArrayTargets(w, mask, cameras, observation_weights, &flags, &targets);
 
   Interruptible interruptible(std::move(progress));
   interruptible.Configure(&targets.reconstruct.solver);
@@ -204,14 +214,10 @@ Reconstruction Refine(py::handle w, py::handle model_object, py::handle mask,
                       const py::kwargs& kwargs) {
   CommandFlags flags;
   ApplyKeywords(RefineOptionsOf(), "refine", kwargs, &flags);
-  flags.cameras = cameras;
   tools::FlagTargets targets;
-  Check(tools::ApplyFlags(flags, &targets));
+  const Measurements measurements =
+      ArrayTargets(w, mask, cameras, observation_weights, &flags, &targets);
   ReconstructOptions& options = targets.reconstruct;
-  const Measurements measurements = MeasurementsOf(w, mask, cameras);
-  Check(tools::ArrayReconstructOptions(
-      measurements, ObservationWeightsOf(observation_weights), &flags,
-      &targets));
   Model model = ModelFromPython(model_object, measurements);
 
   Interruptible interruptible(std::move(progress));

@@ -80,7 +80,8 @@ struct NumBasesFlag {
 };
 
 // Parses --K ("" = not given): an integer >= 1 or "auto"; the error quotes
-// the value.
+// the value (the caller names the flag: "must be an integer >= 1 or 'auto',
+// got '0'").
 Status ParseNumBasesFlag(const std::string& value, NumBasesFlag* num_bases);
 
 // Sets ProblemOptions::constant_* from --hold's comma list of block kinds

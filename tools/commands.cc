@@ -250,7 +250,7 @@ Status RunEvaluate(const CommandFlags& flags, std::ostream& out) {
   int num_bases = 0;
   if (!flags.K.empty()) {
     NumBasesFlag k;
-    NRSFM_RETURN_IF_ERROR(ParseNumBasesFlag(flags.K, &k));
+    NRSFM_RETURN_IF_ERROR(ParseNumBasesFlag(flags.K, &k).WithContext("--K"));
     if (k.automatic)
       return Status::Error("--K: evaluate needs the result's K, not 'auto'");
     num_bases = k.value;

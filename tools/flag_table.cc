@@ -193,8 +193,8 @@ Status ParseNumBasesFlag(const std::string& value, NumBasesFlag* num_bases) {
   if (num_bases->automatic) return Status::OK();
   if (!ParseInt(value, &num_bases->value) || num_bases->value < 1) {
     *num_bases = NumBasesFlag();
-    return Status::Error("--K must be an integer >= 1 or 'auto', got '" +
-                         value + "'");
+    return Status::Error("must be an integer >= 1 or 'auto', got '" + value +
+                         "'");
   }
   return Status::OK();
 }
@@ -298,14 +298,8 @@ Status ApplyFlags(const CommandFlags& flags, FlagTargets* targets) {
     if (!flag.sets_option) continue;
     // The library judges the value alone, so that the error names the flag.
     FlagTargets alone;
-    const Status parsed = flag.apply(flags, &alone);
-    if (!parsed.ok()) {
-      // Named once: a parser may name the flag itself ("--K must be …").
-      const std::string prefix = "--" + flag.name + " ";
-      return parsed.message().rfind(prefix, 0) == 0
-                 ? parsed
-                 : parsed.WithContext("--" + flag.name);
-    }
+    NRSFM_RETURN_IF_ERROR(
+        flag.apply(flags, &alone).WithContext("--" + flag.name));
     NRSFM_RETURN_IF_ERROR(alone.CheckParts().WithContext("--" + flag.name));
     NRSFM_RETURN_IF_ERROR(flag.apply(flags, targets));
   }

@@ -83,7 +83,7 @@ assert(i4.num_visible == F * P - (F - 1) - 3, 'num_visible');
 % Errors: identifier nrsfm:error, the tool's message.
 cases = {
   {{W, K, 'bogus', 1}, 'unknown option ''bogus''; the options are mask, cameras, observation_weights'}
-  {{W, 0}, '--K must be an integer >= 1 or ''auto'', got ''0'''}
+  {{W, 0}, '--K: must be an integer >= 1 or ''auto'', got ''0'''}
   {{W(1:end-1, :), K}, 'W: '}
   {{W, K, 'init', 'nope'}, '--init: '}
   {{W, K, 'max_iterations', 'many'}, 'max_iterations must be an integer, got ''many'''}

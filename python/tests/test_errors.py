@@ -20,8 +20,8 @@ def message(function, *args, error=ValueError, **kwargs):
 
 # (keywords, the tool's flags, the message both give)
 OPTION_ERRORS = [
-    ({"K": 0}, ["--K", "0"], "--K must be an integer >= 1 or 'auto', got '0'"),
-    ({"K": "many"}, ["--K", "many"], "--K must be an integer >= 1 or 'auto', got 'many'"),
+    ({"K": 0}, ["--K", "0"], "--K: must be an integer >= 1 or 'auto', got '0'"),
+    ({"K": "many"}, ["--K", "many"], "--K: must be an integer >= 1 or 'auto', got 'many'"),
     ({"init": "best"}, ["--init", "best"], None),
     ({"robust": "tukey"}, ["--robust", "tukey"], None),
     ({"linear_solver": "magic"}, ["--linear_solver", "magic"], None),

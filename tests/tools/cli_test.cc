@@ -464,9 +464,9 @@ TEST_F(CliTest, BadInputGetsOneClearLineAndNoOutput) {
   ExpectFailure("reconstruct --input r.mat --var Q --K 1 --output o",
                 "r.mat: no variable 'Q'; the file has: W, P3_gt,", "o");
   ExpectFailure("reconstruct --input r.mat --K 0 --output o",
-                "--K must be an integer >= 1 or 'auto', got '0'", "o");
+                "--K: must be an integer >= 1 or 'auto', got '0'", "o");
   ExpectFailure("reconstruct --input r.mat --K many --output o",
-                "--K must be an integer >= 1 or 'auto', got 'many'", "o");
+                "--K: must be an integer >= 1 or 'auto', got 'many'", "o");
   ExpectFailure("reconstruct --input r.mat --K 9 --output o",  // 3K+1 > P
                 "r.mat: initialize: K = 9 needs 3K + 1 = 28 points and 2F >= "
                 "28; got P = 10, "

@@ -124,7 +124,7 @@ TEST(ApplyFlags, NamesTheFlagAndTheValue) {
   flags = CommandFlags();
   flags.K = "0";
   EXPECT_EQ(ApplyFlags(flags, &targets).message(),
-            "--K must be an integer >= 1 or 'auto', got '0'");
+            "--K: must be an integer >= 1 or 'auto', got '0'");
   flags = CommandFlags();
   flags.hold = "basis,cameras";
   EXPECT_EQ(ApplyFlags(flags, &targets).message(),
