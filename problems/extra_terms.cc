@@ -22,13 +22,17 @@ Status AddSmoothness(double weight, const ProblemOptions& options,
   std::vector<NeighbourEdge> edges;
   NRSFM_RETURN_IF_ERROR(ComputeDelaunayEdges(builder->measurements(),
                                              options.smoothness_edges, &edges));
-  const int num_bases = builder->model()->num_bases;
-  const double sqrt_weight = std::sqrt(weight);
+  const Model& model = *builder->model();
+  // λ / F: the frames' sum is an average (problems/smoothness_error.h).
+  const double sqrt_weight = std::sqrt(weight / model.num_frames);
   for (const NeighbourEdge& edge : edges) {
-    builder->problem()->AddResidualBlock(
-        SmoothnessError::Create(num_bases, sqrt_weight, edge.alpha), nullptr,
-        builder->BasisBlock(edge.i), builder->BasisBlock(edge.j));
-    ++*num_blocks;
+    for (int t = 0; t < model.num_frames; ++t) {
+      builder->problem()->AddResidualBlock(
+          SmoothnessError::Create(model.num_bases, sqrt_weight, edge.alpha),
+          nullptr, builder->WeightsBlock(t), builder->BasisBlock(edge.i),
+          builder->BasisBlock(edge.j));
+      ++*num_blocks;
+    }
   }
   return Status::OK();
 }
@@ -142,8 +146,9 @@ const std::vector<ExtraTerm>& ExtraTerms() {
   // name, units of λ, λ in (input units)², meaning, min_cameras, add.
   static const std::vector<ExtraTerm> terms = {
       {kSmoothnessTerm, "dimensionless", false,
-       "Delaunay-neighbour smoothness of the basis, alpha_ij (b_i - b_j) per "
-       "edge: points seen in few frames (problems/smoothness_error.h)",
+       "Delaunay-neighbour smoothness of every frame's shape, alpha_ij "
+       "(S_t[:,i] - S_t[:,j]) per frame and edge, averaged over the frames: "
+       "points seen in few frames (problems/smoothness_error.h)",
        1, AddSmoothness},
       {kRigidityTerm, "(input units / rad)^2", true,
        "multi-camera rigidity, log(R_tc R_t0^T R_rig,c^T) and s_tc - s_rig,c: "

@@ -130,7 +130,6 @@ LinearSolverChoice ChooseLinearSolver(const ProblemStructure& structure) {
   if (structure.num_point_blocks == 0) {
     return LinearSolverChoice::kSparseNormalCholesky;
   }
-  if (!structure.points_are_independent) return LinearSolverChoice::kCgnr;
   return LinearSolverChoice::kStructured;
 }
 

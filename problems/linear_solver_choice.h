@@ -9,18 +9,19 @@
 // pays O(F · (3KP)²) or O(P · ((5 + K)F)²) flops per step to form it, while
 // the iterative solvers pay O(nnz(J)) per conjugate-gradient step. The rule
 // (ChooseLinearSolver):
-//   free point blocks, no residual coupling two points  → structured (points
-//   eliminated, conjugate gradients over the frames with a block-band
-//   preconditioner that is exact for every coupling the temporal terms
-//   make; solvers/structured_solver.h, a minimiser of its own:
-//   solvers/minimizer_choice.h). Without temporal terms it does what
+//   free point blocks → structured (points eliminated — one by one, or,
+//   when a term couples points (the Delaunay smoothness), together by a
+//   sparse factorisation along the couplings — conjugate gradients over the
+//   frames with a block-band preconditioner that is exact for every coupling
+//   the temporal terms make; solvers/structured_solver.h, a minimiser of its
+//   own: solvers/minimizer_choice.h). Without temporal terms it does what
 //   ITERATIVE_SCHUR with JACOBI does, with cheaper products
 //   (docs/performance.md); a problem whose blocks it cannot lay out (a free
-//   block of an unknown kind) falls back to ITERATIVE_SCHUR
+//   block of an unknown kind) falls back to ITERATIVE_SCHUR (CGNR when
+//   points are coupled: Ceres cannot eliminate them)
 //   no free point block (poses / weights only; JᵀJ is then block-diagonal
 //   per frame plus what other terms couple)              →
-//   SPARSE_NORMAL_CHOLESKY point blocks coupled (e.g. basis smoothness) → CGNR
-//   (the points cannot be eliminated and the normal equations fill as above)
+//   SPARSE_NORMAL_CHOLESKY
 // The iterative solvers use the JACOBI preconditioner (SCHUR_JACOBI visits
 // every pair of frame blocks that share a point to build).
 #ifndef NRSFM_PROBLEMS_LINEAR_SOLVER_CHOICE_H_

@@ -5,12 +5,17 @@ namespace nrsfm {
 MinimizerChoice ChooseMinimizer(LinearSolverChoice requested,
                                 ProblemBuilder* builder) {
   const bool automatic = requested == LinearSolverChoice::kAuto;
+  ProblemStructure structure;
+  if (automatic) structure = DescribeProblem(builder);
   const LinearSolverChoice choice =
-      automatic ? ChooseLinearSolver(DescribeProblem(builder)) : requested;
+      automatic ? ChooseLinearSolver(structure) : requested;
   MinimizerChoice result;
   if (choice == LinearSolverChoice::kStructured) {
     result.minimizer = Minimizer::kStructured;
-    result.ceres_linear_solver = LinearSolverChoice::kIterativeSchur;
+    // Ceres' Schur solvers cannot eliminate points that residuals couple.
+    result.ceres_linear_solver = structure.points_are_independent
+                                     ? LinearSolverChoice::kIterativeSchur
+                                     : LinearSolverChoice::kCgnr;
     result.fallback = automatic;
   } else {
     result.minimizer = Minimizer::kCeres;

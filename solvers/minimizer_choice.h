@@ -23,8 +23,8 @@ struct MinimizerChoice {
   Minimizer minimizer = Minimizer::kCeres;
   // The linear solver Ceres runs with (never kAuto or kStructured): for
   // kCeres always; for kStructured only when fallback is set and the
-  // structured layout does not fit the problem (a term the caller added that
-  // couples two points).
+  // structured layout does not fit the problem (a free block of a kind the
+  // layout does not know): ITERATIVE_SCHUR, or CGNR when points are coupled.
   LinearSolverChoice ceres_linear_solver = LinearSolverChoice::kIterativeSchur;
   // kStructured chosen by `auto`: a problem it does not fit runs on Ceres
   // instead. Asked for by name it is an error.

@@ -1,5 +1,7 @@
 #include "solvers/schur_elimination.h"
 
+#include <glog/logging.h>
+
 #include <algorithm>
 
 #include "core/parallel_for.h"
@@ -17,7 +19,90 @@ constexpr int kEliminatedGrain = 1;
 SchurElimination::SchurElimination(const StructuredBlocks& blocks,
                                    const StructuredJacobian& jacobian,
                                    int num_threads)
-    : blocks_(blocks), jacobian_(jacobian), num_threads_(num_threads) {}
+    : blocks_(blocks), jacobian_(jacobian), num_threads_(num_threads) {
+  if (!blocks_.coupling_residuals.empty()) BuildCoupledPattern();
+}
+
+void SchurElimination::BuildCoupledPattern() {
+  const int n = static_cast<int>(blocks_.eliminated_blocks.size());
+  position_.assign(blocks_.blocks.size(), -1);
+  for (int k = 0; k < n; ++k) position_[blocks_.eliminated_blocks[k]] = k;
+  coupled_.assign(n, {});
+  for (int i : blocks_.coupling_residuals) {
+    const Residual& r = blocks_.residuals[i];
+    for (const Coupled& a : r.coupled) {
+      for (const Coupled& b : r.coupled) {
+        const int pa = position_[a.block], pb = position_[b.block];
+        if (pa > pb) coupled_[pb].push_back(pa);
+      }
+    }
+  }
+  std::vector<int> column_sizes;
+  column_sizes.reserve(blocks_.num_eliminated);
+  coupled_gram_.assign(n, {});
+  for (int k = 0; k < n; ++k) {
+    std::vector<int>& below = coupled_[k];
+    std::sort(below.begin(), below.end());
+    below.erase(std::unique(below.begin(), below.end()), below.end());
+    const int size = blocks_.blocks[blocks_.eliminated_blocks[k]].size;
+    int rows_below = 0;
+    for (int i : below) {
+      const int size_i = blocks_.blocks[blocks_.eliminated_blocks[i]].size;
+      coupled_gram_[k].push_back(Eigen::MatrixXd::Zero(size_i, size));
+      rows_below += size_i;
+    }
+    for (int c = 0; c < size; ++c)
+      column_sizes.push_back(size - c + rows_below);
+  }
+  sparse_.resize(blocks_.num_eliminated, blocks_.num_eliminated);
+  sparse_.reserve(column_sizes);
+  // Inserted in the order Factor() writes the values: rows ascending within
+  // each column (the eliminated offsets ascend with the position).
+  for (int k = 0; k < n; ++k) {
+    const Block& b = blocks_.blocks[blocks_.eliminated_blocks[k]];
+    for (int c = 0; c < b.size; ++c) {
+      const int col = b.offset + c;
+      for (int row = col; row < b.offset + b.size; ++row) {
+        sparse_.insert(row, col) = 0.0;
+      }
+      for (int i : coupled_[k]) {
+        const Block& bi = blocks_.blocks[blocks_.eliminated_blocks[i]];
+        for (int row = bi.offset; row < bi.offset + bi.size; ++row) {
+          sparse_.insert(row, col) = 0.0;
+        }
+      }
+    }
+  }
+  sparse_.makeCompressed();
+  sparse_llt_.analyzePattern(sparse_);
+}
+
+void SchurElimination::AddCouplingGram() {
+  for (std::vector<Eigen::MatrixXd>& below : coupled_gram_) {
+    for (Eigen::MatrixXd& block : below) block.setZero();
+  }
+  for (int i : blocks_.coupling_residuals) {
+    const Residual& r = blocks_.residuals[i];
+    for (const Coupled& a : r.coupled) {
+      const int pa = position_[a.block];
+      const int size_a = blocks_.blocks[a.block].size;
+      const ConstRowMap ja = jacobian_.Cols(r, a.jcol, size_a);
+      for (const Coupled& b : r.coupled) {
+        const int pb = position_[b.block];
+        if (pa < pb) continue;
+        const ConstRowMap jb =
+            jacobian_.Cols(r, b.jcol, blocks_.blocks[b.block].size);
+        if (pa == pb) {
+          gram_[pa].noalias() += ja.transpose() * ja;
+          continue;
+        }
+        const std::vector<int>& below = coupled_[pb];
+        const auto it = std::lower_bound(below.begin(), below.end(), pa);
+        coupled_gram_[pb][it - below.begin()].noalias() += ja.transpose() * jb;
+      }
+    }
+  }
+}
 
 void SchurElimination::ComputeGram() {
   gram_.resize(blocks_.eliminated_blocks.size());
@@ -80,9 +165,29 @@ void SchurElimination::ComputeGram() {
           c.triangularView<Eigen::StrictlyUpper>() = c.transpose();
         }
       });
+  if (!coupled_.empty()) AddCouplingGram();
 }
 
 void SchurElimination::Factor(double mu, const Eigen::VectorXd& d_eliminated) {
+  if (!coupled_.empty()) {
+    // The values in the order of BuildCoupledPattern's insertions.
+    double* value = sparse_.valuePtr();
+    for (std::size_t k = 0; k < coupled_.size(); ++k) {
+      const Block& b = blocks_.blocks[blocks_.eliminated_blocks[k]];
+      for (int c = 0; c < b.size; ++c) {
+        *value++ = gram_[k](c, c) + mu * d_eliminated[b.offset + c];
+        for (int row = c + 1; row < b.size; ++row) *value++ = gram_[k](row, c);
+        for (const Eigen::MatrixXd& block : coupled_gram_[k]) {
+          for (int row = 0; row < block.rows(); ++row) {
+            *value++ = block(row, c);
+          }
+        }
+      }
+    }
+    CHECK_EQ(value - sparse_.valuePtr(), sparse_.nonZeros());
+    sparse_llt_.factorize(sparse_);
+    return;
+  }
   llt_.resize(blocks_.eliminated_blocks.size());
   ParallelFor(static_cast<int>(blocks_.eliminated_blocks.size()), num_threads_,
               kEliminatedGrain, [&](int begin, int end) {
@@ -97,6 +202,10 @@ void SchurElimination::Factor(double mu, const Eigen::VectorXd& d_eliminated) {
 
 void SchurElimination::SolveEliminated(const Eigen::VectorXd& in,
                                        Eigen::VectorXd* out) const {
+  if (!coupled_.empty()) {
+    *out = sparse_llt_.solve(in);
+    return;
+  }
   out->resize(blocks_.num_eliminated);
   for (std::size_t k = 0; k < blocks_.eliminated_blocks.size(); ++k) {
     const Block& b = blocks_.blocks[blocks_.eliminated_blocks[k]];
@@ -114,9 +223,73 @@ void SchurElimination::ApplyReduced(const Eigen::VectorXd& v, double mu,
   // then J_fᵀ (rows − J_p C̃⁻¹ J_pᵀ rows).
   Eigen::VectorXd rows(blocks_.num_rows), projected, solved;
   jacobian_.MultiplyJReducedAndJtEliminated(v, &rows, &projected);
+  if (!blocks_.smoothness.empty()) AddGridProjected(v, &projected);
   SolveEliminated(projected, &solved);
   jacobian_.SubtractJEliminatedAndMultiplyJtReduced(solved, &rows, out);
+  if (!blocks_.smoothness.empty()) AddGridReduced(v, solved, out);
   out->array() += mu * d_reduced.array() * v.array();
+}
+
+namespace {
+
+// D_e of an edge: column k = b_i,k − b_j,k.
+Eigen::Matrix3Xd EdgeDifference(const StructuredBlocks& blocks,
+                                const SmoothnessGrid::Edge& edge,
+                                int num_bases) {
+  const double* b_i = blocks.blocks[edge.block_i].values;
+  const double* b_j = blocks.blocks[edge.block_j].values;
+  Eigen::Matrix3Xd d(3, num_bases);
+  for (int k = 0; k < num_bases; ++k) {
+    for (int c = 0; c < 3; ++c) d(c, k) = b_i[3 * k + c] - b_j[3 * k + c];
+  }
+  return d;
+}
+
+}  // namespace
+
+void SchurElimination::AddGridProjected(const Eigen::VectorXd& v,
+                                        Eigen::VectorXd* projected) const {
+  const SmoothnessGrid& grid = blocks_.smoothness;
+  const int k = grid.num_bases;
+  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(k, k);  // Σ_t l_t v_tᵀ
+  for (int w : grid.weights) {
+    const Block& b = blocks_.blocks[w];
+    m.noalias() += Eigen::Map<const Eigen::VectorXd>(b.values, k) *
+                   v.segment(b.offset, k).transpose();
+  }
+  for (const SmoothnessGrid::Edge& edge : grid.edges) {
+    const Eigen::MatrixXd p = edge.scale * edge.scale *
+                              EdgeDifference(blocks_, edge, k) * m.transpose();
+    const Eigen::Map<const Eigen::VectorXd> column(p.data(), 3 * k);
+    projected->segment(blocks_.blocks[edge.block_i].offset, 3 * k) += column;
+    projected->segment(blocks_.blocks[edge.block_j].offset, 3 * k) -= column;
+  }
+}
+
+void SchurElimination::AddGridReduced(const Eigen::VectorXd& v,
+                                      const Eigen::VectorXd& y,
+                                      Eigen::VectorXd* out) const {
+  const SmoothnessGrid& grid = blocks_.smoothness;
+  const int k = grid.num_bases;
+  Eigen::MatrixXd h = Eigen::MatrixXd::Zero(k, k), n = h;
+  Eigen::Matrix3Xd y_e(3, k);
+  for (const SmoothnessGrid::Edge& edge : grid.edges) {
+    const Eigen::Matrix3Xd d = EdgeDifference(blocks_, edge, k);
+    const double* y_i = y.data() + blocks_.blocks[edge.block_i].offset;
+    const double* y_j = y.data() + blocks_.blocks[edge.block_j].offset;
+    for (int a = 0; a < k; ++a) {
+      for (int c = 0; c < 3; ++c) y_e(c, a) = y_i[3 * a + c] - y_j[3 * a + c];
+    }
+    const double s2 = edge.scale * edge.scale;
+    h.noalias() += s2 * d.transpose() * d;
+    n.noalias() += s2 * d.transpose() * y_e;
+  }
+  for (int w : grid.weights) {
+    const Block& b = blocks_.blocks[w];
+    out->segment(b.offset, k).noalias() +=
+        h * v.segment(b.offset, k) -
+        n * Eigen::Map<const Eigen::VectorXd>(b.values, k);
+  }
 }
 
 void SchurElimination::ReducedRightHandSide(

@@ -2,21 +2,32 @@
 // system (JᵀJ + μD) δ = −g (solvers/structured_solver.h), with J = [J_f J_p]
 // split into the reduced (frame and shared) and eliminated (point) columns
 // of solvers/structured_layout.h:
-//   C̃ = J_pᵀ J_p + μ D_p, block-diagonal (no residual block holds two points),
+//   C̃ = J_pᵀ J_p + μ D_p, block-diagonal when no residual block holds two
+//       points, else block-sparse with a block (i, j) per pair of points that
+//       a residual couples (Residual::coupled: the Delaunay smoothness term),
 //   S = J_fᵀ J_f + μ D_f − J_fᵀ J_p C̃⁻¹ J_pᵀ J_f (the Schur complement),
 //   S δ_f = −g_f + J_fᵀ J_p C̃⁻¹ g_p,   δ_p = C̃⁻¹ (−g_p − J_pᵀ J_f δ_f).
 // S is never formed: ApplyReduced() multiplies by it with two passes over
-// the residual blocks in the order their Jacobians are stored.
+// the residual blocks in the order their Jacobians are stored. C̃⁻¹ is
+// applied by one Cholesky factor per point, or, when residuals couple
+// points, by one sparse Cholesky factor of C̃ (Eigen's SimplicialLLT with an
+// AMD ordering, its pattern analysed once): the couplings follow a sparse
+// graph (Delaunay edges), so the factor stays sparse and a solve costs about
+// what the per-point solves cost (docs/performance.md).
 //
 // Assumes the StructuredJacobian holds the Jacobian of the current values;
 // ComputeGram() after every Evaluate(true), Factor() for every μ. The same
 // bits for any thread count (each point's blocks are its own; the sums are
-// StructuredJacobian's).
+// StructuredJacobian's; the couplings' blocks are added and factored on one
+// thread).
 #ifndef NRSFM_SOLVERS_SCHUR_ELIMINATION_H_
 #define NRSFM_SOLVERS_SCHUR_ELIMINATION_H_
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
 #include <vector>
 
 #include "solvers/structured_jacobian.h"
@@ -31,10 +42,12 @@ class SchurElimination {
   SchurElimination(const StructuredBlocks& blocks,
                    const StructuredJacobian& jacobian, int num_threads);
 
-  // J_pᵀ J_p per eliminated block, from the current Jacobian.
+  // J_pᵀ J_p per eliminated block (and per coupled pair), from the current
+  // Jacobian.
   void ComputeGram();
-  // Cholesky of C̃ = J_pᵀ J_p + μ D_p per eliminated block (d_eliminated: the
-  // diagonal D_p, one value per eliminated column).
+  // Cholesky of C̃ = J_pᵀ J_p + μ D_p per eliminated block, or of the whole
+  // C̃ when points are coupled (d_eliminated: the diagonal D_p, one value per
+  // eliminated column).
   void Factor(double mu, const Eigen::VectorXd& d_eliminated);
   // out = C̃⁻¹ in (eliminated columns).
   void SolveEliminated(const Eigen::VectorXd& in, Eigen::VectorXd* out) const;
@@ -52,11 +65,40 @@ class SchurElimination {
                       Eigen::VectorXd* step_eliminated) const;
 
  private:
+  using SparseMatrix = Eigen::SparseMatrix<double>;
+
+  // The lower triangle of C̃'s pattern, column-major: per eliminated block
+  // column k, its diagonal block's lower part, then the blocks of the
+  // coupled points i > k in order.
+  void BuildCoupledPattern();
+  // Adds the coupling residuals' J_aᵀ J_b to gram_ (a = b) and coupled_gram_.
+  void AddCouplingGram();
+  // The smoothness grid's part of the two passes of ApplyReduced
+  // (StructuredBlocks::smoothness; D_e = [b_i,k − b_j,k]_k, 3 × K):
+  // projected += J_pᵀ J_f v: s_e² D_e Mᵀ into b_i, minus into b_j,
+  //   M = Σ_t l_t v_tᵀ;
+  // out += J_fᵀ (J_f v − J_p y): H v_t − N l_t per frame, H = Σ_e s_e² D_eᵀ
+  //   D_e, N = Σ_e s_e² D_eᵀ Y_e, Y_e = [y_i,k − y_j,k]_k.
+  void AddGridProjected(const Eigen::VectorXd& v,
+                        Eigen::VectorXd* projected) const;
+  void AddGridReduced(const Eigen::VectorXd& v, const Eigen::VectorXd& y,
+                      Eigen::VectorXd* out) const;
+
   const StructuredBlocks& blocks_;
   const StructuredJacobian& jacobian_;
   const int num_threads_;
   std::vector<Eigen::MatrixXd> gram_;  // J_pᵀ J_p per eliminated block
   std::vector<Eigen::LLT<Eigen::MatrixXd>> llt_;  // of C̃ per eliminated block
+
+  // Only when residuals couple points (blocks.coupling_residuals):
+  // per eliminated position k, the positions i > k coupled to it (sorted)
+  // and the blocks J_iᵀ J_k (size_i × size_k) in the same order.
+  std::vector<std::vector<int>> coupled_;
+  std::vector<std::vector<Eigen::MatrixXd>> coupled_gram_;
+  std::vector<int> position_;  // eliminated position per Block index
+  SparseMatrix sparse_;        // lower triangle of C̃
+  Eigen::SimplicialLLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>>
+      sparse_llt_;
 };
 
 }  // namespace structured

@@ -192,6 +192,12 @@ void StructuredJacobian::AddResidualJx(const Residual& r, const double* reduced,
     AddAx(J(r) + r.eliminated_jcol, r.m, b.size, r.width, eliminated + b.offset,
           y);
   }
+  if (eliminated != nullptr) {
+    for (const Coupled& c : r.coupled) {
+      const Block& b = blocks_.blocks[c.block];
+      AddAx(J(r) + c.jcol, r.m, b.size, r.width, eliminated + b.offset, y);
+    }
+  }
 }
 
 void StructuredJacobian::AddResidualJty(const Residual& r, const double* y,
@@ -237,6 +243,12 @@ void StructuredJacobian::AddResidualJty(const Residual& r, const double* y,
     }
     AddAty(J(r) + r.eliminated_jcol, r.m, b.size, r.width, y,
            eliminated + b.offset);
+  }
+  if (eliminated != nullptr) {
+    for (const Coupled& c : r.coupled) {
+      const Block& b = blocks_.blocks[c.block];
+      AddAty(J(r) + c.jcol, r.m, b.size, r.width, y, eliminated + b.offset);
+    }
   }
 }
 
@@ -291,9 +303,10 @@ void StructuredJacobian::MultiplyJReducedAndJtEliminated(
         double* y = rows->data() + r.row;
         std::fill(y, y + r.m, 0.0);
         AddResidualJx(r, reduced.data(), nullptr, y);
-        if (r.eliminated >= 0) AddResidualJty(r, y, nullptr, sum);
+        if (r.eliminated >= 0 || !r.coupled.empty())
+          AddResidualJty(r, y, nullptr, sum);
       },
-      projected);
+      projected, PassResiduals());
 }
 
 void StructuredJacobian::SubtractJEliminatedAndMultiplyJtReduced(
@@ -304,7 +317,7 @@ void StructuredJacobian::SubtractJEliminatedAndMultiplyJtReduced(
       [&](int i, double* sum) {
         const Residual& r = blocks_.residuals[i];
         double* y = rows->data() + r.row;  // each residual's own rows: no race
-        if (r.eliminated >= 0) {
+        if (r.eliminated >= 0 || !r.coupled.empty()) {
           double correction[8] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
           std::vector<double> heap;
           double* c = correction;
@@ -317,7 +330,7 @@ void StructuredJacobian::SubtractJEliminatedAndMultiplyJtReduced(
         }
         AddResidualJty(r, y, sum, nullptr);
       },
-      out);
+      out, PassResiduals());
 }
 
 void StructuredJacobian::ColumnSquaredNorms(Eigen::VectorXd* reduced,
@@ -337,6 +350,11 @@ void StructuredJacobian::ColumnSquaredNorms(Eigen::VectorXd* reduced,
     for (const Segment& s : r.reduced) {
       reduced->segment(s.col, s.width) +=
           Cols(r, s.jcol, s.width).colwise().squaredNorm().transpose();
+    }
+    for (const Coupled& c : r.coupled) {
+      const Block& b = blocks_.blocks[c.block];
+      eliminated->segment(b.offset, b.size) +=
+          Cols(r, c.jcol, b.size).colwise().squaredNorm().transpose();
     }
     if (r.eliminated >= 0) {
       const Block& b = blocks_.blocks[r.eliminated];

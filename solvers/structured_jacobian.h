@@ -61,9 +61,11 @@ class StructuredJacobian {
   void AddResidualJty(const Residual& r, const double* y, double* reduced,
                       double* eliminated) const;
   // *out (size values) = Σ_i body(i, sum) over the residual blocks in storage
-  // order, the pieces' sums added in piece order.
+  // order (only those of `only` when given), the pieces' sums added in piece
+  // order.
   template <typename Body>
-  void SumOverResiduals(int size, const Body& body, Eigen::VectorXd* out) const;
+  void SumOverResiduals(int size, const Body& body, Eigen::VectorXd* out,
+                        const std::vector<int>* only = nullptr) const;
   // rows = J [reduced; eliminated] (null = zero).
   void MultiplyJ(const Eigen::VectorXd* reduced,
                  const Eigen::VectorXd* eliminated,
@@ -76,7 +78,9 @@ class StructuredJacobian {
   // The two passes of a product with the Schur complement
   // (solvers/schur_elimination.h), each one pass over the residual blocks in
   // storage order: rows = J_f reduced and projected = J_pᵀ rows; then
-  // rows −= J_p eliminated and out = J_fᵀ rows.
+  // rows −= J_p eliminated and out = J_fᵀ rows. Both leave out the
+  // residuals of the smoothness grid (Residual::in_grid), whose part
+  // SchurElimination adds.
   void MultiplyJReducedAndJtEliminated(const Eigen::VectorXd& reduced,
                                        Eigen::VectorXd* rows,
                                        Eigen::VectorXd* projected) const;
@@ -99,6 +103,11 @@ class StructuredJacobian {
 
  private:
   double* MutableJ(const Residual& r) { return jacobian_.data() + r.jac; }
+  // The residuals of the two Schur-complement passes: those not in the
+  // smoothness grid, or null (all) when there is no grid.
+  const std::vector<int>* PassResiduals() const {
+    return blocks_.smoothness.empty() ? nullptr : &blocks_.not_in_grid;
+  }
 
   const StructuredBlocks& blocks_;
   const int num_threads_;
@@ -110,15 +119,19 @@ class StructuredJacobian {
 
 template <typename Body>
 void StructuredJacobian::SumOverResiduals(int size, const Body& body,
-                                          Eigen::VectorXd* out) const {
+                                          Eigen::VectorXd* out,
+                                          const std::vector<int>* only) const {
   std::vector<Eigen::VectorXd> sums(kReductionPieces);
-  const int pieces = ParallelForPieces(
-      static_cast<int>(blocks_.residuals.size()), kReductionPieces,
-      num_threads_, kGrain, [&](int begin, int end, int piece) {
-        Eigen::VectorXd& sum = sums[piece];
-        sum.setZero(size);
-        for (int i = begin; i < end; ++i) body(i, sum.data());
-      });
+  const int n = static_cast<int>(only != nullptr ? only->size()
+                                                 : blocks_.residuals.size());
+  const int pieces =
+      ParallelForPieces(n, kReductionPieces, num_threads_, kGrain,
+                        [&](int begin, int end, int piece) {
+                          Eigen::VectorXd& sum = sums[piece];
+                          sum.setZero(size);
+                          for (int i = begin; i < end; ++i)
+                            body(only != nullptr ? (*only)[i] : i, sum.data());
+                        });
   *out = std::move(sums[0]);
   for (int w = 1; w < pieces; ++w) {
     if (sums[w].size() == size) *out += sums[w];

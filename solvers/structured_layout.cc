@@ -1,11 +1,70 @@
 #include "solvers/structured_layout.h"
 
 #include <algorithm>
+#include <map>
 #include <unordered_map>
 #include <utility>
 
+#include "problems/smoothness_error.h"
+
 namespace nrsfm {
 namespace structured {
+
+namespace {
+
+// Sets s->smoothness and the residuals' in_grid when the smoothness
+// residuals (weights free and reduced, both basis blocks eliminated, no
+// loss) are every edge in every frame of one set, each pair once.
+void FindSmoothnessGrid(StructuredBlocks* s) {
+  std::map<std::pair<int, int>, int> edge_index;
+  std::map<int, int> frame_index;
+  SmoothnessGrid grid;
+  std::vector<int> members;
+  std::vector<std::pair<int, int>> cells;  // (edge, frame)
+  for (std::size_t i = 0; i < s->residuals.size(); ++i) {
+    const Residual& r = s->residuals[i];
+    const auto* cost = dynamic_cast<const SmoothnessError*>(r.cost);
+    if (cost == nullptr) continue;
+    const int w = r.slot_block.size() == 3 ? r.slot_block[0] : -1;
+    if (r.loss != nullptr || w < 0 || s->blocks[w].eliminated ||
+        s->blocks[w].manifold != nullptr || r.coupled.size() != 2 ||
+        r.slot_block[1] != r.coupled[0].block ||
+        r.slot_block[2] != r.coupled[1].block ||
+        (grid.num_bases != 0 && grid.num_bases != cost->num_bases())) {
+      return;
+    }
+    grid.num_bases = cost->num_bases();
+    const std::pair<int, int> key(r.slot_block[1], r.slot_block[2]);
+    auto edge = edge_index.find(key);
+    if (edge == edge_index.end()) {
+      edge = edge_index.emplace(key, static_cast<int>(grid.edges.size())).first;
+      grid.edges.push_back({key.first, key.second, cost->scale()});
+    } else if (grid.edges[edge->second].scale != cost->scale()) {
+      return;
+    }
+    auto frame = frame_index.find(w);
+    if (frame == frame_index.end()) {
+      frame =
+          frame_index.emplace(w, static_cast<int>(grid.weights.size())).first;
+      grid.weights.push_back(w);
+    }
+    members.push_back(static_cast<int>(i));
+    cells.emplace_back(edge->second, frame->second);
+  }
+  std::sort(cells.begin(), cells.end());
+  if (members.empty() ||
+      std::adjacent_find(cells.begin(), cells.end()) != cells.end() ||
+      cells.size() != grid.edges.size() * grid.weights.size()) {
+    return;  // not a full grid: the residuals are handled one by one
+  }
+  for (int i : members) s->residuals[i].in_grid = true;
+  for (std::size_t i = 0; i < s->residuals.size(); ++i) {
+    if (!s->residuals[i].in_grid) s->not_in_grid.push_back(static_cast<int>(i));
+  }
+  s->smoothness = std::move(grid);
+}
+
+}  // namespace
 
 bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
                   StructuredBlocks* s, std::string* error) {
@@ -73,9 +132,20 @@ bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
       if (block < 0) continue;
       const Block& b = s->blocks[block];
       if (b.eliminated) {
-        if (r.eliminated >= 0) {
-          *error = "a residual block holds two eliminated blocks";
-          return false;
+        if (r.eliminated >= 0 || !r.coupled.empty()) {
+          // A second eliminated block: both become `coupled`.
+          if (r.basis_factor != nullptr) {
+            *error =
+                "a reprojection residual block holds two eliminated blocks";
+            return false;
+          }
+          if (r.eliminated >= 0) {
+            r.coupled.push_back({r.eliminated, r.eliminated_jcol});
+            r.eliminated = -1;
+          }
+          r.coupled.push_back({block, r.width});
+          r.width += b.size;
+          continue;
         }
         r.eliminated = block;
         r.eliminated_jcol = r.width;
@@ -120,7 +190,8 @@ bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
           r.product = nullptr;
       }
     }
-    if (r.product != nullptr && r.product->ProvidesGram()) {
+    if (r.product != nullptr && r.product->ProvidesGram() &&
+        r.coupled.empty()) {
       r.gram = true;
       jac -= static_cast<std::size_t>(r.m) * r.width;  // nothing stored
     }
@@ -128,6 +199,7 @@ bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
   }
   s->jacobian_size = jac;
   s->factors_size = factor;
+  FindSmoothnessGrid(s);
 
   s->group_refs.assign(num_groups, {});
   s->eliminated_refs.assign(s->eliminated_blocks.size(), {});
@@ -147,6 +219,8 @@ bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
       }
     }
     if (with_shared) s->residuals_with_shared.push_back(static_cast<int>(i));
+    if (!r.coupled.empty())
+      s->coupling_residuals.push_back(static_cast<int>(i));
     if (r.eliminated >= 0) {
       s->eliminated_refs[eliminated_position[r.eliminated]].push_back(
           {static_cast<int>(i), -1});

@@ -53,6 +53,12 @@ struct Segment {
   int group = -1;  // -1: shared block
 };
 
+// An eliminated block of a residual that holds several (Residual::coupled).
+struct Coupled {
+  int block = -1;  // Block index
+  int jcol = 0;    // first column in the stored Jacobian
+};
+
 struct Residual {
   const ceres::CostFunction* cost = nullptr;
   const ceres::LossFunction* loss = nullptr;
@@ -66,6 +72,12 @@ struct Residual {
   std::vector<Segment> reduced;  // merged per group
   int eliminated = -1;           // Block index, -1 = none
   int eliminated_jcol = 0;
+  // A residual block that holds two or more eliminated blocks (a term that
+  // couples points, e.g. the Delaunay smoothness of the shapes): those
+  // blocks and their columns in its stored Jacobian, in parameter order;
+  // `eliminated` is then -1. Its J_pᵀJ_p couples the blocks
+  // (solvers/schur_elimination.h).
+  std::vector<Coupled> coupled;
   // Products with its Jacobian from its parameters
   // (problems/jacobian_product.h), used in the conjugate gradients instead of
   // the stored Jacobian.
@@ -81,6 +93,10 @@ struct Residual {
   // The product also provides its Gram blocks (JacobianProduct::ProvidesGram):
   // no Jacobian is stored for this residual at all.
   bool gram = false;
+  // A residual of StructuredBlocks::smoothness: the two Schur-complement
+  // passes of the conjugate gradients leave it out, and SchurElimination
+  // adds the grid's part at once.
+  bool in_grid = false;
 
   // The parameter slot of the eliminated block, -1 when there is none.
   int EliminatedSlot() const {
@@ -89,6 +105,23 @@ struct Residual {
     }
     return -1;
   }
+};
+
+// The smoothness residuals (problems/smoothness_error.h) when they form a
+// full grid of edges × frames: residual (e, t) = s_e Σ_k l_tk (b_i,k −
+// b_j,k) for every edge e = (i, j) and every frame t of `weights`. Their
+// part of a product with the Schur complement then needs O((E + F) K²)
+// operations instead of O(E F K) (solvers/schur_elimination.h).
+struct SmoothnessGrid {
+  struct Edge {
+    int block_i = -1, block_j = -1;  // eliminated Block indices
+    double scale = 0.0;              // s_e
+  };
+  std::vector<Edge> edges;
+  std::vector<int> weights;  // reduced Block index of l_t per frame of the grid
+  int num_bases = 0;
+
+  bool empty() const { return edges.empty(); }
 };
 
 // A reference from a target (group, shared block or eliminated block) to the
@@ -110,8 +143,11 @@ struct StructuredBlocks {
   // Per group, per eliminated block: the residual segments that touch it.
   std::vector<std::vector<Ref>> group_refs, eliminated_refs;
   std::vector<int> residuals_with_shared;  // residuals that hold a shared block
-  std::size_t jacobian_size = 0;           // values of the stored Jacobian
-  std::size_t factors_size = 0;  // values of the basis factors A, 6 each
+  std::vector<int> coupling_residuals;     // residuals with `coupled` blocks
+  SmoothnessGrid smoothness;      // empty unless its residuals form a full grid
+  std::vector<int> not_in_grid;   // the other residuals (when it is not empty)
+  std::size_t jacobian_size = 0;  // values of the stored Jacobian
+  std::size_t factors_size = 0;   // values of the basis factors A, 6 each
 
   int num_groups() const { return static_cast<int>(group_refs.size()); }
   int num_shared() const { return num_reduced - num_group_columns; }
@@ -121,7 +157,8 @@ struct StructuredBlocks {
 // Lays out the free blocks of `problem` as `layout` names them (blocks the
 // layout names that are constant or not in the problem are skipped).
 // Returns false with `error` set when a free block of the problem is not in
-// the layout or a residual block holds two eliminated blocks.
+// the layout, or a reprojection residual block holds two eliminated blocks
+// (other residuals that hold several are laid out as Residual::coupled).
 bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
                   StructuredBlocks* blocks, std::string* error);
 

@@ -254,6 +254,11 @@ bool SolveStructured(const StructuredSolverOptions& options,
   *summary = StructuredSolverSummary();
   StructuredBlocks blocks;
   if (!structured::LayOutBlocks(layout, problem, &blocks, error)) return false;
+  VLOG(2) << "structured layout: " << blocks.residuals.size()
+          << " residual blocks, " << blocks.coupling_residuals.size()
+          << " coupling points, smoothness grid "
+          << blocks.smoothness.edges.size() << " edges x "
+          << blocks.smoothness.weights.size() << " frames";
   Solver solver(options, blocks);
   return solver.Run(summary);
 }

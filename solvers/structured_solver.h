@@ -88,8 +88,8 @@ struct StructuredSolverSummary {
 
 // Solves in place (the blocks hold the result). Returns false with `error` set
 // when the layout does not fit the problem (a free block of the problem that
-// the layout does not name, or a residual block that holds two eliminated
-// blocks): the caller then uses Ceres' own solver.
+// the layout does not name, or a reprojection residual block that holds two
+// eliminated blocks): the caller then uses Ceres' own solver.
 bool SolveStructured(const StructuredSolverOptions& options,
                      const StructuredLayout& layout, ceres::Problem* problem,
                      StructuredSolverSummary* summary, std::string* error);

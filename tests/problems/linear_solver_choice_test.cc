@@ -119,7 +119,7 @@ TEST(LinearSolverChoice, AutoRule) {
 
   ProblemStructure coupled = drink;  // e.g. a smoothness term between points
   coupled.points_are_independent = false;
-  EXPECT_EQ(ChooseLinearSolver(coupled), LinearSolverChoice::kCgnr);
+  EXPECT_EQ(ChooseLinearSolver(coupled), LinearSolverChoice::kStructured);
 }
 
 TEST(LinearSolverChoice, DenseSolversThatWouldExhaustMemoryAreRefused) {

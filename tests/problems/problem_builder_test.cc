@@ -282,9 +282,9 @@ TEST(ProblemBuilder, ExtraTermsPlugInThroughTheBlockAccessors) {
       new ceres::AutoDiffCostFunction<Difference, 6, 6, 6>(new Difference),
       nullptr, builder.BasisBlock(0), builder.BasisBlock(1));
   EXPECT_FALSE(builder.PointBlocksAreIndependent());
-  // The rule no longer eliminates the points.
+  // The points are still eliminated, together (solvers/schur_elimination.h).
   EXPECT_EQ(ChooseLinearSolver(DescribeProblem(&builder)),
-            LinearSolverChoice::kCgnr);
+            LinearSolverChoice::kStructured);
 }
 
 TEST(ProblemBuilder, ErrorsInsteadOfAborts) {

@@ -5,6 +5,8 @@
 #include <ceres/numeric_diff_options.h>
 #include <gtest/gtest.h>
 
+#include <Eigen/Core>
+#include <Eigen/LU>
 #include <memory>
 #include <random>
 #include <vector>
@@ -19,20 +21,34 @@ namespace {
 using testing_util::ExpectGradientCheckPasses;
 using testing_util::Random;
 
-TEST(SmoothnessError, HandComputedResidual) {
+TEST(SmoothnessError, HandComputedResidualAndJacobian) {
   const int k = 2;
+  const double l[2] = {2.0, -1.0};
   const double b_i[6] = {1, 2, 3, 4, 5, 6};
   const double b_j[6] = {0.5, 2, 4, 4, 3, 7};
   std::unique_ptr<ceres::CostFunction> cost(
       SmoothnessError::Create(k, 3.0, 0.5));
-  EXPECT_EQ(cost->num_residuals(), 6);
-  ASSERT_EQ(cost->parameter_block_sizes(), (std::vector<int32_t>{6, 6}));
-  const double* parameters[2] = {b_i, b_j};
-  double r[6];
-  ASSERT_TRUE(cost->Evaluate(parameters, r, nullptr));
-  // sqrt(λ) α (b_i − b_j) = 1.5 · (0.5, 0, −1, 0, 2, −1).
-  const double expected[6] = {0.75, 0.0, -1.5, 0.0, 3.0, -1.5};
-  for (int i = 0; i < 6; ++i) EXPECT_DOUBLE_EQ(r[i], expected[i]) << i;
+  EXPECT_EQ(cost->num_residuals(), 3);
+  ASSERT_EQ(cost->parameter_block_sizes(), (std::vector<int32_t>{2, 6, 6}));
+  const double* parameters[3] = {l, b_i, b_j};
+  double r[3], j_l[6], j_i[18], j_j[18];
+  double* jacobians[3] = {j_l, j_i, j_j};
+  ASSERT_TRUE(cost->Evaluate(parameters, r, jacobians));
+  // b_i − b_j = (0.5, 0, −1 | 0, 2, −1); the frame's shape difference
+  // 2 (0.5, 0, −1) − (0, 2, −1) = (1, −2, −1), times s = 3 · 0.5.
+  const double expected[3] = {1.5, -3.0, -1.5};
+  for (int i = 0; i < 3; ++i) EXPECT_DOUBLE_EQ(r[i], expected[i]) << i;
+  // ∂r/∂l_k = s (b_i,k − b_j,k): row c, column k.
+  const double expected_l[6] = {0.75, 0.0, 0.0, 3.0, -1.5, -1.5};
+  for (int i = 0; i < 6; ++i) EXPECT_DOUBLE_EQ(j_l[i], expected_l[i]) << i;
+  // ∂r/∂b_i = s [l_1 I, l_2 I] = −∂r/∂b_j.
+  for (int c = 0; c < 3; ++c) {
+    for (int col = 0; col < 6; ++col) {
+      const double want = col % 3 == c ? 1.5 * l[col / 3] : 0.0;
+      EXPECT_DOUBLE_EQ(j_i[6 * c + col], want);
+      EXPECT_DOUBLE_EQ(j_j[6 * c + col], -want);
+    }
+  }
 }
 
 TEST(SmoothnessError, GradientChecker) {
@@ -40,14 +56,89 @@ TEST(SmoothnessError, GradientChecker) {
   for (const int k : {1, 3, 7}) {
     std::unique_ptr<ceres::CostFunction> cost(
         SmoothnessError::Create(k, 0.7, 1.3));
+    const std::vector<double> l = Random(k, &rng);
     const std::vector<double> b_i = Random(3 * k, &rng);
     const std::vector<double> b_j = Random(3 * k, &rng);
-    ExpectGradientCheckPasses(*cost, {b_i.data(), b_j.data()});
+    ExpectGradientCheckPasses(*cost, {l.data(), b_i.data(), b_j.data()});
   }
 }
 
-// Its row of problems/extra_terms.cc: one block per Delaunay neighbour edge.
-TEST(SmoothnessTerm, OneBlockPerNeighbourEdge) {
+TEST(SmoothnessError, ProductsAreThoseOfTheJacobian) {
+  std::mt19937 rng(5);
+  const int k = 3;
+  SmoothnessError cost(k, 0.8);
+  const std::vector<double> l = Random(k, &rng), b_i = Random(3 * k, &rng),
+                            b_j = Random(3 * k, &rng);
+  const double* parameters[3] = {l.data(), b_i.data(), b_j.data()};
+  std::vector<double> j[3] = {std::vector<double>(3 * k),
+                              std::vector<double>(9 * k),
+                              std::vector<double>(9 * k)};
+  double* jacobians[3] = {j[0].data(), j[1].data(), j[2].data()};
+  double r[3];
+  ASSERT_TRUE(cost.Evaluate(parameters, r, jacobians));
+  const int sizes[3] = {k, 3 * k, 3 * k};
+  const std::vector<double> x[3] = {Random(k, &rng), Random(3 * k, &rng),
+                                    Random(3 * k, &rng)};
+  const std::vector<double> y = Random(3, &rng);
+  const double* xs[3] = {x[0].data(), x[1].data(), x[2].data()};
+  double jx[3] = {0.0, 0.0, 0.0};
+  cost.AddJacobianProduct(parameters, xs, jx);
+  std::vector<double> jty[3] = {std::vector<double>(k, 0.0),
+                                std::vector<double>(3 * k, 0.0),
+                                std::vector<double>(3 * k, 0.0)};
+  double* outs[3] = {jty[0].data(), jty[1].data(), jty[2].data()};
+  cost.AddJacobianTransposeProduct(parameters, y.data(), outs);
+  for (int row = 0; row < 3; ++row) {
+    double want = 0.0;
+    for (int b = 0; b < 3; ++b) {
+      for (int col = 0; col < sizes[b]; ++col) {
+        want += j[b][row * sizes[b] + col] * x[b][col];
+      }
+    }
+    EXPECT_NEAR(jx[row], want, 1e-12) << row;
+  }
+  for (int b = 0; b < 3; ++b) {
+    for (int col = 0; col < sizes[b]; ++col) {
+      double want = 0.0;
+      for (int row = 0; row < 3; ++row) {
+        want += j[b][row * sizes[b] + col] * y[row];
+      }
+      EXPECT_NEAR(jty[b][col], want, 1e-12) << b << " " << col;
+    }
+  }
+}
+
+TEST(SmoothnessError, InvariantToTheGauge) {
+  // Basis Q B and weights L Q⁻¹ give the same shapes, hence the same
+  // residual (the basis-only form shrank the basis to lower its cost).
+  const int k = 2;
+  const double l[2] = {0.3, 1.7};
+  const double b_i[6] = {1, 2, 3, 4, 5, 6};
+  const double b_j[6] = {0.5, 2, 4, 4, 3, 7};
+  Eigen::Matrix2d q;
+  q << 0.2, 0.5, -0.1, 0.3;
+  const Eigen::Matrix2d q_inverse = q.inverse();
+  double l2[2], bi2[6], bj2[6];
+  for (int a = 0; a < 2; ++a) {
+    l2[a] = l[0] * q_inverse(0, a) + l[1] * q_inverse(1, a);
+    for (int c = 0; c < 3; ++c) {
+      bi2[3 * a + c] = q(a, 0) * b_i[c] + q(a, 1) * b_i[3 + c];
+      bj2[3 * a + c] = q(a, 0) * b_j[c] + q(a, 1) * b_j[3 + c];
+    }
+  }
+  std::unique_ptr<ceres::CostFunction> cost(
+      SmoothnessError::Create(k, 1.0, 1.0));
+  const double* before[3] = {l, b_i, b_j};
+  const double* after[3] = {l2, bi2, bj2};
+  double r[3], r2[3];
+  ASSERT_TRUE(cost->Evaluate(before, r, nullptr));
+  ASSERT_TRUE(cost->Evaluate(after, r2, nullptr));
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(r2[i], r[i], 1e-12) << i;
+}
+
+// Its row of problems/extra_terms.cc: one block per frame and Delaunay
+// neighbour edge.
+TEST(SmoothnessTerm, OneBlockPerFrameAndNeighbourEdge) {
   const SyntheticSequence s = testing_util::TermTestShoe(1);
   std::vector<NeighbourEdge> edges;
   ASSERT_TRUE(
@@ -56,7 +147,7 @@ TEST(SmoothnessTerm, OneBlockPerNeighbourEdge) {
   EXPECT_GT(static_cast<int>(edges.size()),
             testing_util::kTermPoints);  // a triangulation
   EXPECT_EQ(testing_util::TermBlockCount(kSmoothnessTerm, s),
-            static_cast<int>(edges.size()));
+            s.truth.num_frames * static_cast<int>(edges.size()));
 }
 
 }  // namespace

@@ -297,9 +297,10 @@ TEST_F(CliTest, ExtraTermFlags) {
       "reconstruct --input s.mat --K 2 --rotation_acceleration nan --output o",
       "term weight rotation_acceleration must be finite and >= 0, got nan",
       "o");
-  // The reconstruction with the terms: 29 s in the release build (the
-  // smoothness term's cgnr, docs/performance.md), so not under the
-  // sanitizers; the terms' code runs there in tests/solvers/extra_terms_test.
+  // The reconstruction with the terms: ~40 s in the release build (~300 LM
+  // iterations: the temporal-weights term is not invariant to the scale
+  // gauge, docs/problem.md), so not under the sanitizers; the terms' code
+  // runs there in tests/solvers/extra_terms_test.
   if (testing_util::kSanitizedBuild) return;
   const RunResult r =
       Run("reconstruct --input s.mat --cameras 2 --K 2 --rigidity 100 "
@@ -313,8 +314,11 @@ TEST_F(CliTest, ExtraTermFlags) {
   }
   EXPECT_EQ(result["options"]["rigidity"], "100");
   EXPECT_EQ(result["options"]["temporal"], "1");
-  // Measured: 0.76 % with the terms; the same run without them ends at 57.7 %.
-  EXPECT_LT(Evaluate("s.mat", "s")["error3d_pct"].get<double>(), 2.0);
+  // Measured (2026-11-27): 3.01 % with the terms (K = 2 for a shoe of K = 4,
+  // 40 frames; 0.76 % with the earlier smoothness of the basis alone, which
+  // drifted along the gauge: docs/performance.md); the same run without them
+  // ends at 57.7 %.
+  EXPECT_LT(Evaluate("s.mat", "s")["error3d_pct"].get<double>(), 4.0);
 }
 
 // Real motion capture (../shared/datasets/yoga.mat, 307 frames): the
