@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <utility>
 #include <vector>
 
 #include "core/option_checker.h"
@@ -149,6 +150,17 @@ Status CompleteLowRankAffine(const Measurements& measurements, int rank,
                              const LowRankCompletionOptions& options,
                              LowRankCompletion* completion) {
   CHECK(completion != nullptr);
+  LowRankFactors factors;
+  NRSFM_RETURN_IF_ERROR(
+      FitLowRankAffine(measurements, rank, options, &factors));
+  CompleteFromFactors(measurements, factors, completion);
+  return Status::OK();
+}
+
+Status FitLowRankAffine(const Measurements& measurements, int rank,
+                        const LowRankCompletionOptions& options,
+                        LowRankFactors* factors) {
+  CHECK(factors != nullptr);
   NRSFM_RETURN_IF_ERROR(options.Check());
   if (rank < 1) {
     return Status::Error("low-rank completion: rank must be >= 1, got " +
@@ -236,11 +248,27 @@ Status CompleteLowRankAffine(const Measurements& measurements, int rank,
           << " rounds, residual RMS " << residual
           << (converged ? "" : " (iteration limit)");
 
+  factors->a = std::move(a);
+  factors->b = std::move(b);
+  factors->t = std::move(t);
+  factors->residual_rms = residual;
+  factors->iterations = iteration;
+  factors->converged = converged;
+  return Status::OK();
+}
+
+void CompleteFromFactors(const Measurements& measurements,
+                         const LowRankFactors& factors,
+                         LowRankCompletion* completion) {
+  CHECK(completion != nullptr);
+  const Eigen::MatrixXd& w = measurements.W;
+  const int num_points = measurements.num_points;
+  CHECK_EQ(factors.a.rows(), w.rows());
+  CHECK_EQ(factors.b.cols(), num_points);
   completion->completed = w;
-  completion->translations = t;
+  completion->translations = factors.t;
   for (int v = 0; v < measurements.NumViews(); ++v) {
-    const bool complete =
-        static_cast<int>(index.points_of_view[v].size()) == num_points;
+    const bool complete = measurements.visible.row(v).count() == num_points;
     for (int row = 0; row < 2; ++row) {
       const int i = 2 * v + row;
       if (complete) {
@@ -249,14 +277,42 @@ Status CompleteLowRankAffine(const Measurements& measurements, int rank,
       }
       for (int p = 0; p < num_points; ++p) {
         if (!measurements.visible(v, p)) {
-          completion->completed(i, p) = a.row(i).dot(b.col(p)) + t(i);
+          completion->completed(i, p) =
+              factors.a.row(i).dot(factors.b.col(p)) + factors.t(i);
         }
       }
     }
   }
-  completion->residual_rms = residual;
-  completion->iterations = iteration;
-  completion->converged = converged;
+  completion->residual_rms = factors.residual_rms;
+  completion->iterations = factors.iterations;
+  completion->converged = factors.converged;
+}
+
+Status LowRankCompletionMemo::Complete(int rank,
+                                       const LowRankCompletionOptions& options,
+                                       LowRankCompletion* completion) {
+  CHECK(completion != nullptr);
+  std::lock_guard<std::mutex> lock(mutex_);
+  const Entry* found = nullptr;
+  for (const Entry& entry : entries_) {
+    if (entry.rank == rank &&
+        entry.options.max_iterations == options.max_iterations &&
+        entry.options.ridge_floor == options.ridge_floor) {
+      found = &entry;
+      break;
+    }
+  }
+  if (found == nullptr) {
+    Entry entry;
+    entry.rank = rank;
+    entry.options = options;
+    entry.status =
+        FitLowRankAffine(measurements_, rank, options, &entry.factors);
+    entries_.push_back(std::move(entry));
+    found = &entries_.back();
+  }
+  NRSFM_RETURN_IF_ERROR(found->status);
+  CompleteFromFactors(measurements_, found->factors, completion);
   return Status::OK();
 }
 
