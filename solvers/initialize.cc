@@ -106,7 +106,7 @@ void ExtendBases(int num_bases, std::uint64_t seed, Model* model) {
 }
 
 Status CenterData(const StartOptions& options, const Measurements& data,
-                  StartCache* cache, CenteredData* centered,
+                  int num_threads, StartCache* cache, CenteredData* centered,
                   StartSummary* summary) {
   const int m = data.num_cameras;
   Eigen::MatrixXd filled;
@@ -118,10 +118,11 @@ Status CenterData(const StartOptions& options, const Measurements& data,
     LowRankCompletion completion;
     const int rank = 3 * options.num_bases;
     NRSFM_RETURN_IF_ERROR(
-        (cache != nullptr ? cache->completions().Complete(
-                                rank, options.completion, &completion)
-                          : CompleteLowRankAffine(
-                                data, rank, options.completion, &completion))
+        (cache != nullptr
+             ? cache->completions().Complete(rank, options.completion,
+                                             &completion)
+             : CompleteLowRankAffine(data, rank, options.completion,
+                                     &completion, num_threads))
             .WithContext("initialize"));
     summary->completion_rms = completion.residual_rms;
     if (!completion.converged) {
@@ -210,9 +211,9 @@ Status StartOnCameraZero(const StartOptions& options, const Measurements& data,
       RigidStartSummary summary;
       const std::shared_ptr<const ThinSvd> svd =
           CameraZeroSvd(options, data, camera0, cache);
-      NRSFM_RETURN_IF_ERROR(RigidStart(camera0, options.num_bases,
-                                       options.alternation, options.seed,
-                                       &start->model, &summary, svd.get()));
+      NRSFM_RETURN_IF_ERROR(RigidStart(
+          camera0, options.num_bases, options.alternation, options.seed,
+          &start->model, &summary, svd.get(), num_threads));
       start->indefinite = summary.metric_upgrade_was_indefinite;
       start->rigid_rms = summary.alternation.rigid_rms;
       return Status::OK();
@@ -300,8 +301,9 @@ Status Initialize(const StartOptions& options, const Measurements& measurements,
     summary->warnings.push_back(msg.str());
   }
   CenteredData centered;
-  NRSFM_RETURN_IF_ERROR(
-      CenterData(reduced, measurements, cache, &centered, summary));
+  NRSFM_RETURN_IF_ERROR(CenterData(reduced, measurements,
+                                   std::max(1, num_threads), cache, &centered,
+                                   summary));
   CameraZeroStart start;
   NRSFM_RETURN_IF_ERROR(
       StartOnCameraZero(reduced, measurements, centered.camera0,

@@ -99,11 +99,13 @@ struct StartSummary {
 // vectors, all singular values). Reconstruct() keeps one for its prior rule
 // and its starts; the starts it gives are the same, bit for bit, as
 // without it. Safe to use from several threads. `measurements` must outlive
-// it, and it may only be given to Initialize() with these measurements.
+// it, and it may only be given to Initialize() with these measurements. The
+// completions run on up to `num_threads` threads (the result does not depend
+// on it).
 class StartCache {
  public:
-  explicit StartCache(const Measurements& measurements)
-      : measurements_(measurements), completions_(measurements) {}
+  explicit StartCache(const Measurements& measurements, int num_threads = 1)
+      : measurements_(measurements), completions_(measurements, num_threads) {}
   StartCache(const StartCache&) = delete;
   StartCache& operator=(const StartCache&) = delete;
 

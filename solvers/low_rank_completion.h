@@ -83,9 +83,12 @@ struct LowRankCompletion {
 // (naming the row or point) when a view sees fewer than r + 1 points or a
 // point is seen in fewer than r rows (⌈r/2⌉ views): its factor would be
 // undetermined. The same as FitLowRankAffine then CompleteFromFactors.
+// The row and column solves run on up to `num_threads` threads; each is
+// solved on its own, so the result does not depend on the thread count.
 Status CompleteLowRankAffine(const Measurements& measurements, int rank,
                              const LowRankCompletionOptions& options,
-                             LowRankCompletion* completion);
+                             LowRankCompletion* completion,
+                             int num_threads = 1);
 
 // The fit behind a completion, W ≈ A B + t 1ᵀ, and how its ALS ended: (2FM +
 // P) · r numbers where the completed matrix has 2FM · P.
@@ -98,10 +101,10 @@ struct LowRankFactors {
   bool converged = false;
 };
 
-// Steps 0-3 of the header; errors as CompleteLowRankAffine.
+// Steps 0-3 of the header; errors and threads as CompleteLowRankAffine's.
 Status FitLowRankAffine(const Measurements& measurements, int rank,
                         const LowRankCompletionOptions& options,
-                        LowRankFactors* factors);
+                        LowRankFactors* factors, int num_threads = 1);
 
 // The completion of `measurements` from the factors FitLowRankAffine fitted
 // to them: bit for bit what CompleteLowRankAffine returns.
@@ -113,11 +116,13 @@ void CompleteFromFactors(const Measurements& measurements,
 // once and kept as factors (so that the prior rule and every start of a
 // reconstruction share them; solvers/reconstruct.h). Safe to call from
 // several threads: a completion asked for while another thread fits it
-// waits for that fit. `measurements` must outlive the memo.
+// waits for that fit. `measurements` must outlive the memo; the fits run on
+// up to `num_threads` threads.
 class LowRankCompletionMemo {
  public:
-  explicit LowRankCompletionMemo(const Measurements& measurements)
-      : measurements_(measurements) {}
+  explicit LowRankCompletionMemo(const Measurements& measurements,
+                                 int num_threads = 1)
+      : measurements_(measurements), num_threads_(num_threads) {}
   LowRankCompletionMemo(const LowRankCompletionMemo&) = delete;
   LowRankCompletionMemo& operator=(const LowRankCompletionMemo&) = delete;
 
@@ -134,6 +139,7 @@ class LowRankCompletionMemo {
     LowRankFactors factors;
   };
   const Measurements& measurements_;
+  const int num_threads_;
   std::mutex mutex_;
   std::vector<Entry> entries_;
 };

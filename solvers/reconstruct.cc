@@ -249,7 +249,7 @@ Status ReconstructInUnits(const ReconstructOptions& options,
   PriorDecision decision;
   const int num_bases = options.start.num_bases;
   // The completions and the SVD the prior rule and the starts share.
-  StartCache cache(measurements);
+  StartCache cache(measurements, options.solver.num_threads);
   if (options.priors == PriorMode::kAuto) {
     NRSFM_RETURN_IF_ERROR(DecidePriors(options.prior_rule, measurements,
                                        num_bases, &decision,

@@ -14,7 +14,7 @@ namespace nrsfm {
 Status RigidStart(const Measurements& centered, int num_bases,
                   const AlternationOptions& options, std::uint64_t seed,
                   Model* model, RigidStartSummary* summary,
-                  const ThinSvd* given_svd) {
+                  const ThinSvd* given_svd, int num_threads) {
   CHECK(model != nullptr && summary != nullptr);
   NRSFM_RETURN_IF_ERROR(CheckAlternationInput(centered, num_bases, options)
                             .WithContext("rigid start"));
@@ -50,7 +50,8 @@ Status RigidStart(const Measurements& centered, int num_bases,
 
   // Step 2: the alternation, rotations included.
   AlternateFromRigid(centered, k, rotations, scales, rigid_shape, options, seed,
-                     /*update_rotations=*/true, model, &summary->alternation);
+                     /*update_rotations=*/true, model, &summary->alternation,
+                     num_threads);
   return Status::OK();
 }
 

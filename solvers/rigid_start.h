@@ -38,10 +38,12 @@ struct RigidStartSummary {
 // object) or when the metric upgrade fails. `svd`: ComputeThinSvd(
 // centered.W, kBoth) when the caller has it (at least the top 3 singular
 // vectors and every singular value), else null and it is computed here.
+// The alternation runs on up to `num_threads` threads; the start does not
+// depend on it.
 Status RigidStart(const Measurements& centered, int num_bases,
                   const AlternationOptions& options, std::uint64_t seed,
                   Model* model, RigidStartSummary* summary,
-                  const ThinSvd* svd = nullptr);
+                  const ThinSvd* svd = nullptr, int num_threads = 1);
 
 }  // namespace nrsfm
 
