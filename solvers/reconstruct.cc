@@ -98,7 +98,8 @@ Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
 // abandons one that falls behind: at once with num_threads ≥ 2 (each on
 // num_threads / 2 threads), in turns with one. Inputs of more than
 // kMaxObservationsForTwoAtOnce observations, whose two problems would not
-// both fit in memory, refine one start after the other on every thread.
+// both fit in memory, refine one start after the other on every thread,
+// the second abandoned by the same rule once the first has converged.
 void RefineBothStarts(const ReconstructOptions& options,
                       const Measurements& measurements,
                       const PriorDecision& decision, StartCache* cache,
@@ -109,7 +110,29 @@ void RefineBothStarts(const ReconstructOptions& options,
     *factorization_status =
         StartAndRefine(options, StartMethod::kFactorization, measurements,
                        decision, cache, factorization);
-    *rigid_status = StartAndRefine(options, StartMethod::kRigid, measurements,
+    // The rule of solvers/two_starts.h with the first refinement ended: the
+    // second is abandoned once it has run RaceIterations(n) iterations
+    // without reaching the first's cost.
+    const RefineSummary& first = factorization->refine;
+    const bool race =
+        factorization_status->ok() && first.converged && first.usable;
+    ReconstructOptions second = options;
+    int iteration = -1;
+    double cost = 0.0;
+    second.solver.progress = [&options, &iteration,
+                              &cost](const IterationReport& report) {
+      iteration = report.iteration;
+      cost = report.cost;
+      if (options.solver.progress) options.solver.progress(report);
+    };
+    second.solver.stop_requested = [&options, &iteration, &cost, &first, race] {
+      if (options.solver.stop_requested && options.solver.stop_requested()) {
+        return true;
+      }
+      return race && iteration >= RaceIterations(first.iterations) &&
+             cost >= first.final_cost;
+    };
+    *rigid_status = StartAndRefine(second, StartMethod::kRigid, measurements,
                                    decision, cache, rigid);
     return;
   }
