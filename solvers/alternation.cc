@@ -7,7 +7,9 @@
 
 #include "core/metrics.h"
 #include "core/option_checker.h"
+#include "core/parallel_for.h"
 #include "core/random.h"
+#include "core/rotation.h"
 #include "solvers/basis_weight_fit.h"
 #include "solvers/pose_fit.h"
 
@@ -18,24 +20,75 @@ constexpr double kDamping = 1e-12;         // of the linear solves
 constexpr int kRotationStepsPerRound = 3;  // Gauss-Newton steps per frame
 constexpr double kStopRelativeDecrease = 1e-10;
 
-// One rotation update per frame (step 2 of the header), over visible points.
-void RefineRotations(const Measurements& centered, Model* model) {
-  for (int t = 0; t < model->num_frames; ++t) {
-    const Eigen::Matrix3Xd shape = model->ShapeInObject(t);
-    const int n = static_cast<int>(centered.visible.row(t).count());
-    Eigen::Matrix2Xd observed(2, n);
-    Eigen::Matrix3Xd points(3, n);
-    for (int p = 0, j = 0; p < model->num_points; ++p) {
-      if (!centered.visible(t, p)) continue;
-      observed.col(j) =
-          centered.Observation(t, 0, p) - model->translations.col(t);
-      points.col(j) = shape.col(p);
-      ++j;
-    }
-    Eigen::Matrix3d rotation = model->Rotation(t, 0);
-    RefineRotation(observed, points, 1.0, kRotationStepsPerRound, &rotation);
-    model->SetRotation(t, 0, rotation);
+// What a frame's pose cost Σ_p ||o_p − Π R X_p||² over its visible points
+// needs of them: C = Σ X Xᵀ, D = Σ o Xᵀ and e = Σ ||o||².
+struct PoseMoments {
+  Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
+  Eigen::Matrix<double, 2, 3> d = Eigen::Matrix<double, 2, 3>::Zero();
+  double e = 0.0;
+
+  double Cost(const Eigen::Matrix3d& rotation) const {
+    const Eigen::Matrix<double, 2, 3> pr = rotation.topRows<2>();
+    return e - 2.0 * (pr.cwiseProduct(d)).sum() +
+           (pr * c).cwiseProduct(pr).sum();
   }
+};
+
+// Up to `max_steps` Gauss-Newton steps on the rotation, each kept only if
+// it lowers the cost: RefineRotation's steps (solvers/pose_fit.h, scale 1),
+// with its sums over points formed from the moments, so that a step costs
+// O(1) instead of O(P). With x = R X, M = Σ x xᵀ = R C Rᵀ and N = Σ o xᵀ =
+// D Rᵀ: JᵀJ = [[M_zz, 0, −M_xz], [0, M_zz, −M_yz], [−M_xz, −M_yz, M_xx +
+// M_yy]] and Jᵀe = (M_yz − N_yz, N_xz − M_xz, N_yx − N_xy).
+void RefineRotationFromMoments(const PoseMoments& moments, int max_steps,
+                               Eigen::Matrix3d* rotation) {
+  double cost = moments.Cost(*rotation);
+  for (int step = 0; step < max_steps; ++step) {
+    const Eigen::Matrix3d m = *rotation * moments.c * rotation->transpose();
+    const Eigen::Matrix<double, 2, 3> n = moments.d * rotation->transpose();
+    Eigen::Matrix3d jtj;
+    jtj << m(2, 2), 0.0, -m(0, 2), 0.0, m(2, 2), -m(1, 2), -m(0, 2), -m(1, 2),
+        m(0, 0) + m(1, 1);
+    const Eigen::Vector3d jte(m(1, 2) - n(1, 2), n(0, 2) - m(0, 2),
+                              n(1, 0) - n(0, 1));
+    jtj.diagonal().array() += 1e-12 * jtj.trace() + 1e-300;
+    const Eigen::Vector3d omega = jtj.ldlt().solve(jte);
+    if (!omega.allFinite()) break;
+    const Eigen::Matrix3d candidate = AngleAxisToRotation(omega) * (*rotation);
+    const double candidate_cost = moments.Cost(candidate);
+    if (!(candidate_cost < cost)) break;
+    *rotation = candidate;
+    cost = candidate_cost;
+  }
+}
+
+// One rotation update per frame (step 2 of the header), over visible points.
+// Frames run on up to `num_threads` threads, each on its own.
+void RefineRotations(const Measurements& centered, int num_threads,
+                     Model* model) {
+  const int k = model->num_bases;
+  ParallelFor(
+      model->num_frames, num_threads, /*grain=*/4, [&](int begin, int end) {
+        for (int t = begin; t < end; ++t) {
+          PoseMoments moments;
+          const Eigen::Vector2d shift = model->translations.col(t);
+          for (int p = 0; p < model->num_points; ++p) {
+            if (!centered.visible(t, p)) continue;
+            // The point of frame t's shape, summed as ShapeInObject does.
+            Eigen::Vector3d x = Eigen::Vector3d::Zero();
+            for (int b = 0; b < k; ++b) {
+              x += model->weights(b, t) * model->basis.block<3, 1>(3 * b, p);
+            }
+            const Eigen::Vector2d o = centered.Observation(t, 0, p) - shift;
+            moments.c.noalias() += x * x.transpose();
+            moments.d.noalias() += o * x.transpose();
+            moments.e += o.squaredNorm();
+          }
+          Eigen::Matrix3d rotation = model->Rotation(t, 0);
+          RefineRotationFromMoments(moments, kRotationStepsPerRound, &rotation);
+          model->SetRotation(t, 0, rotation);
+        }
+      });
 }
 
 // Rescales bases k ≥ 1 (0-based) to the norm of basis 0; weights inversely.
@@ -79,7 +132,7 @@ void AlternateFromRigid(const Measurements& centered, int num_bases,
                         const Eigen::Matrix3Xd& rigid_shape,
                         const AlternationOptions& options, std::uint64_t seed,
                         bool update_rotations, Model* model,
-                        AlternationSummary* summary) {
+                        AlternationSummary* summary, int num_threads) {
   CHECK(model != nullptr && summary != nullptr);
   CHECK_EQ(centered.num_cameras, 1);
   const Status valid = options.Check();
@@ -110,11 +163,12 @@ void AlternateFromRigid(const Measurements& centered, int num_bases,
   // Step 2: the alternation.
   int rounds = 0;
   for (int round = 0; round < options.rounds; ++round) {
-    FitBasisGivenMotion(centered, kDamping, model);
+    FitBasisGivenMotion(centered, kDamping, model, num_threads);
     CentreBasisKeepingProjections(model);
-    FitWeightsGivenBasis(centered, kDamping, /*fit_translations=*/true, model);
+    FitWeightsGivenBasis(centered, kDamping, /*fit_translations=*/true, model,
+                         num_threads);
     BalanceBases(model);
-    if (update_rotations) RefineRotations(centered, model);
+    if (update_rotations) RefineRotations(centered, num_threads, model);
     ++rounds;
     const double previous = cost;
     cost = ReprojectionSquaredError(centered, *model);

@@ -17,9 +17,10 @@
 //      every basis k ≥ 2 rescaled to the norm of S_1 (l_tk inversely; the fit
 //      is unchanged) to keep the K × K gauge well conditioned; then, with
 //      `update_rotations`, per frame up to 3 Gauss-Newton steps on the
-//      rotation (solvers/pose_fit.h), each kept only if it lowers that
-//      frame's cost. Rounds stop early when the cost drops by less than
-//      1e-10 (relative).
+//      rotation (those of RefineRotation in solvers/pose_fit.h, formed from
+//      the second moments of the frame's points and tracks), each kept only
+//      if it lowers that frame's cost. Rounds stop early when the cost drops by
+//      less than 1e-10 (relative).
 // Every step is an exact minimiser or a step kept only when it helps, so the
 // cost never increases: the returned model's RMS is at most rigid_rms (up to
 // the 1e-12 relative damping of the linear solves). δT_t corrects the centring
@@ -58,14 +59,15 @@ Status CheckAlternationInput(const Measurements& centered, int num_bases,
 // Fills `model` (Resize'd to F, 1, P, K; unit scales; translations = δT, to
 // be added to the translations removed from `centered`). `rotations` and
 // `scales` have F entries, `rigid_shape` is 3 × P. CHECKs the sizes and
-// options (callers validate them).
+// options (callers validate them). The fits of points and frames run on up
+// to `num_threads` threads; the result does not depend on it.
 void AlternateFromRigid(const Measurements& centered, int num_bases,
                         const std::vector<Eigen::Matrix3d>& rotations,
                         const Eigen::VectorXd& scales,
                         const Eigen::Matrix3Xd& rigid_shape,
                         const AlternationOptions& options, std::uint64_t seed,
                         bool update_rotations, Model* model,
-                        AlternationSummary* summary);
+                        AlternationSummary* summary, int num_threads = 1);
 
 }  // namespace nrsfm
 

@@ -5,6 +5,8 @@
 #include <Eigen/Cholesky>
 #include <vector>
 
+#include "core/parallel_for.h"
+
 namespace nrsfm {
 namespace {
 
@@ -27,7 +29,7 @@ void CheckMonocular(const Measurements& centered, const Model& model) {
 }  // namespace
 
 void FitBasisGivenMotion(const Measurements& centered, double damping,
-                         Model* model) {
+                         Model* model, int num_threads) {
   CHECK(model != nullptr);
   CheckMonocular(centered, *model);
   const int k = model->num_bases;
@@ -36,7 +38,7 @@ void FitBasisGivenMotion(const Measurements& centered, double damping,
   // Q_t = [l_t1 Π R_t, …, l_tK Π R_t] = l_tᵀ ⊗ Π R_t (2 × 3K); stacked, Q is
   // 2F × 3K. Point p's normal matrix is Σ over the frames that see it of
   // Q_tᵀ Q_t = (l_t l_tᵀ) ⊗ (Π R_t)ᵀ Π R_t: the sum over all frames once,
-  // minus the frames that do not see p.
+  // minus the frames that do not see p (one rank update of their rows).
   Eigen::MatrixXd q(2 * f, 3 * k);
   for (int t = 0; t < f; ++t) {
     const Eigen::Matrix<double, 2, 3> pr = model->Rotation(t, 0).topRows<2>();
@@ -59,19 +61,29 @@ void FitBasisGivenMotion(const Measurements& centered, double damping,
     }
   }
   const Eigen::MatrixXd rhs = q.transpose() * observed;
-  for (int p = 0; p < num_points; ++p) {
-    Eigen::MatrixXd normal = all_frames;
-    for (int t = 0; t < f; ++t) {
-      if (centered.visible(t, p)) continue;
-      normal.noalias() -=
-          q.middleRows<2>(2 * t).transpose() * q.middleRows<2>(2 * t);
+  ParallelFor(num_points, num_threads, /*grain=*/64, [&](int begin, int end) {
+    Eigen::MatrixXd missing(2 * f, 3 * k);
+    for (int p = begin; p < end; ++p) {
+      Eigen::MatrixXd normal = all_frames;
+      int rows = 0;
+      for (int t = 0; t < f; ++t) {
+        if (centered.visible(t, p)) continue;
+        missing.middleRows<2>(rows) = q.middleRows<2>(2 * t);
+        rows += 2;
+      }
+      if (rows > 0) {
+        normal.selfadjointView<Eigen::Lower>().rankUpdate(
+            missing.topRows(rows).transpose(), -1.0);
+        normal.triangularView<Eigen::StrictlyUpper>() = normal.transpose();
+      }
+      model->basis.col(p) = SolveDamped(std::move(normal), rhs.col(p), damping);
     }
-    model->basis.col(p) = SolveDamped(std::move(normal), rhs.col(p), damping);
-  }
+  });
 }
 
 void FitWeightsGivenBasis(const Measurements& centered, double damping,
-                          bool fit_translations, Model* model) {
+                          bool fit_translations, Model* model,
+                          int num_threads) {
   CHECK(model != nullptr);
   CheckMonocular(centered, *model);
   const int k = model->num_bases;
@@ -80,33 +92,39 @@ void FitWeightsGivenBasis(const Measurements& centered, double damping,
   // Per frame the design matrix A (2P × n): rows 2p, 2p + 1 of point p hold
   // Π R_t S_b[:, p] in column b and, with translations, I_2; zero rows for
   // points the frame does not see.
-  Eigen::MatrixXd design(2 * num_points, n);
-  Eigen::VectorXd observed(2 * num_points);
-  for (int t = 0; t < model->num_frames; ++t) {
-    const Eigen::Matrix<double, 2, 3> pr = model->Rotation(t, 0).topRows<2>();
-    const Eigen::Vector2d fixed_shift =
-        fit_translations ? Eigen::Vector2d::Zero()
-                         : Eigen::Vector2d(model->translations.col(t));
-    for (int p = 0; p < num_points; ++p) {
-      if (!centered.visible(t, p)) {
-        design.middleRows<2>(2 * p).setZero();
-        observed.segment<2>(2 * p).setZero();
-        continue;
-      }
-      for (int b = 0; b < k; ++b) {
-        design.block<2, 1>(2 * p, b) = pr * model->basis.block<3, 1>(3 * b, p);
-      }
-      if (fit_translations) design.block<2, 2>(2 * p, k).setIdentity();
-      observed.segment<2>(2 * p) = centered.Observation(t, 0, p) - fixed_shift;
-    }
-    Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(n, n);
-    normal.selfadjointView<Eigen::Lower>().rankUpdate(design.transpose());
-    normal.triangularView<Eigen::StrictlyUpper>() = normal.transpose();
-    const Eigen::VectorXd x =
-        SolveDamped(std::move(normal), design.transpose() * observed, damping);
-    model->weights.col(t) = x.head(k);
-    if (fit_translations) model->translations.col(t) = x.tail<2>();
-  }
+  ParallelFor(
+      model->num_frames, num_threads, /*grain=*/4, [&](int begin, int end) {
+        Eigen::MatrixXd design(2 * num_points, n);
+        Eigen::VectorXd observed(2 * num_points);
+        for (int t = begin; t < end; ++t) {
+          const Eigen::Matrix<double, 2, 3> pr =
+              model->Rotation(t, 0).topRows<2>();
+          const Eigen::Vector2d fixed_shift =
+              fit_translations ? Eigen::Vector2d::Zero()
+                               : Eigen::Vector2d(model->translations.col(t));
+          for (int p = 0; p < num_points; ++p) {
+            if (!centered.visible(t, p)) {
+              design.middleRows<2>(2 * p).setZero();
+              observed.segment<2>(2 * p).setZero();
+              continue;
+            }
+            for (int b = 0; b < k; ++b) {
+              design.block<2, 1>(2 * p, b) =
+                  pr * model->basis.block<3, 1>(3 * b, p);
+            }
+            if (fit_translations) design.block<2, 2>(2 * p, k).setIdentity();
+            observed.segment<2>(2 * p) =
+                centered.Observation(t, 0, p) - fixed_shift;
+          }
+          Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(n, n);
+          normal.selfadjointView<Eigen::Lower>().rankUpdate(design.transpose());
+          normal.triangularView<Eigen::StrictlyUpper>() = normal.transpose();
+          const Eigen::VectorXd x = SolveDamped(
+              std::move(normal), design.transpose() * observed, damping);
+          model->weights.col(t) = x.head(k);
+          if (fit_translations) model->translations.col(t) = x.tail<2>();
+        }
+      });
 }
 
 void CentreBasisKeepingProjections(Model* model) {

@@ -6,7 +6,9 @@
 // first estimate is kept). Only visible entries enter the fits (the rows of
 // missing measurements are dropped). Each normal matrix N gets
 // `damping · tr(N) / n` on its diagonal so that an under-determined point or
-// frame yields a finite answer instead of NaN.
+// frame yields a finite answer instead of NaN. The fits run their points
+// (frames) on up to `num_threads` threads; each is solved on its own, so the
+// result does not depend on the thread count.
 #ifndef NRSFM_SOLVERS_BASIS_WEIGHT_FIT_H_
 #define NRSFM_SOLVERS_BASIS_WEIGHT_FIT_H_
 
@@ -18,13 +20,14 @@ namespace nrsfm {
 // Step 1: every basis column b_p (3K) given the rotations, weights and δT of
 // `model`, over the frames that see point p. Overwrites model->basis.
 void FitBasisGivenMotion(const Measurements& centered, double damping,
-                         Model* model);
+                         Model* model, int num_threads = 1);
 
 // Step 2: every weight vector l_t (K) given the basis and rotations, over
 // the points frame t sees; with `fit_translations` jointly with δT_t
 // (K + 2 unknowns). Overwrites model->weights (and model->translations).
 void FitWeightsGivenBasis(const Measurements& centered, double damping,
-                          bool fit_translations, Model* model);
+                          bool fit_translations, Model* model,
+                          int num_threads = 1);
 
 // Subtracts from every basis shape its mean over the points and moves the
 // shift into δT_t (δT_t += Π R_t Σ_k l_tk c_k), so the projections do not

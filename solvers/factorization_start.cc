@@ -14,7 +14,8 @@
 namespace nrsfm {
 
 Status FactorizationStart(const Measurements& centered, int num_bases,
-                          Model* model, FactorizationStartSummary* summary) {
+                          Model* model, FactorizationStartSummary* summary,
+                          const ThinSvd* given_svd) {
   CHECK(model != nullptr && summary != nullptr);
   CHECK_EQ(centered.num_cameras, 1);
   const int f = centered.num_frames;
@@ -30,7 +31,13 @@ Status FactorizationStart(const Measurements& centered, int num_bases,
   }
   *summary = FactorizationStartSummary();
 
-  const ThinSvd svd = ComputeThinSvd(centered.W, SingularVectors::kBoth);
+  ThinSvd computed;
+  if (given_svd == nullptr) {
+    computed = ComputeThinSvd(centered.W, SingularVectors::kBoth);
+  }
+  const ThinSvd& svd = given_svd != nullptr ? *given_svd : computed;
+  CHECK_GE(svd.u.cols(), r);
+  CHECK_GE(svd.v.cols(), r);
   NRSFM_RETURN_IF_ERROR(CheckRotationObservable(svd.singular_values)
                             .WithContext("factorisation start"));
   const Eigen::VectorXd root = svd.singular_values.head(r).cwiseSqrt();

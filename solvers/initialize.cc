@@ -5,12 +5,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 
 #include "core/enum_names.h"
 #include "core/metrics.h"
 #include "core/option_checker.h"
 #include "core/random.h"
+#include "core/svd.h"
 #include "solvers/factorization_start.h"
 #include "solvers/low_rank_completion.h"
 #include "solvers/multi_camera_start.h"
@@ -104,7 +106,8 @@ void ExtendBases(int num_bases, std::uint64_t seed, Model* model) {
 }
 
 Status CenterData(const StartOptions& options, const Measurements& data,
-                  CenteredData* centered, StartSummary* summary) {
+                  int num_threads, StartCache* cache, CenteredData* centered,
+                  StartSummary* summary) {
   const int m = data.num_cameras;
   Eigen::MatrixXd filled;
   Eigen::VectorXd row_translations;
@@ -113,9 +116,14 @@ Status CenterData(const StartOptions& options, const Measurements& data,
     row_translations = data.W.rowwise().mean();
   } else {
     LowRankCompletion completion;
-    NRSFM_RETURN_IF_ERROR(CompleteLowRankAffine(data, 3 * options.num_bases,
-                                                options.completion, &completion)
-                              .WithContext("initialize"));
+    const int rank = 3 * options.num_bases;
+    NRSFM_RETURN_IF_ERROR(
+        (cache != nullptr
+             ? cache->completions().Complete(rank, options.completion,
+                                             &completion)
+             : CompleteLowRankAffine(data, rank, options.completion,
+                                     &completion, num_threads))
+            .WithContext("initialize"));
     summary->completion_rms = completion.residual_rms;
     if (!completion.converged) {
       std::ostringstream msg;
@@ -155,23 +163,57 @@ struct CameraZeroStart {
   int sign_segments = -1;               // triple start only
 };
 
-Status StartOnCameraZero(const StartOptions& options,
+// The key of camera 0's centred tracks in a StartCache: the completion they
+// came from (none for complete data).
+std::string CenteredKey(const StartOptions& options, const Measurements& data) {
+  if (data.IsComplete()) return "complete";
+  std::ostringstream key;
+  key << std::setprecision(17) << "rank " << 3 * options.num_bases
+      << ", ridge floor " << options.completion.ridge_floor
+      << ", max iterations " << options.completion.max_iterations;
+  return key.str();
+}
+
+// The SVD the factorization and rigid starts begin with, from `cache` when
+// there is one (truncated to the top 3K' singular vectors there), else null
+// (the start computes it).
+std::shared_ptr<const ThinSvd> CameraZeroSvd(const StartOptions& options,
+                                             const Measurements& data,
+                                             const Measurements& camera0,
+                                             StartCache* cache) {
+  if (cache == nullptr) return nullptr;
+  const int columns = 3 * options.num_bases;
+  return cache->Svd(CenteredKey(options, data), [&camera0, columns] {
+    ThinSvd svd = ComputeThinSvd(camera0.W, SingularVectors::kBoth);
+    if (svd.u.cols() > columns) {
+      svd.u = svd.u.leftCols(columns).eval();
+      svd.v = svd.v.leftCols(columns).eval();
+    }
+    return svd;
+  });
+}
+
+Status StartOnCameraZero(const StartOptions& options, const Measurements& data,
                          const Measurements& camera0, int num_threads,
-                         CameraZeroStart* start) {
+                         StartCache* cache, CameraZeroStart* start) {
   switch (options.method) {
     case StartMethod::kFactorization: {
       FactorizationStartSummary summary;
-      NRSFM_RETURN_IF_ERROR(FactorizationStart(camera0, options.num_bases,
-                                               &start->model, &summary));
+      const std::shared_ptr<const ThinSvd> svd =
+          CameraZeroSvd(options, data, camera0, cache);
+      NRSFM_RETURN_IF_ERROR(FactorizationStart(
+          camera0, options.num_bases, &start->model, &summary, svd.get()));
       start->indefinite = summary.metric_upgrade_was_indefinite;
       start->subblock_rank1_defect = summary.mean_subblock_rank1_defect;
       return Status::OK();
     }
     case StartMethod::kRigid: {
       RigidStartSummary summary;
-      NRSFM_RETURN_IF_ERROR(RigidStart(camera0, options.num_bases,
-                                       options.alternation, options.seed,
-                                       &start->model, &summary));
+      const std::shared_ptr<const ThinSvd> svd =
+          CameraZeroSvd(options, data, camera0, cache);
+      NRSFM_RETURN_IF_ERROR(RigidStart(
+          camera0, options.num_bases, options.alternation, options.seed,
+          &start->model, &summary, svd.get(), num_threads));
       start->indefinite = summary.metric_upgrade_was_indefinite;
       start->rigid_rms = summary.alternation.rigid_rms;
       return Status::OK();
@@ -213,9 +255,22 @@ Status StartOptions::Check() const {
   return check.status();
 }
 
+std::shared_ptr<const ThinSvd> StartCache::Svd(
+    const std::string& key, const std::function<ThinSvd()>& compute) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (const auto& [stored_key, svd] : svds_) {
+    if (stored_key == key) return svd;
+  }
+  svds_.emplace_back(key, std::make_shared<const ThinSvd>(compute()));
+  return svds_.back().second;
+}
+
 Status Initialize(const StartOptions& options, const Measurements& measurements,
-                  Model* model, StartSummary* summary, int num_threads) {
+                  Model* model, StartSummary* summary, int num_threads,
+                  StartCache* cache) {
   CHECK(model != nullptr && summary != nullptr);
+  CHECK(cache == nullptr || &cache->measurements() == &measurements)
+      << "a StartCache is for the measurements it was made with";
   const auto start_time = std::chrono::steady_clock::now();
   *summary = StartSummary();
   NRSFM_RETURN_IF_ERROR(options.Check());
@@ -246,11 +301,14 @@ Status Initialize(const StartOptions& options, const Measurements& measurements,
     summary->warnings.push_back(msg.str());
   }
   CenteredData centered;
-  NRSFM_RETURN_IF_ERROR(CenterData(reduced, measurements, &centered, summary));
+  NRSFM_RETURN_IF_ERROR(CenterData(reduced, measurements,
+                                   std::max(1, num_threads), cache, &centered,
+                                   summary));
   CameraZeroStart start;
-  NRSFM_RETURN_IF_ERROR(StartOnCameraZero(reduced, centered.camera0,
-                                          std::max(1, num_threads), &start)
-                            .WithContext("initialize"));
+  NRSFM_RETURN_IF_ERROR(
+      StartOnCameraZero(reduced, measurements, centered.camera0,
+                        std::max(1, num_threads), cache, &start)
+          .WithContext("initialize"));
   if (reduced.num_bases < options.num_bases) {
     ExtendBases(options.num_bases, options.seed, &start.model);
   }

@@ -34,12 +34,17 @@
 #define NRSFM_SOLVERS_INITIALIZE_H_
 
 #include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/measurements.h"
 #include "core/model.h"
 #include "core/status.h"
+#include "core/svd.h"
 #include "solvers/alternation.h"
 #include "solvers/low_rank_completion.h"
 
@@ -87,6 +92,38 @@ struct StartSummary {
   double seconds = 0;  // wall time of Initialize
 };
 
+// Work the starts of one set of measurements share, each piece computed
+// once: the low-rank completions of step 1 (also the prior rule's,
+// solvers/prior_rule.h) and the thin SVD of camera 0's centred tracks that
+// the factorization and rigid starts begin with (its top 3K' singular
+// vectors, all singular values). Reconstruct() keeps one for its prior rule
+// and its starts; the starts it gives are the same, bit for bit, as
+// without it. Safe to use from several threads. `measurements` must outlive
+// it, and it may only be given to Initialize() with these measurements. The
+// completions run on up to `num_threads` threads (the result does not depend
+// on it).
+class StartCache {
+ public:
+  explicit StartCache(const Measurements& measurements, int num_threads = 1)
+      : measurements_(measurements), completions_(measurements, num_threads) {}
+  StartCache(const StartCache&) = delete;
+  StartCache& operator=(const StartCache&) = delete;
+
+  const Measurements& measurements() const { return measurements_; }
+  LowRankCompletionMemo& completions() { return completions_; }
+
+  // The SVD stored under `key` (the completion the centred tracks came
+  // from), computed by `compute` the first time it is asked for.
+  std::shared_ptr<const ThinSvd> Svd(const std::string& key,
+                                     const std::function<ThinSvd()>& compute);
+
+ private:
+  const Measurements& measurements_;
+  LowRankCompletionMemo completions_;
+  std::mutex mutex_;
+  std::vector<std::pair<std::string, std::shared_ptr<const ThinSvd>>> svds_;
+};
+
 // Fills `model` (Resize'd to F, M, P, K) with the start options.method:
 // rotations (angle-axis), translations, weights, basis, scales (camera 0
 // scale 1; with M > 1 the extra cameras' scales and rig_rotations /
@@ -104,8 +141,11 @@ struct StartSummary {
 // seeded), for the refinement to fit; summary->warnings says so.
 // The parts of a start that run in parallel (the corrective triple's
 // starts) use up to `num_threads` threads; the start does not depend on it.
+// `cache` (for these measurements, or null) holds work shared with other
+// starts; it does not change the start.
 Status Initialize(const StartOptions& options, const Measurements& measurements,
-                  Model* model, StartSummary* summary, int num_threads = 1);
+                  Model* model, StartSummary* summary, int num_threads = 1,
+                  StartCache* cache = nullptr);
 
 }  // namespace nrsfm
 

@@ -7,9 +7,11 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <utility>
 #include <vector>
 
 #include "core/option_checker.h"
+#include "core/parallel_for.h"
 #include "core/svd.h"
 
 namespace nrsfm {
@@ -57,50 +59,59 @@ VisibleIndex IndexVisible(const VisibilityMask& visible) {
 }
 
 // Step 1: [a_i; t_i] of the two rows of every view given B.
+// Views run on up to `num_threads` threads, each on its own.
 void SolveRows(const Eigen::MatrixXd& w, const VisibleIndex& index,
                const Eigen::MatrixXd& b, double damping, double ridge,
-               Eigen::MatrixXd* a, Eigen::VectorXd* t) {
+               int num_threads, Eigen::MatrixXd* a, Eigen::VectorXd* t) {
   const int r = static_cast<int>(b.rows());
-  for (size_t v = 0; v < index.points_of_view.size(); ++v) {
-    const std::vector<int>& cols = index.points_of_view[v];
-    const int n = static_cast<int>(cols.size());
-    Eigen::MatrixXd design(r + 1, n);  // columns [b_p; 1]
-    Eigen::MatrixXd data(2, n);
-    for (int j = 0; j < n; ++j) {
-      design.col(j).head(r) = b.col(cols[j]);
-      design(r, j) = 1.0;
-      data.col(j) = w.block(2 * v, cols[j], 2, 1);
+  const int views = static_cast<int>(index.points_of_view.size());
+  ParallelFor(views, num_threads, /*grain=*/4, [&](int begin, int end) {
+    for (int v = begin; v < end; ++v) {
+      const std::vector<int>& cols = index.points_of_view[v];
+      const int n = static_cast<int>(cols.size());
+      Eigen::MatrixXd design(r + 1, n);  // columns [b_p; 1]
+      Eigen::MatrixXd data(2, n);
+      for (int j = 0; j < n; ++j) {
+        design.col(j).head(r) = b.col(cols[j]);
+        design(r, j) = 1.0;
+        data.col(j) = w.block(2 * v, cols[j], 2, 1);
+      }
+      const Eigen::MatrixXd normal = design * design.transpose();
+      const Eigen::MatrixXd x =
+          SolveDamped(normal, design * data.transpose(), damping, ridge, r);
+      for (int row = 0; row < 2; ++row) {
+        a->row(2 * v + row) = x.col(row).head(r).transpose();
+        (*t)(2 * v + row) = x(r, row);
+      }
     }
-    const Eigen::MatrixXd normal = design * design.transpose();
-    const Eigen::MatrixXd x =
-        SolveDamped(normal, design * data.transpose(), damping, ridge, r);
-    for (int row = 0; row < 2; ++row) {
-      a->row(2 * v + row) = x.col(row).head(r).transpose();
-      (*t)(2 * v + row) = x(r, row);
-    }
-  }
+  });
 }
 
 // Step 2: b_p of every column given A and t.
+// Points run on up to `num_threads` threads, each on its own.
 void SolveColumns(const Eigen::MatrixXd& w, const VisibleIndex& index,
                   const Eigen::MatrixXd& a, const Eigen::VectorXd& t,
-                  double damping, double ridge, Eigen::MatrixXd* b) {
+                  double damping, double ridge, int num_threads,
+                  Eigen::MatrixXd* b) {
   const int r = static_cast<int>(a.cols());
-  for (size_t p = 0; p < index.views_of_point.size(); ++p) {
-    const std::vector<int>& views = index.views_of_point[p];
-    const int n = static_cast<int>(views.size());
-    Eigen::MatrixXd design(r, 2 * n);  // columns a_i
-    Eigen::VectorXd data(2 * n);
-    for (int j = 0; j < n; ++j) {
-      for (int row = 0; row < 2; ++row) {
-        const int i = 2 * views[j] + row;
-        design.col(2 * j + row) = a.row(i).transpose();
-        data(2 * j + row) = w(i, p) - t(i);
+  const int points = static_cast<int>(index.views_of_point.size());
+  ParallelFor(points, num_threads, /*grain=*/64, [&](int begin, int end) {
+    for (int p = begin; p < end; ++p) {
+      const std::vector<int>& views = index.views_of_point[p];
+      const int n = static_cast<int>(views.size());
+      Eigen::MatrixXd design(r, 2 * n);  // columns a_i
+      Eigen::VectorXd data(2 * n);
+      for (int j = 0; j < n; ++j) {
+        for (int row = 0; row < 2; ++row) {
+          const int i = 2 * views[j] + row;
+          design.col(2 * j + row) = a.row(i).transpose();
+          data(2 * j + row) = w(i, p) - t(i);
+        }
       }
+      b->col(p) = SolveDamped(design * design.transpose(), design * data,
+                              damping, ridge, r);
     }
-    b->col(p) = SolveDamped(design * design.transpose(), design * data, damping,
-                            ridge, r);
-  }
+  });
 }
 
 // Step 3: centre and orthonormalise the rows of B, keeping A B + t 1ᵀ.
@@ -147,8 +158,19 @@ Status LowRankCompletionOptions::Check() const {
 
 Status CompleteLowRankAffine(const Measurements& measurements, int rank,
                              const LowRankCompletionOptions& options,
-                             LowRankCompletion* completion) {
+                             LowRankCompletion* completion, int num_threads) {
   CHECK(completion != nullptr);
+  LowRankFactors factors;
+  NRSFM_RETURN_IF_ERROR(
+      FitLowRankAffine(measurements, rank, options, &factors, num_threads));
+  CompleteFromFactors(measurements, factors, completion);
+  return Status::OK();
+}
+
+Status FitLowRankAffine(const Measurements& measurements, int rank,
+                        const LowRankCompletionOptions& options,
+                        LowRankFactors* factors, int num_threads) {
+  CHECK(factors != nullptr);
   NRSFM_RETURN_IF_ERROR(options.Check());
   if (rank < 1) {
     return Status::Error("low-rank completion: rank must be >= 1, got " +
@@ -208,7 +230,7 @@ Status CompleteLowRankAffine(const Measurements& measurements, int rank,
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(num_rows, r);
   Eigen::VectorXd t = Eigen::VectorXd::Zero(num_rows);
   NormalizeGauge(&a, &t, &b);  // a, t are set by the first row step
-  SolveRows(w, index, b, kDamping, 0.0, &a, &t);
+  SolveRows(w, index, b, kDamping, 0.0, num_threads, &a, &t);
 
   // Ridge (see the header): σ̂² per coordinate from the current residual,
   // at least (ridge_floor · data RMS)²; B has orthonormal rows, so an entry
@@ -221,12 +243,13 @@ Status CompleteLowRankAffine(const Measurements& measurements, int rank,
     const double floor_rms = options.ridge_floor * data_rms;
     const double noise_variance =
         0.5 * std::max(residual * residual, floor_rms * floor_rms);
-    SolveColumns(w, index, a, t, kDamping, noise_variance * num_points, &b);
+    SolveColumns(w, index, a, t, kDamping, noise_variance * num_points,
+                 num_threads, &b);
     NormalizeGauge(&a, &t, &b);
     const double a_mean_square = a.squaredNorm() / (num_rows * r);
     SolveRows(w, index, b, kDamping,
-              a_mean_square > 0.0 ? noise_variance / a_mean_square : 0.0, &a,
-              &t);
+              a_mean_square > 0.0 ? noise_variance / a_mean_square : 0.0,
+              num_threads, &a, &t);
     const double previous = residual;
     residual = ResidualRms(w, index, a, t, b);
     converged = residual <= kExactFitRelative * data_rms ||
@@ -236,11 +259,27 @@ Status CompleteLowRankAffine(const Measurements& measurements, int rank,
           << " rounds, residual RMS " << residual
           << (converged ? "" : " (iteration limit)");
 
+  factors->a = std::move(a);
+  factors->b = std::move(b);
+  factors->t = std::move(t);
+  factors->residual_rms = residual;
+  factors->iterations = iteration;
+  factors->converged = converged;
+  return Status::OK();
+}
+
+void CompleteFromFactors(const Measurements& measurements,
+                         const LowRankFactors& factors,
+                         LowRankCompletion* completion) {
+  CHECK(completion != nullptr);
+  const Eigen::MatrixXd& w = measurements.W;
+  const int num_points = measurements.num_points;
+  CHECK_EQ(factors.a.rows(), w.rows());
+  CHECK_EQ(factors.b.cols(), num_points);
   completion->completed = w;
-  completion->translations = t;
+  completion->translations = factors.t;
   for (int v = 0; v < measurements.NumViews(); ++v) {
-    const bool complete =
-        static_cast<int>(index.points_of_view[v].size()) == num_points;
+    const bool complete = measurements.visible.row(v).count() == num_points;
     for (int row = 0; row < 2; ++row) {
       const int i = 2 * v + row;
       if (complete) {
@@ -249,14 +288,42 @@ Status CompleteLowRankAffine(const Measurements& measurements, int rank,
       }
       for (int p = 0; p < num_points; ++p) {
         if (!measurements.visible(v, p)) {
-          completion->completed(i, p) = a.row(i).dot(b.col(p)) + t(i);
+          completion->completed(i, p) =
+              factors.a.row(i).dot(factors.b.col(p)) + factors.t(i);
         }
       }
     }
   }
-  completion->residual_rms = residual;
-  completion->iterations = iteration;
-  completion->converged = converged;
+  completion->residual_rms = factors.residual_rms;
+  completion->iterations = factors.iterations;
+  completion->converged = factors.converged;
+}
+
+Status LowRankCompletionMemo::Complete(int rank,
+                                       const LowRankCompletionOptions& options,
+                                       LowRankCompletion* completion) {
+  CHECK(completion != nullptr);
+  std::lock_guard<std::mutex> lock(mutex_);
+  const Entry* found = nullptr;
+  for (const Entry& entry : entries_) {
+    if (entry.rank == rank &&
+        entry.options.max_iterations == options.max_iterations &&
+        entry.options.ridge_floor == options.ridge_floor) {
+      found = &entry;
+      break;
+    }
+  }
+  if (found == nullptr) {
+    Entry entry;
+    entry.rank = rank;
+    entry.options = options;
+    entry.status = FitLowRankAffine(measurements_, rank, options,
+                                    &entry.factors, num_threads_);
+    entries_.push_back(std::move(entry));
+    found = &entries_.back();
+  }
+  NRSFM_RETURN_IF_ERROR(found->status);
+  CompleteFromFactors(measurements_, found->factors, completion);
   return Status::OK();
 }
 

@@ -49,6 +49,8 @@
 #define NRSFM_SOLVERS_LOW_RANK_COMPLETION_H_
 
 #include <Eigen/Core>
+#include <mutex>
+#include <vector>
 
 #include "core/measurements.h"
 #include "core/status.h"
@@ -80,10 +82,67 @@ struct LowRankCompletion {
 // shapes) plus translation fit. Errors on invalid options or r < 1, and
 // (naming the row or point) when a view sees fewer than r + 1 points or a
 // point is seen in fewer than r rows (⌈r/2⌉ views): its factor would be
-// undetermined.
+// undetermined. The same as FitLowRankAffine then CompleteFromFactors.
+// The row and column solves run on up to `num_threads` threads; each is
+// solved on its own, so the result does not depend on the thread count.
 Status CompleteLowRankAffine(const Measurements& measurements, int rank,
                              const LowRankCompletionOptions& options,
-                             LowRankCompletion* completion);
+                             LowRankCompletion* completion,
+                             int num_threads = 1);
+
+// The fit behind a completion, W ≈ A B + t 1ᵀ, and how its ALS ended: (2FM +
+// P) · r numbers where the completed matrix has 2FM · P.
+struct LowRankFactors {
+  Eigen::MatrixXd a;          // 2FM × r
+  Eigen::MatrixXd b;          // r × P, rows centred and orthonormal
+  Eigen::VectorXd t;          // 2FM, the affine term
+  double residual_rms = 0.0;  // as LowRankCompletion's
+  int iterations = 0;
+  bool converged = false;
+};
+
+// Steps 0-3 of the header; errors and threads as CompleteLowRankAffine's.
+Status FitLowRankAffine(const Measurements& measurements, int rank,
+                        const LowRankCompletionOptions& options,
+                        LowRankFactors* factors, int num_threads = 1);
+
+// The completion of `measurements` from the factors FitLowRankAffine fitted
+// to them: bit for bit what CompleteLowRankAffine returns.
+void CompleteFromFactors(const Measurements& measurements,
+                         const LowRankFactors& factors,
+                         LowRankCompletion* completion);
+
+// The completions of one set of measurements, each rank and options fitted
+// once and kept as factors (so that the prior rule and every start of a
+// reconstruction share them; solvers/reconstruct.h). Safe to call from
+// several threads: a completion asked for while another thread fits it
+// waits for that fit. `measurements` must outlive the memo; the fits run on
+// up to `num_threads` threads.
+class LowRankCompletionMemo {
+ public:
+  explicit LowRankCompletionMemo(const Measurements& measurements,
+                                 int num_threads = 1)
+      : measurements_(measurements), num_threads_(num_threads) {}
+  LowRankCompletionMemo(const LowRankCompletionMemo&) = delete;
+  LowRankCompletionMemo& operator=(const LowRankCompletionMemo&) = delete;
+
+  // CompleteLowRankAffine(measurements, rank, options, completion), its
+  // result and status the same.
+  Status Complete(int rank, const LowRankCompletionOptions& options,
+                  LowRankCompletion* completion);
+
+ private:
+  struct Entry {
+    int rank = 0;
+    LowRankCompletionOptions options;
+    Status status;
+    LowRankFactors factors;
+  };
+  const Measurements& measurements_;
+  const int num_threads_;
+  std::mutex mutex_;
+  std::vector<Entry> entries_;
+};
 
 }  // namespace nrsfm
 

@@ -164,7 +164,8 @@ int CameraBasesCap(const PriorRuleOptions& options,
 
 Status AnalyseTrackRank(const PriorRuleOptions& options,
                         const Measurements& measurements, int num_bases,
-                        bool video, PriorDecision* decision) {
+                        bool video, PriorDecision* decision,
+                        LowRankCompletionMemo* completions) {
   decision->model_explains_tracks = true;
   decision->camera_num_bases = num_bases;
   decision->noise_rms = -1.0;
@@ -198,8 +199,11 @@ Status AnalyseTrackRank(const PriorRuleOptions& options,
                               : 0.0;
     }
     LowRankCompletion completion;
-    const Status status = CompleteLowRankAffine(
-        measurements, r, LowRankCompletionOptions(), &completion);
+    const Status status =
+        completions != nullptr
+            ? completions->Complete(r, LowRankCompletionOptions(), &completion)
+            : CompleteLowRankAffine(measurements, r, LowRankCompletionOptions(),
+                                    &completion);
     if (!status.ok()) failed = status;
     return completion.residual_rms * completion.residual_rms * n_total;
   };
@@ -252,12 +256,14 @@ Status AnalyseTrackRank(const PriorRuleOptions& options,
 
 Status DecidePriors(const PriorRuleOptions& options,
                     const Measurements& measurements, int num_bases,
-                    PriorDecision* decision) {
+                    PriorDecision* decision,
+                    LowRankCompletionMemo* completions) {
   decision->track_step = MedianTrackStep(measurements);
   decision->track_order = TrackOrder(measurements);
   decision->video = decision->track_order >= options.min_track_order;
   NRSFM_RETURN_IF_ERROR(AnalyseTrackRank(options, measurements, num_bases,
-                                         decision->video, decision));
+                                         decision->video, decision,
+                                         completions));
   const bool basis_absorbs_rotation =
       3.0 * num_bases >= options.min_basis_fraction * measurements.num_points;
   if (!decision->model_explains_tracks || basis_absorbs_rotation) {

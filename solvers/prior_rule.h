@@ -85,6 +85,7 @@
 #include "core/measurements.h"
 #include "core/model.h"
 #include "core/status.h"
+#include "solvers/low_rank_completion.h"
 
 namespace nrsfm {
 
@@ -147,9 +148,12 @@ inline constexpr int kMaxCameraBases = 16;
 // Facts 1, 2 and 4 for K = num_bases: the shape prior's weight
 // (decision->term_weights), model_explains_tracks, camera_num_bases and
 // noise_rms. Errors only when the low-rank completion of fact 4 fails.
+// `completions` (of `measurements`, or null): where the completions are
+// kept for the starts (solvers/initialize.h); the decision is the same.
 Status DecidePriors(const PriorRuleOptions& options,
                     const Measurements& measurements, int num_bases,
-                    PriorDecision* decision);
+                    PriorDecision* decision,
+                    LowRankCompletionMemo* completions = nullptr);
 
 // The largest K' whose rank-3K' fit the tracks support (3K' + 1 ≤ min(P,
 // 2FM); with missing entries a view with 3K' + 1 points and a point in
@@ -164,10 +168,11 @@ int CameraBasesCap(const PriorRuleOptions& options,
                    const Measurements& measurements);
 
 // Fact 4 alone (fills the three fact-4 fields of `decision`); `video` (fact
-// 1) chooses the noise estimate.
+// 1) chooses the noise estimate; `completions` as DecidePriors'.
 Status AnalyseTrackRank(const PriorRuleOptions& options,
                         const Measurements& measurements, int num_bases,
-                        bool video, PriorDecision* decision);
+                        bool video, PriorDecision* decision,
+                        LowRankCompletionMemo* completions = nullptr);
 // The noise of the tracks per coordinate from their third differences in
 // time (a video: the motion is smooth, white noise is not): 1.4826 · the
 // median |x_(t+3) − 3x_(t+2) + 3x_(t+1) − x_t| / √20 over every coordinate

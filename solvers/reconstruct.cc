@@ -52,9 +52,10 @@ namespace {
 
 // One start followed by its refinement. With priors = auto the start's
 // camera path decides the path prior (`decision` holds the rule's other facts).
+// `cache` holds the work the starts share (solvers/initialize.h).
 Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
                       const Measurements& measurements,
-                      const PriorDecision& decision,
+                      const PriorDecision& decision, StartCache* cache,
                       ReconstructResult* result) {
   if (options.solver.stop_requested && options.solver.stop_requested()) {
     return Status::Error("stopped on request");
@@ -62,7 +63,8 @@ Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
   StartOptions start = options.start;
   start.method = method;
   NRSFM_RETURN_IF_ERROR(Initialize(start, measurements, &result->model,
-                                   &result->start, options.solver.num_threads));
+                                   &result->start, options.solver.num_threads,
+                                   cache));
   ProblemOptions problem = options.problem;
   result->priors = decision;
   if (options.priors == PriorMode::kAuto) {
@@ -77,7 +79,7 @@ Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
       fewer.num_bases = cap;
       StartSummary unused;
       if (Initialize(fewer, measurements, &reference, &unused,
-                     options.solver.num_threads)
+                     options.solver.num_threads, cache)
               .ok()) {
         path = &reference;
       }
@@ -96,29 +98,53 @@ Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
 // abandons one that falls behind: at once with num_threads ≥ 2 (each on
 // num_threads / 2 threads), in turns with one. Inputs of more than
 // kMaxObservationsForTwoAtOnce observations, whose two problems would not
-// both fit in memory, refine one start after the other on every thread.
+// both fit in memory, refine one start after the other on every thread,
+// the second abandoned by the same rule once the first has converged.
 void RefineBothStarts(const ReconstructOptions& options,
                       const Measurements& measurements,
-                      const PriorDecision& decision,
+                      const PriorDecision& decision, StartCache* cache,
                       ReconstructResult* factorization,
                       Status* factorization_status, ReconstructResult* rigid,
                       Status* rigid_status) {
   if (measurements.NumVisible() > kMaxObservationsForTwoAtOnce) {
     *factorization_status =
         StartAndRefine(options, StartMethod::kFactorization, measurements,
-                       decision, factorization);
-    *rigid_status = StartAndRefine(options, StartMethod::kRigid, measurements,
-                                   decision, rigid);
+                       decision, cache, factorization);
+    // The rule of solvers/two_starts.h with the first refinement ended: the
+    // second is abandoned once it has run RaceIterations(n) iterations
+    // without reaching the first's cost.
+    const RefineSummary& first = factorization->refine;
+    const bool race =
+        factorization_status->ok() && first.converged && first.usable;
+    ReconstructOptions second = options;
+    int iteration = -1;
+    double cost = 0.0;
+    second.solver.progress = [&options, &iteration,
+                              &cost](const IterationReport& report) {
+      iteration = report.iteration;
+      cost = report.cost;
+      if (options.solver.progress) options.solver.progress(report);
+    };
+    second.solver.stop_requested = [&options, &iteration, &cost, &first, race] {
+      if (options.solver.stop_requested && options.solver.stop_requested()) {
+        return true;
+      }
+      return race && iteration >= RaceIterations(first.iterations) &&
+             cost >= first.final_cost;
+    };
+    *rigid_status = StartAndRefine(second, StartMethod::kRigid, measurements,
+                                   decision, cache, rigid);
     return;
   }
-  const auto lane = [&options, &measurements, &decision](
+  const auto lane = [&options, &measurements, &decision, cache](
                         StartMethod method, ReconstructResult* result,
                         Status* status) -> RaceRefinement {
-    return [&options, &measurements, &decision, method, result,
+    return [&options, &measurements, &decision, cache, method, result,
             status](const SolverOptions& solver) {
       ReconstructOptions own = options;
       own.solver = solver;
-      *status = StartAndRefine(own, method, measurements, decision, result);
+      *status =
+          StartAndRefine(own, method, measurements, decision, cache, result);
       RaceOutcome outcome;
       if (!status->ok()) return outcome;
       outcome.converged = result->refine.converged;
@@ -245,9 +271,12 @@ Status ReconstructInUnits(const ReconstructOptions& options,
   }
   PriorDecision decision;
   const int num_bases = options.start.num_bases;
+  // The completions and the SVD the prior rule and the starts share.
+  StartCache cache(measurements, options.solver.num_threads);
   if (options.priors == PriorMode::kAuto) {
-    NRSFM_RETURN_IF_ERROR(
-        DecidePriors(options.prior_rule, measurements, num_bases, &decision));
+    NRSFM_RETURN_IF_ERROR(DecidePriors(options.prior_rule, measurements,
+                                       num_bases, &decision,
+                                       &cache.completions()));
   }
   // The camera stage: the start and its refinement with K_cam ≥ K bases
   // (K_cam = K with priors = manual).
@@ -260,11 +289,11 @@ Status ReconstructInUnits(const ReconstructOptions& options,
                  options.prior_rule.camera_function_tolerance);
   }
   if (options.start.method != StartMethod::kAuto) {
-    NRSFM_RETURN_IF_ERROR(StartAndRefine(camera, options.start.method,
-                                         measurements, decision, result));
+    NRSFM_RETURN_IF_ERROR(StartAndRefine(
+        camera, options.start.method, measurements, decision, &cache, result));
   } else if (decision.term_weights.count(kTemporalShapeTerm) > 0) {
-    NRSFM_RETURN_IF_ERROR(StartAndRefine(camera, StartMethod::kTriple,
-                                         measurements, decision, result));
+    NRSFM_RETURN_IF_ERROR(StartAndRefine(
+        camera, StartMethod::kTriple, measurements, decision, &cache, result));
   } else {
     // Both starts are refined and the lower refined cost is kept: a start's
     // own reprojection error does not tell which basin it is in (the rigid
@@ -272,7 +301,7 @@ Status ReconstructInUnits(const ReconstructOptions& options,
     // converge to a depth-degenerate solution).
     ReconstructResult factorization, rigid;
     Status factorization_status, rigid_status;
-    RefineBothStarts(camera, measurements, decision, &factorization,
+    RefineBothStarts(camera, measurements, decision, &cache, &factorization,
                      &factorization_status, &rigid, &rigid_status);
     if (!factorization_status.ok() && !rigid_status.ok()) {
       return Status::Error("both starts failed: factorization: " +

@@ -117,7 +117,9 @@ inline constexpr int kMaxObservationsForTwoAtOnce = 1000000;
 //      converged after n LM iterations, the other is abandoned when it has
 //      run 2n + 10 iterations without reaching a lower cost
 //      (solvers/two_starts.h; inputs above kMaxObservationsForTwoAtOnce: one
-//      after the other, each to its end). Progress reports and stop requests
+//      after the other, the factorization start's to its end, the rigid
+//      start's abandoned by the same rule when the first converged).
+//      Progress reports and stop requests
 //      reach the caller's thread, the factorization refinement's reports
 //      first.
 //    With a shape prior the camera stage stops at

@@ -13,7 +13,8 @@ namespace nrsfm {
 
 Status RigidStart(const Measurements& centered, int num_bases,
                   const AlternationOptions& options, std::uint64_t seed,
-                  Model* model, RigidStartSummary* summary) {
+                  Model* model, RigidStartSummary* summary,
+                  const ThinSvd* given_svd, int num_threads) {
   CHECK(model != nullptr && summary != nullptr);
   NRSFM_RETURN_IF_ERROR(CheckAlternationInput(centered, num_bases, options)
                             .WithContext("rigid start"));
@@ -21,7 +22,13 @@ Status RigidStart(const Measurements& centered, int num_bases,
   *summary = RigidStartSummary();
 
   // Step 1: Tomasi-Kanade with the metric upgrade.
-  const ThinSvd svd = ComputeThinSvd(centered.W, SingularVectors::kBoth);
+  ThinSvd computed;
+  if (given_svd == nullptr) {
+    computed = ComputeThinSvd(centered.W, SingularVectors::kBoth);
+  }
+  const ThinSvd& svd = given_svd != nullptr ? *given_svd : computed;
+  CHECK_GE(svd.u.cols(), 3);
+  CHECK_GE(svd.v.cols(), 3);
   NRSFM_RETURN_IF_ERROR(
       CheckRotationObservable(svd.singular_values).WithContext("rigid start"));
   const Eigen::Vector3d root = svd.singular_values.head<3>().cwiseSqrt();
@@ -43,7 +50,8 @@ Status RigidStart(const Measurements& centered, int num_bases,
 
   // Step 2: the alternation, rotations included.
   AlternateFromRigid(centered, k, rotations, scales, rigid_shape, options, seed,
-                     /*update_rotations=*/true, model, &summary->alternation);
+                     /*update_rotations=*/true, model, &summary->alternation,
+                     num_threads);
   return Status::OK();
 }
 

@@ -21,6 +21,7 @@
 #include "core/measurements.h"
 #include "core/model.h"
 #include "core/status.h"
+#include "core/svd.h"
 #include "solvers/alternation.h"
 
 namespace nrsfm {
@@ -34,10 +35,15 @@ struct RigidStartSummary {
 // to be added to the translations removed from `centered`); `seed` seeds the
 // random initial weights. Errors on invalid options, when K < 1, 3 > 2F or
 // P < 4, when the centred tracks have rank < 3 (no rotation or a flat
-// object) or when the metric upgrade fails.
+// object) or when the metric upgrade fails. `svd`: ComputeThinSvd(
+// centered.W, kBoth) when the caller has it (at least the top 3 singular
+// vectors and every singular value), else null and it is computed here.
+// The alternation runs on up to `num_threads` threads; the start does not
+// depend on it.
 Status RigidStart(const Measurements& centered, int num_bases,
                   const AlternationOptions& options, std::uint64_t seed,
-                  Model* model, RigidStartSummary* summary);
+                  Model* model, RigidStartSummary* summary,
+                  const ThinSvd* svd = nullptr, int num_threads = 1);
 
 }  // namespace nrsfm
 

@@ -22,7 +22,8 @@ Status TripleStart(const Measurements& centered, int num_bases,
                                             &summary->triple)
                             .WithContext("triple start"));
   AlternateFromRigid(centered, k, rotations, scales, rigid_shape, options, seed,
-                     /*update_rotations=*/false, model, &summary->alternation);
+                     /*update_rotations=*/false, model, &summary->alternation,
+                     num_threads);
   return Status::OK();
 }
 
