@@ -83,6 +83,7 @@ void SchurElimination::AddCouplingGram() {
   }
   for (int i : blocks_.coupling_residuals) {
     const Residual& r = blocks_.residuals[i];
+    if (r.in_grid) continue;  // below, for all frames at once
     for (const Coupled& a : r.coupled) {
       const int pa = position_[a.block];
       const int size_a = blocks_.blocks[a.block].size;
@@ -101,6 +102,32 @@ void SchurElimination::AddCouplingGram() {
         coupled_gram_[pb][it - below.begin()].noalias() += ja.transpose() * jb;
       }
     }
+  }
+  const SmoothnessGrid& grid = blocks_.smoothness;
+  if (grid.empty()) return;
+  // The grid's residuals of one edge over all frames: J_bᵢᵀ J_bᵢ = J_bⱼᵀ
+  // J_bⱼ = s² (G ⊗ I₃) = −J_bᵢᵀ J_bⱼ, G = Σ_t l_t l_tᵀ.
+  const int k = grid.num_bases;
+  Eigen::MatrixXd g = Eigen::MatrixXd::Zero(k, k);
+  for (int w : grid.weights) {
+    const Eigen::Map<const Eigen::VectorXd> l(blocks_.blocks[w].values, k);
+    g.noalias() += l * l.transpose();
+  }
+  Eigen::MatrixXd g3 = Eigen::MatrixXd::Zero(3 * k, 3 * k);  // G ⊗ I₃
+  for (int a = 0; a < k; ++a) {
+    for (int b = 0; b < k; ++b) {
+      for (int c = 0; c < 3; ++c) g3(3 * a + c, 3 * b + c) = g(a, b);
+    }
+  }
+  for (const SmoothnessGrid::Edge& edge : grid.edges) {
+    const double s2 = edge.scale * edge.scale;
+    const int pi = position_[edge.block_i], pj = position_[edge.block_j];
+    gram_[pi].noalias() += s2 * g3;
+    gram_[pj].noalias() += s2 * g3;
+    const int lo = std::min(pi, pj), hi = std::max(pi, pj);
+    const std::vector<int>& below = coupled_[lo];
+    const auto it = std::lower_bound(below.begin(), below.end(), hi);
+    coupled_gram_[lo][it - below.begin()].noalias() -= s2 * g3;
   }
 }
 
