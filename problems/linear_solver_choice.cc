@@ -49,18 +49,26 @@ const char* LinearSolverName(LinearSolverChoice choice) {
   return NameOf(kLinearSolverNames, choice);
 }
 
-ProblemStructure DescribeProblem(ProblemBuilder* builder) {
+ProblemStructure DescribePointBlocks(ProblemBuilder* builder) {
   ceres::Problem& problem = *builder->problem();
   ProblemStructure s;
-  s.num_residuals = problem.NumResiduals();
   s.points_are_independent = builder->PointBlocksAreIndependent();
+  for (double* block : builder->PointBlocks()) {
+    if (problem.IsParameterBlockConstant(block)) continue;
+    ++s.num_point_blocks;
+    s.num_point_parameters += problem.ParameterBlockSize(block);
+  }
+  return s;
+}
+
+ProblemStructure DescribeProblem(ProblemBuilder* builder) {
+  ceres::Problem& problem = *builder->problem();
+  ProblemStructure s = DescribePointBlocks(builder);
+  s.num_residuals = problem.NumResiduals();
 
   std::unordered_set<const double*> free_points;
   for (double* block : builder->PointBlocks()) {
-    if (problem.IsParameterBlockConstant(block)) continue;
-    free_points.insert(block);
-    ++s.num_point_blocks;
-    s.num_point_parameters += problem.ParameterBlockSize(block);
+    if (!problem.IsParameterBlockConstant(block)) free_points.insert(block);
   }
   for (double* block : builder->NonPointBlocks()) {
     if (!problem.IsParameterBlockConstant(block)) {

@@ -70,8 +70,14 @@ struct ProblemStructure {
   int frame_coupling = 0;
 };
 ProblemStructure DescribeProblem(ProblemBuilder* builder);
+// Only num_point_blocks, num_point_parameters and points_are_independent
+// (the rest left at their defaults): what ChooseLinearSolver reads, without
+// DescribeProblem's scan of which blocks share a residual block (seconds on
+// millions of residual blocks).
+ProblemStructure DescribePointBlocks(ProblemBuilder* builder);
 
-// The `auto` rule (above). Never returns kAuto.
+// The `auto` rule (above); reads structure.num_point_blocks only. Never
+// returns kAuto.
 LinearSolverChoice ChooseLinearSolver(const ProblemStructure& structure);
 
 // Sets options->linear_solver_type, preconditioner_type and

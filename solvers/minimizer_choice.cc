@@ -6,7 +6,7 @@ MinimizerChoice ChooseMinimizer(LinearSolverChoice requested,
                                 ProblemBuilder* builder) {
   const bool automatic = requested == LinearSolverChoice::kAuto;
   ProblemStructure structure;
-  if (automatic) structure = DescribeProblem(builder);
+  if (automatic) structure = DescribePointBlocks(builder);
   const LinearSolverChoice choice =
       automatic ? ChooseLinearSolver(structure) : requested;
   MinimizerChoice result;

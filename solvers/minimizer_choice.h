@@ -32,7 +32,7 @@ struct MinimizerChoice {
 };
 
 // `requested` is SolverOptions::linear_solver; the problem's structure is
-// looked at (DescribeProblem) only for kAuto.
+// looked at (DescribePointBlocks) only for kAuto.
 MinimizerChoice ChooseMinimizer(LinearSolverChoice requested,
                                 ProblemBuilder* builder);
 

@@ -47,6 +47,14 @@ TEST(LinearSolverChoice, DescribeCountsFreeParametersAndSchurFill) {
   EXPECT_TRUE(structure.points_are_independent);
   // Every point sees every frame: the reduced matrix is full, 70².
   EXPECT_EQ(structure.schur_matrix_entries, 70.0 * 70.0);
+  // The rule's part alone: the same counts, the scan left out.
+  builder.problem()->SetParameterBlockConstant(builder.BasisBlock(3));
+  const ProblemStructure points = DescribePointBlocks(&builder);
+  EXPECT_EQ(points.num_point_blocks, 11);
+  EXPECT_EQ(points.num_point_parameters, 11 * 6);
+  EXPECT_TRUE(points.points_are_independent);
+  EXPECT_EQ(points.num_residuals, 0);
+  EXPECT_EQ(DescribeProblem(&builder).num_point_blocks, 11);
 }
 
 TEST(LinearSolverChoice, SchurSolversEliminateThePoints) {
