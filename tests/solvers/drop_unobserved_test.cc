@@ -306,8 +306,7 @@ TEST(Reconstruct, ObservationWeightsAndReferenceFrameFollowTheKeptFrames) {
   options.problem.term_weights = {{"smoothness", 1e-6}};
   options.problem.smoothness_edges.reference_frame = 59;
   options.problem.observation_weights = Eigen::ArrayXXd::Ones(60, 20);
-  options.solver.max_iterations =
-      5;  // the smoothness term's cgnr is slow; 5 steps show it
+  options.solver.max_iterations = 5;  // 5 steps show it
   ReconstructResult weighted;
   ASSERT_TRUE(Reconstruct(options, m, &weighted).ok());
   ASSERT_TRUE(weighted.refine.usable) << weighted.refine.message;
