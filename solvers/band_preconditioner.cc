@@ -45,6 +45,16 @@ void BandPreconditioner::Build(double mu, const Eigen::VectorXd& d_reduced) {
   const std::vector<int>& group_offset = blocks_.group_offset;
   band_.assign(num_groups, std::vector<Eigen::MatrixXd>(band + 1));
   border_ = Eigen::MatrixXd::Zero(num_group_columns, num_shared);
+  // The smoothness grid's part (StructuredBlocks::smoothness): H in each of
+  // its frames' weights block, the same for every frame.
+  std::vector<int> grid_weights(num_groups, -1);
+  Eigen::MatrixXd grid_gram;
+  if (!blocks_.smoothness.empty()) {
+    grid_gram = GridWeightsGram(blocks_);
+    for (int w : blocks_.smoothness.weights) {
+      grid_weights[blocks_.blocks[w].group] = w;
+    }
+  }
   ParallelFor(num_groups, num_threads_, kGroupGrain, [&](int begin, int end) {
     for (int g = begin; g < end; ++g) {
       for (int d = 0; d <= band && g - d >= 0; ++d) {
@@ -53,6 +63,7 @@ void BandPreconditioner::Build(double mu, const Eigen::VectorXd& d_reduced) {
       }
       for (const Ref& ref : blocks_.group_refs[g]) {
         const Residual& r = blocks_.residuals[ref.residual];
+        if (r.in_grid) continue;  // below
         const Segment& a = r.reduced[ref.segment];
         if (r.gram) {
           AddGram(r, a, g);
@@ -74,6 +85,11 @@ void BandPreconditioner::Build(double mu, const Eigen::VectorXd& d_reduced) {
                  r.width, &block(row_a, b.col - group_offset[b.group]),
                  block.rows());
         }
+      }
+      if (grid_weights[g] >= 0) {
+        const int at = blocks_.blocks[grid_weights[g]].offset - group_offset[g];
+        band_[g][0].block(at, at, grid_gram.rows(), grid_gram.cols()) +=
+            grid_gram;
       }
       band_[g][0].diagonal() +=
           mu * d_reduced.segment(group_offset[g], blocks_.GroupSize(g));

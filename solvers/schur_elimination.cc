@@ -257,23 +257,6 @@ void SchurElimination::ApplyReduced(const Eigen::VectorXd& v, double mu,
   out->array() += mu * d_reduced.array() * v.array();
 }
 
-namespace {
-
-// D_e of an edge: column k = b_i,k − b_j,k.
-Eigen::Matrix3Xd EdgeDifference(const StructuredBlocks& blocks,
-                                const SmoothnessGrid::Edge& edge,
-                                int num_bases) {
-  const double* b_i = blocks.blocks[edge.block_i].values;
-  const double* b_j = blocks.blocks[edge.block_j].values;
-  Eigen::Matrix3Xd d(3, num_bases);
-  for (int k = 0; k < num_bases; ++k) {
-    for (int c = 0; c < 3; ++c) d(c, k) = b_i[3 * k + c] - b_j[3 * k + c];
-  }
-  return d;
-}
-
-}  // namespace
-
 void SchurElimination::AddGridProjected(const Eigen::VectorXd& v,
                                         Eigen::VectorXd* projected) const {
   const SmoothnessGrid& grid = blocks_.smoothness;
