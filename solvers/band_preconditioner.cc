@@ -37,7 +37,8 @@ BandPreconditioner::BandPreconditioner(const StructuredBlocks& blocks,
                                        int num_threads)
     : blocks_(blocks), jacobian_(jacobian), num_threads_(num_threads) {}
 
-void BandPreconditioner::Build(double mu, const Eigen::VectorXd& d_reduced) {
+void BandPreconditioner::Build(double mu, const Eigen::VectorXd& d_reduced,
+                               const Eigen::MatrixXd& grid_gram) {
   const int num_groups = blocks_.num_groups();
   const int num_group_columns = blocks_.num_group_columns;
   const int num_shared = blocks_.num_shared();
@@ -45,15 +46,10 @@ void BandPreconditioner::Build(double mu, const Eigen::VectorXd& d_reduced) {
   const std::vector<int>& group_offset = blocks_.group_offset;
   band_.assign(num_groups, std::vector<Eigen::MatrixXd>(band + 1));
   border_ = Eigen::MatrixXd::Zero(num_group_columns, num_shared);
-  // The smoothness grid's part (StructuredBlocks::smoothness): H in each of
-  // its frames' weights block, the same for every frame.
+  // The smoothness grid's weights block per group (-1: none).
   std::vector<int> grid_weights(num_groups, -1);
-  Eigen::MatrixXd grid_gram;
-  if (!blocks_.smoothness.empty()) {
-    grid_gram = GridWeightsGram(blocks_);
-    for (int w : blocks_.smoothness.weights) {
-      grid_weights[blocks_.blocks[w].group] = w;
-    }
+  for (int w : blocks_.smoothness.weights) {
+    grid_weights[blocks_.blocks[w].group] = w;
   }
   ParallelFor(num_groups, num_threads_, kGroupGrain, [&](int begin, int end) {
     for (int g = begin; g < end; ++g) {

@@ -35,8 +35,11 @@ class BandPreconditioner {
                      const StructuredJacobian& jacobian, int num_threads);
 
   // Forms and factorises M for JᵀJ + μ diag(d_reduced) (one value per
-  // reduced column).
-  void Build(double mu, const Eigen::VectorXd& d_reduced);
+  // reduced column). The smoothness grid's residuals are not read: their
+  // part is `grid_gram` (SchurElimination::grid_weights_gram()) in each of
+  // the grid's weights blocks.
+  void Build(double mu, const Eigen::VectorXd& d_reduced,
+             const Eigen::MatrixXd& grid_gram);
   // out = M⁻¹ in (reduced columns).
   void Apply(const Eigen::VectorXd& in, Eigen::VectorXd* out) const;
 

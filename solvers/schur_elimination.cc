@@ -119,7 +119,10 @@ void SchurElimination::AddCouplingGram() {
       for (int c = 0; c < 3; ++c) g3(3 * a + c, 3 * b + c) = g(a, b);
     }
   }
-  for (const SmoothnessGrid::Edge& edge : grid.edges) {
+  grid_difference_.resize(grid.edges.size());
+  grid_gram_ = Eigen::MatrixXd::Zero(k, k);
+  for (std::size_t e = 0; e < grid.edges.size(); ++e) {
+    const SmoothnessGrid::Edge& edge = grid.edges[e];
     const double s2 = edge.scale * edge.scale;
     const int pi = position_[edge.block_i], pj = position_[edge.block_j];
     gram_[pi].noalias() += s2 * g3;
@@ -128,6 +131,15 @@ void SchurElimination::AddCouplingGram() {
     const std::vector<int>& below = coupled_[lo];
     const auto it = std::lower_bound(below.begin(), below.end(), hi);
     coupled_gram_[lo][it - below.begin()].noalias() -= s2 * g3;
+    // D_e: column k = b_i,k − b_j,k.
+    const double* b_i = blocks_.blocks[edge.block_i].values;
+    const double* b_j = blocks_.blocks[edge.block_j].values;
+    Eigen::Matrix3Xd& d = grid_difference_[e];
+    d.resize(3, k);
+    for (int a = 0; a < k; ++a) {
+      for (int c = 0; c < 3; ++c) d(c, a) = b_i[3 * a + c] - b_j[3 * a + c];
+    }
+    grid_gram_.noalias() += s2 * d.transpose() * d;
   }
 }
 
@@ -267,9 +279,10 @@ void SchurElimination::AddGridProjected(const Eigen::VectorXd& v,
     m.noalias() += Eigen::Map<const Eigen::VectorXd>(b.values, k) *
                    v.segment(b.offset, k).transpose();
   }
-  for (const SmoothnessGrid::Edge& edge : grid.edges) {
-    const Eigen::MatrixXd p = edge.scale * edge.scale *
-                              EdgeDifference(blocks_, edge, k) * m.transpose();
+  for (std::size_t e = 0; e < grid.edges.size(); ++e) {
+    const SmoothnessGrid::Edge& edge = grid.edges[e];
+    const Eigen::MatrixXd p =
+        edge.scale * edge.scale * grid_difference_[e] * m.transpose();
     const Eigen::Map<const Eigen::VectorXd> column(p.data(), 3 * k);
     projected->segment(blocks_.blocks[edge.block_i].offset, 3 * k) += column;
     projected->segment(blocks_.blocks[edge.block_j].offset, 3 * k) -= column;
@@ -281,23 +294,22 @@ void SchurElimination::AddGridReduced(const Eigen::VectorXd& v,
                                       Eigen::VectorXd* out) const {
   const SmoothnessGrid& grid = blocks_.smoothness;
   const int k = grid.num_bases;
-  Eigen::MatrixXd h = Eigen::MatrixXd::Zero(k, k), n = h;
+  Eigen::MatrixXd n = Eigen::MatrixXd::Zero(k, k);
   Eigen::Matrix3Xd y_e(3, k);
-  for (const SmoothnessGrid::Edge& edge : grid.edges) {
-    const Eigen::Matrix3Xd d = EdgeDifference(blocks_, edge, k);
+  for (std::size_t e = 0; e < grid.edges.size(); ++e) {
+    const SmoothnessGrid::Edge& edge = grid.edges[e];
     const double* y_i = y.data() + blocks_.blocks[edge.block_i].offset;
     const double* y_j = y.data() + blocks_.blocks[edge.block_j].offset;
     for (int a = 0; a < k; ++a) {
       for (int c = 0; c < 3; ++c) y_e(c, a) = y_i[3 * a + c] - y_j[3 * a + c];
     }
-    const double s2 = edge.scale * edge.scale;
-    h.noalias() += s2 * d.transpose() * d;
-    n.noalias() += s2 * d.transpose() * y_e;
+    n.noalias() +=
+        edge.scale * edge.scale * grid_difference_[e].transpose() * y_e;
   }
   for (int w : grid.weights) {
     const Block& b = blocks_.blocks[w];
     out->segment(b.offset, k).noalias() +=
-        h * v.segment(b.offset, k) -
+        grid_gram_ * v.segment(b.offset, k) -
         n * Eigen::Map<const Eigen::VectorXd>(b.values, k);
   }
 }

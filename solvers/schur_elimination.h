@@ -49,6 +49,10 @@ class SchurElimination {
   // C̃ when points are coupled (d_eliminated: the diagonal D_p, one value per
   // eliminated column).
   void Factor(double mu, const Eigen::VectorXd& d_eliminated);
+  // H = Σ_e s_e² D_eᵀ D_e (K × K), the smoothness grid's part of J_fᵀJ_f in
+  // each of its frames' weights block, from the last ComputeGram() (empty
+  // without a grid).
+  const Eigen::MatrixXd& grid_weights_gram() const { return grid_gram_; }
   // out = C̃⁻¹ in (eliminated columns).
   void SolveEliminated(const Eigen::VectorXd& in, Eigen::VectorXd* out) const;
   // out = S v (reduced columns), D_f = diag(d_reduced).
@@ -71,7 +75,8 @@ class SchurElimination {
   // column k, its diagonal block's lower part, then the blocks of the
   // coupled points i > k in order.
   void BuildCoupledPattern();
-  // Adds the coupling residuals' J_aᵀ J_b to gram_ (a = b) and coupled_gram_.
+  // Adds the coupling residuals' J_aᵀ J_b to gram_ (a = b) and coupled_gram_;
+  // for the smoothness grid also D_e per edge and H (grid_weights_gram()).
   void AddCouplingGram();
   // The smoothness grid's part of the two passes of ApplyReduced
   // (StructuredBlocks::smoothness; D_e = [b_i,k − b_j,k]_k, 3 × K):
@@ -96,7 +101,10 @@ class SchurElimination {
   std::vector<std::vector<int>> coupled_;
   std::vector<std::vector<Eigen::MatrixXd>> coupled_gram_;
   std::vector<int> position_;  // eliminated position per Block index
-  SparseMatrix sparse_;        // lower triangle of C̃
+  // The smoothness grid at the current values: D_e per edge, and H.
+  std::vector<Eigen::Matrix3Xd> grid_difference_;
+  Eigen::MatrixXd grid_gram_;
+  SparseMatrix sparse_;  // lower triangle of C̃
   Eigen::SimplicialLLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>>
       sparse_llt_;
 };

@@ -66,29 +66,6 @@ void FindSmoothnessGrid(StructuredBlocks* s) {
 
 }  // namespace
 
-Eigen::Matrix3Xd EdgeDifference(const StructuredBlocks& blocks,
-                                const SmoothnessGrid::Edge& edge,
-                                int num_bases) {
-  const double* b_i = blocks.blocks[edge.block_i].values;
-  const double* b_j = blocks.blocks[edge.block_j].values;
-  Eigen::Matrix3Xd d(3, num_bases);
-  for (int k = 0; k < num_bases; ++k) {
-    for (int c = 0; c < 3; ++c) d(c, k) = b_i[3 * k + c] - b_j[3 * k + c];
-  }
-  return d;
-}
-
-Eigen::MatrixXd GridWeightsGram(const StructuredBlocks& blocks) {
-  const SmoothnessGrid& grid = blocks.smoothness;
-  const int k = grid.num_bases;
-  Eigen::MatrixXd h = Eigen::MatrixXd::Zero(k, k);
-  for (const SmoothnessGrid::Edge& edge : grid.edges) {
-    const Eigen::Matrix3Xd d = EdgeDifference(blocks, edge, k);
-    h.noalias() += edge.scale * edge.scale * d.transpose() * d;
-  }
-  return h;
-}
-
 bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
                   StructuredBlocks* s, std::string* error) {
   *s = StructuredBlocks();

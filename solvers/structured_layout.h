@@ -125,16 +125,6 @@ struct SmoothnessGrid {
   bool empty() const { return edges.empty(); }
 };
 
-struct StructuredBlocks;
-
-// D_e of an edge at the blocks' current values: column k = b_i,k − b_j,k.
-Eigen::Matrix3Xd EdgeDifference(const StructuredBlocks& blocks,
-                                const SmoothnessGrid::Edge& edge,
-                                int num_bases);
-// H = Σ_e s_e² D_eᵀ D_e (K × K): the grid's part of J_fᵀJ_f in every frame's
-// weights block.
-Eigen::MatrixXd GridWeightsGram(const StructuredBlocks& blocks);
-
 // A reference from a target (group, shared block or eliminated block) to the
 // residual segments that touch it.
 struct Ref {

@@ -82,7 +82,7 @@ int Solver::SolveStep(double mu, Eigen::VectorXd* step_reduced,
                       Eigen::VectorXd* step_eliminated) {
   schur_.Factor(mu, d_eliminated_);
   Clock::time_point start = Clock::now();
-  preconditioner_.Build(mu, d_reduced_);
+  preconditioner_.Build(mu, d_reduced_, schur_.grid_weights_gram());
   preconditioner_seconds_ += SecondsSince(start);
   start = Clock::now();
   Eigen::VectorXd rhs;
