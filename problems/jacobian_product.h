@@ -11,7 +11,24 @@
 #ifndef NRSFM_PROBLEMS_JACOBIAN_PRODUCT_H_
 #define NRSFM_PROBLEMS_JACOBIAN_PRODUCT_H_
 
+#include <vector>
+
 namespace nrsfm {
+
+// The form r = s · D λ of a residual block of 3 residuals (no robust loss),
+// λ = Σ_j σ_j l_j over its weights blocks l_j (K values each) and
+// D = Σ_i τ_i B_i (3 × K) over its basis blocks b_i (3K values each, read as
+// 3 × K: column k is the point's column of basis shape k, Model::basis), s a
+// scale. The Delaunay smoothness of a frame's shape (l_t; b_i − b_j) and the
+// temporal shape prior (l_t − l_(t−1); b_p) have it. A solver can then sum
+// such blocks of one term over all frames at once
+// (solvers/structured_layout.h, BilinearGrid).
+struct BilinearForm {
+  double scale = 0.0;            // s
+  int num_bases = 0;             // K
+  std::vector<double> signs;     // σ_j or τ_i, per parameter block in order
+  std::vector<bool> is_weights;  // per parameter block: l_j (true) or b_i
+};
 
 // For a residual block whose parameter blocks have no manifold (the tangent
 // is the ambient space) and no robust loss. Both products are with the
@@ -41,6 +58,9 @@ class JacobianProduct {
   // Only called when ProvidesGram().
   virtual void AddGramDiagonal(double const* const* /*parameters*/, int /*a*/,
                                double* /*out*/) const {}
+  // Optional: whether the block has the form above; then `form` describes
+  // it. The products above must agree with it.
+  virtual bool GetBilinearForm(BilinearForm* /*form*/) const { return false; }
 };
 
 }  // namespace nrsfm

@@ -124,6 +124,13 @@ class SmoothnessError final : public ceres::CostFunction,
     }
   }
 
+  // r = s · (B_i − B_j) l_t.
+  bool GetBilinearForm(BilinearForm* form) const override {
+    *form = BilinearForm{
+        scale_, num_bases_, {1.0, 1.0, -1.0}, {true, false, false}};
+    return true;
+  }
+
   int num_bases() const { return num_bases_; }
   double scale() const { return scale_; }
 

@@ -200,6 +200,13 @@ class ShapeTemporalError final : public ceres::CostFunction,
 
   bool ProvidesGram() const override { return true; }
 
+  // r = s · B (l_t − l_(t−1)).
+  bool GetBilinearForm(BilinearForm* form) const override {
+    *form = BilinearForm{
+        sqrt_weight_, num_bases_, {1.0, -1.0, 1.0}, {true, true, false}};
+    return true;
+  }
+
   // With J_0 = s B, J_1 = −s B (3 × K) and J_2 = s (Δlᵀ ⊗ I₃) (3 × 3K),
   // Δl = l_t − l_{t−1}: J_0ᵀJ_0 = J_1ᵀJ_1 = −J_0ᵀJ_1 = s² BᵀB,
   // J_2ᵀJ_2 = s² (Δl Δlᵀ) ⊗ I₃, J_0ᵀJ_2 = −J_1ᵀJ_2 = s² [Δl_c B(j, i)].

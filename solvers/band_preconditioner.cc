@@ -35,10 +35,27 @@ inline void AddAtB(const double* a, int m, int wa, int stride_a,
 BandPreconditioner::BandPreconditioner(const StructuredBlocks& blocks,
                                        const StructuredJacobian& jacobian,
                                        int num_threads)
-    : blocks_(blocks), jacobian_(jacobian), num_threads_(num_threads) {}
+    : blocks_(blocks), jacobian_(jacobian), num_threads_(num_threads) {
+  grid_rows_.assign(blocks_.num_groups(), {});
+  for (std::size_t g = 0; g < blocks_.grids.size(); ++g) {
+    const BilinearGrid& grid = blocks_.grids[g];
+    for (std::size_t q = 0; q < grid.rows.size(); ++q) {
+      std::vector<int> groups;
+      for (const BilinearGrid::Term& term : grid.rows[q]) {
+        groups.push_back(blocks_.blocks[term.block].group);
+      }
+      std::sort(groups.begin(), groups.end());
+      groups.erase(std::unique(groups.begin(), groups.end()), groups.end());
+      for (int group : groups) {
+        grid_rows_[group].emplace_back(static_cast<int>(g),
+                                       static_cast<int>(q));
+      }
+    }
+  }
+}
 
 void BandPreconditioner::Build(double mu, const Eigen::VectorXd& d_reduced,
-                               const Eigen::MatrixXd& grid_gram) {
+                               const std::vector<Eigen::MatrixXd>& grid_grams) {
   const int num_groups = blocks_.num_groups();
   const int num_group_columns = blocks_.num_group_columns;
   const int num_shared = blocks_.num_shared();
@@ -46,11 +63,6 @@ void BandPreconditioner::Build(double mu, const Eigen::VectorXd& d_reduced,
   const std::vector<int>& group_offset = blocks_.group_offset;
   band_.assign(num_groups, std::vector<Eigen::MatrixXd>(band + 1));
   border_ = Eigen::MatrixXd::Zero(num_group_columns, num_shared);
-  // The smoothness grid's weights block per group (-1: none).
-  std::vector<int> grid_weights(num_groups, -1);
-  for (int w : blocks_.smoothness.weights) {
-    grid_weights[blocks_.blocks[w].group] = w;
-  }
   ParallelFor(num_groups, num_threads_, kGroupGrain, [&](int begin, int end) {
     for (int g = begin; g < end; ++g) {
       for (int d = 0; d <= band && g - d >= 0; ++d) {
@@ -59,7 +71,6 @@ void BandPreconditioner::Build(double mu, const Eigen::VectorXd& d_reduced,
       }
       for (const Ref& ref : blocks_.group_refs[g]) {
         const Residual& r = blocks_.residuals[ref.residual];
-        if (r.in_grid) continue;  // below
         const Segment& a = r.reduced[ref.segment];
         if (r.gram) {
           AddGram(r, a, g);
@@ -82,10 +93,33 @@ void BandPreconditioner::Build(double mu, const Eigen::VectorXd& d_reduced,
                  block.rows());
         }
       }
-      if (grid_weights[g] >= 0) {
-        const int at = blocks_.blocks[grid_weights[g]].offset - group_offset[g];
-        band_[g][0].block(at, at, grid_gram.rows(), grid_gram.cols()) +=
-            grid_gram;
+      // The grids' rows with a weights block a in group g: σ_a σ_b H_grid
+      // against each weights block b of the row in a group ≤ g.
+      for (const auto& [grid, q] : grid_rows_[g]) {
+        const Eigen::MatrixXd& h = grid_grams[grid];
+        const std::vector<BilinearGrid::Term>& row =
+            blocks_.grids[grid].rows[q];
+        for (const BilinearGrid::Term& a : row) {
+          const Block& ba = blocks_.blocks[a.block];
+          if (ba.group != g) continue;
+          for (const BilinearGrid::Term& b : row) {
+            const Block& bb = blocks_.blocks[b.block];
+            if (bb.group > ba.group ||
+                (bb.group == ba.group && bb.offset > ba.offset)) {
+              continue;  // the lower triangle only
+            }
+            Eigen::MatrixXd& block = band_[ba.group][ba.group - bb.group];
+            const int row_a = ba.offset - group_offset[ba.group];
+            const int col_b = bb.offset - group_offset[bb.group];
+            block.block(row_a, col_b, h.rows(), h.cols()) +=
+                a.sign * b.sign * h;
+            if (bb.group == ba.group && bb.offset < ba.offset) {
+              // Within the diagonal block, its upper mirror too.
+              block.block(col_b, row_a, h.rows(), h.cols()) +=
+                  a.sign * b.sign * h.transpose();
+            }
+          }
+        }
       }
       band_[g][0].diagonal() +=
           mu * d_reduced.segment(group_offset[g], blocks_.GroupSize(g));

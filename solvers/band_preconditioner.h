@@ -20,6 +20,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <utility>
 #include <vector>
 
 #include "solvers/structured_jacobian.h"
@@ -35,11 +36,11 @@ class BandPreconditioner {
                      const StructuredJacobian& jacobian, int num_threads);
 
   // Forms and factorises M for JᵀJ + μ diag(d_reduced) (one value per
-  // reduced column). The smoothness grid's residuals are not read: their
-  // part is `grid_gram` (SchurElimination::grid_weights_gram()) in each of
-  // the grid's weights blocks.
+  // reduced column). The grids' residuals (StructuredBlocks::grids) are not
+  // read: their part is σ_a σ_b grid_grams[g] between the weights blocks a,
+  // b of each row of grid g (SchurElimination::grid_grams()).
   void Build(double mu, const Eigen::VectorXd& d_reduced,
-             const Eigen::MatrixXd& grid_gram);
+             const std::vector<Eigen::MatrixXd>& grid_grams);
   // out = M⁻¹ in (reduced columns).
   void Apply(const Eigen::VectorXd& in, Eigen::VectorXd* out) const;
 
@@ -56,6 +57,8 @@ class BandPreconditioner {
   const StructuredBlocks& blocks_;
   const StructuredJacobian& jacobian_;
   const int num_threads_;
+  // Per group, the (grid, row) pairs with a weights block in it.
+  std::vector<std::vector<std::pair<int, int>>> grid_rows_;
   std::vector<std::vector<Eigen::MatrixXd>> band_;  // [g][d]: block (g, g − d)
   Eigen::MatrixXd border_, border_solved_;          // B, A⁻¹ B
   Eigen::LLT<Eigen::MatrixXd> corner_llt_;          // of C − Bᵀ A⁻¹ B

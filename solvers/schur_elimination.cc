@@ -20,13 +20,20 @@ SchurElimination::SchurElimination(const StructuredBlocks& blocks,
                                    const StructuredJacobian& jacobian,
                                    int num_threads)
     : blocks_(blocks), jacobian_(jacobian), num_threads_(num_threads) {
-  if (!blocks_.coupling_residuals.empty()) BuildCoupledPattern();
+  const int n = static_cast<int>(blocks_.eliminated_blocks.size());
+  position_.assign(blocks_.blocks.size(), -1);
+  for (int k = 0; k < n; ++k) position_[blocks_.eliminated_blocks[k]] = k;
+  bool coupling = !blocks_.coupling_residuals.empty();
+  for (const BilinearGrid& grid : blocks_.grids) {
+    for (const BilinearGrid::Column& column : grid.columns) {
+      coupling = coupling || column.points.size() > 1;
+    }
+  }
+  if (coupling) BuildCoupledPattern();
 }
 
 void SchurElimination::BuildCoupledPattern() {
   const int n = static_cast<int>(blocks_.eliminated_blocks.size());
-  position_.assign(blocks_.blocks.size(), -1);
-  for (int k = 0; k < n; ++k) position_[blocks_.eliminated_blocks[k]] = k;
   coupled_.assign(n, {});
   for (int i : blocks_.coupling_residuals) {
     const Residual& r = blocks_.residuals[i];
@@ -34,6 +41,16 @@ void SchurElimination::BuildCoupledPattern() {
       for (const Coupled& b : r.coupled) {
         const int pa = position_[a.block], pb = position_[b.block];
         if (pa > pb) coupled_[pb].push_back(pa);
+      }
+    }
+  }
+  for (const BilinearGrid& grid : blocks_.grids) {
+    for (const BilinearGrid::Column& column : grid.columns) {
+      for (const BilinearGrid::Term& a : column.points) {
+        for (const BilinearGrid::Term& b : column.points) {
+          const int pa = position_[a.block], pb = position_[b.block];
+          if (pa > pb) coupled_[pb].push_back(pa);
+        }
       }
     }
   }
@@ -103,43 +120,71 @@ void SchurElimination::AddCouplingGram() {
       }
     }
   }
-  const SmoothnessGrid& grid = blocks_.smoothness;
-  if (grid.empty()) return;
-  // The grid's residuals of one edge over all frames: J_bᵢᵀ J_bᵢ = J_bⱼᵀ
-  // J_bⱼ = s² (G ⊗ I₃) = −J_bᵢᵀ J_bⱼ, G = Σ_t l_t l_tᵀ.
+}
+
+Eigen::MatrixXd& SchurElimination::CoupledGram(int a, int b) {
+  const int lo = std::min(a, b), hi = std::max(a, b);
+  const std::vector<int>& below = coupled_[lo];
+  const auto it = std::lower_bound(below.begin(), below.end(), hi);
+  DCHECK(it != below.end() && *it == hi);
+  return coupled_gram_[lo][it - below.begin()];
+}
+
+void SchurElimination::AddGridGram(int g) {
+  // The grid's residuals of one column e over all rows q: J_bᵢᵀ J_bⱼ =
+  // τ_i τ_j s_e² (G ⊗ I₃), G = Σ_q λ_q λ_qᵀ (K × K, the same for every column).
+  const BilinearGrid& grid = blocks_.grids[g];
   const int k = grid.num_bases;
-  Eigen::MatrixXd g = Eigen::MatrixXd::Zero(k, k);
-  for (int w : grid.weights) {
-    const Eigen::Map<const Eigen::VectorXd> l(blocks_.blocks[w].values, k);
-    g.noalias() += l * l.transpose();
+  Eigen::MatrixXd outer = Eigen::MatrixXd::Zero(k, k);
+  Eigen::VectorXd lambda(k);
+  for (const std::vector<BilinearGrid::Term>& row : grid.rows) {
+    RowCombination(row, k, &lambda);
+    outer.selfadjointView<Eigen::Lower>().rankUpdate(lambda);
   }
+  outer.triangularView<Eigen::StrictlyUpper>() = outer.transpose();
   Eigen::MatrixXd g3 = Eigen::MatrixXd::Zero(3 * k, 3 * k);  // G ⊗ I₃
   for (int a = 0; a < k; ++a) {
     for (int b = 0; b < k; ++b) {
-      for (int c = 0; c < 3; ++c) g3(3 * a + c, 3 * b + c) = g(a, b);
+      for (int c = 0; c < 3; ++c) g3(3 * a + c, 3 * b + c) = outer(a, b);
     }
   }
-  grid_difference_.resize(grid.edges.size());
-  grid_gram_ = Eigen::MatrixXd::Zero(k, k);
-  for (std::size_t e = 0; e < grid.edges.size(); ++e) {
-    const SmoothnessGrid::Edge& edge = grid.edges[e];
-    const double s2 = edge.scale * edge.scale;
-    const int pi = position_[edge.block_i], pj = position_[edge.block_j];
-    gram_[pi].noalias() += s2 * g3;
-    gram_[pj].noalias() += s2 * g3;
-    const int lo = std::min(pi, pj), hi = std::max(pi, pj);
-    const std::vector<int>& below = coupled_[lo];
-    const auto it = std::lower_bound(below.begin(), below.end(), hi);
-    coupled_gram_[lo][it - below.begin()].noalias() -= s2 * g3;
-    // D_e: column k = b_i,k − b_j,k.
-    const double* b_i = blocks_.blocks[edge.block_i].values;
-    const double* b_j = blocks_.blocks[edge.block_j].values;
-    Eigen::Matrix3Xd& d = grid_difference_[e];
-    d.resize(3, k);
-    for (int a = 0; a < k; ++a) {
-      for (int c = 0; c < 3; ++c) d(c, a) = b_i[3 * a + c] - b_j[3 * a + c];
+  std::vector<Eigen::Matrix3Xd>& difference = grid_difference_[g];
+  difference.resize(grid.columns.size());
+  Eigen::MatrixXd& h = grid_gram_[g];
+  h = Eigen::MatrixXd::Zero(k, k);
+  for (std::size_t e = 0; e < grid.columns.size(); ++e) {
+    const BilinearGrid::Column& column = grid.columns[e];
+    const double s2 = column.scale * column.scale;
+    Eigen::Matrix3Xd& d = difference[e];  // D_e = Σ_i τ_i B_i
+    d = Eigen::Matrix3Xd::Zero(3, k);
+    for (const BilinearGrid::Term& a : column.points) {
+      d += a.sign * Eigen::Map<const Eigen::Matrix3Xd>(
+                        blocks_.blocks[a.block].values, 3, k);
+      const int pa = position_[a.block];
+      for (const BilinearGrid::Term& b : column.points) {
+        const int pb = position_[b.block];
+        if (pa == pb) {
+          gram_[pa].noalias() += (a.sign * b.sign * s2) * g3;
+        } else if (pa > pb) {
+          CoupledGram(pa, pb).noalias() += (a.sign * b.sign * s2) * g3;
+        }
+      }
     }
-    grid_gram_.noalias() += s2 * d.transpose() * d;
+    h.noalias() += s2 * d.transpose() * d;
+  }
+}
+
+void SchurElimination::RowCombination(
+    const std::vector<BilinearGrid::Term>& row, int k, Eigen::VectorXd* out,
+    const Eigen::VectorXd* v) const {
+  out->setZero(k);
+  for (const BilinearGrid::Term& term : row) {
+    const Block& b = blocks_.blocks[term.block];
+    if (v == nullptr) {
+      *out += term.sign * Eigen::Map<const Eigen::VectorXd>(b.values, k);
+    } else {
+      *out += term.sign * v->segment(b.offset, k);
+    }
   }
 }
 
@@ -148,14 +193,28 @@ void SchurElimination::ComputeGram() {
   ParallelFor(
       static_cast<int>(blocks_.eliminated_blocks.size()), num_threads_,
       kEliminatedGrain, [&](int begin, int end) {
-        RowMatrix stacked;
+        RowMatrix stacked, outer, products, sums;
         for (int k = begin; k < end; ++k) {
           const Block& b = blocks_.blocks[blocks_.eliminated_blocks[k]];
-          // Residuals with a basis factor add (l lᵀ) ⊗ (Aᵀ A)
-          // directly (lower triangle).
           Eigen::MatrixXd& c = gram_[k];
           c.setZero(b.size, b.size);
-          int rows = 0;
+          // Residuals with a basis factor add (l lᵀ) ⊗ (Aᵀ A), l the frame's
+          // K weights: one row per residual of the 6 entries of Aᵀ A
+          // (`outer`) and of the K(K+1)/2 products l_a l_b, a ≥ b
+          // (`products`), and their product outerᵀ products (one matrix
+          // product instead of a small update per residual).
+          int rows = 0, factored = 0;
+          for (const Ref& ref : blocks_.eliminated_refs[k]) {
+            const Residual& r = blocks_.residuals[ref.residual];
+            if (r.basis_factor != nullptr) ++factored;
+          }
+          const int num_bases = b.size / 3;
+          const int num_pairs = num_bases * (num_bases + 1) / 2;
+          if (factored > 0) {
+            outer.resize(factored, 6);
+            products.resize(factored, num_pairs);
+          }
+          factored = 0;
           for (const Ref& ref : blocks_.eliminated_refs[k]) {
             const Residual& r = blocks_.residuals[ref.residual];
             if (r.gram) {
@@ -168,19 +227,31 @@ void SchurElimination::ComputeGram() {
               rows += r.m;
               continue;
             }
+            DCHECK_EQ(r.num_bases, num_bases);
             const double* a = jacobian_.Factor(r);
-            double ata[9];
-            for (int i = 0; i < 3; ++i) {
-              for (int j = 0; j < 3; ++j) {
-                ata[3 * i + j] = a[i] * a[j] + a[3 + i] * a[3 + j];
+            double* o = outer.row(factored).data();
+            for (int q = 0, j = 0; j < 3; ++j) {
+              for (int i = j; i < 3; ++i) {
+                o[q++] = a[i] * a[j] + a[3 + i] * a[3 + j];
               }
             }
-            for (int kb = 0; kb < r.num_bases; ++kb) {
-              for (int ka = kb; ka < r.num_bases; ++ka) {
-                const double ll = r.weights[ka] * r.weights[kb];
-                for (int j = 0; j < 3; ++j) {
-                  for (int i = (ka == kb ? j : 0); i < 3; ++i) {
-                    c(3 * ka + i, 3 * kb + j) += ll * ata[3 * i + j];
+            double* l = products.row(factored).data();
+            for (int q = 0, kb = 0; kb < num_bases; ++kb) {
+              for (int ka = kb; ka < num_bases; ++ka) {
+                l[q++] = r.weights[ka] * r.weights[kb];
+              }
+            }
+            ++factored;
+          }
+          if (factored > 0) {
+            sums.noalias() = outer.transpose() * products;
+            for (int q = 0, kb = 0; kb < num_bases; ++kb) {
+              for (int ka = kb; ka < num_bases; ++ka, ++q) {
+                for (int e = 0, j = 0; j < 3; ++j) {
+                  for (int i = j; i < 3; ++i, ++e) {
+                    const double v = sums(e, q);
+                    c(3 * ka + i, 3 * kb + j) += v;
+                    if (ka != kb && i != j) c(3 * ka + j, 3 * kb + i) += v;
                   }
                 }
               }
@@ -205,6 +276,11 @@ void SchurElimination::ComputeGram() {
         }
       });
   if (!coupled_.empty()) AddCouplingGram();
+  grid_difference_.resize(blocks_.grids.size());
+  grid_gram_.resize(blocks_.grids.size());
+  for (std::size_t g = 0; g < blocks_.grids.size(); ++g) {
+    AddGridGram(static_cast<int>(g));
+  }
 }
 
 void SchurElimination::Factor(double mu, const Eigen::VectorXd& d_eliminated) {
@@ -262,55 +338,66 @@ void SchurElimination::ApplyReduced(const Eigen::VectorXd& v, double mu,
   // then J_fᵀ (rows − J_p C̃⁻¹ J_pᵀ rows).
   Eigen::VectorXd rows(blocks_.num_rows), projected, solved;
   jacobian_.MultiplyJReducedAndJtEliminated(v, &rows, &projected);
-  if (!blocks_.smoothness.empty()) AddGridProjected(v, &projected);
+  for (std::size_t g = 0; g < blocks_.grids.size(); ++g) {
+    AddGridProjected(static_cast<int>(g), v, &projected);
+  }
   SolveEliminated(projected, &solved);
   jacobian_.SubtractJEliminatedAndMultiplyJtReduced(solved, &rows, out);
-  if (!blocks_.smoothness.empty()) AddGridReduced(v, solved, out);
+  for (std::size_t g = 0; g < blocks_.grids.size(); ++g) {
+    AddGridReduced(static_cast<int>(g), v, solved, out);
+  }
   out->array() += mu * d_reduced.array() * v.array();
 }
 
-void SchurElimination::AddGridProjected(const Eigen::VectorXd& v,
+void SchurElimination::AddGridProjected(int g, const Eigen::VectorXd& v,
                                         Eigen::VectorXd* projected) const {
-  const SmoothnessGrid& grid = blocks_.smoothness;
+  const BilinearGrid& grid = blocks_.grids[g];
   const int k = grid.num_bases;
-  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(k, k);  // Σ_t l_t v_tᵀ
-  for (int w : grid.weights) {
-    const Block& b = blocks_.blocks[w];
-    m.noalias() += Eigen::Map<const Eigen::VectorXd>(b.values, k) *
-                   v.segment(b.offset, k).transpose();
+  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(k, k);  // Σ_q λ_q ν_qᵀ
+  Eigen::VectorXd lambda(k), nu(k);
+  for (const std::vector<BilinearGrid::Term>& row : grid.rows) {
+    RowCombination(row, k, &lambda);
+    RowCombination(row, k, &nu, &v);
+    m.noalias() += lambda * nu.transpose();
   }
-  for (std::size_t e = 0; e < grid.edges.size(); ++e) {
-    const SmoothnessGrid::Edge& edge = grid.edges[e];
+  for (std::size_t e = 0; e < grid.columns.size(); ++e) {
+    const BilinearGrid::Column& column = grid.columns[e];
     const Eigen::MatrixXd p =
-        edge.scale * edge.scale * grid_difference_[e] * m.transpose();
-    const Eigen::Map<const Eigen::VectorXd> column(p.data(), 3 * k);
-    projected->segment(blocks_.blocks[edge.block_i].offset, 3 * k) += column;
-    projected->segment(blocks_.blocks[edge.block_j].offset, 3 * k) -= column;
+        column.scale * column.scale * grid_difference_[g][e] * m.transpose();
+    const Eigen::Map<const Eigen::VectorXd> flat(p.data(), 3 * k);
+    for (const BilinearGrid::Term& a : column.points) {
+      projected->segment(blocks_.blocks[a.block].offset, 3 * k) +=
+          a.sign * flat;
+    }
   }
 }
 
-void SchurElimination::AddGridReduced(const Eigen::VectorXd& v,
+void SchurElimination::AddGridReduced(int g, const Eigen::VectorXd& v,
                                       const Eigen::VectorXd& y,
                                       Eigen::VectorXd* out) const {
-  const SmoothnessGrid& grid = blocks_.smoothness;
+  const BilinearGrid& grid = blocks_.grids[g];
   const int k = grid.num_bases;
-  Eigen::MatrixXd n = Eigen::MatrixXd::Zero(k, k);
+  Eigen::MatrixXd n = Eigen::MatrixXd::Zero(k, k);  // Σ_e s_e² D_eᵀ Y_e
   Eigen::Matrix3Xd y_e(3, k);
-  for (std::size_t e = 0; e < grid.edges.size(); ++e) {
-    const SmoothnessGrid::Edge& edge = grid.edges[e];
-    const double* y_i = y.data() + blocks_.blocks[edge.block_i].offset;
-    const double* y_j = y.data() + blocks_.blocks[edge.block_j].offset;
-    for (int a = 0; a < k; ++a) {
-      for (int c = 0; c < 3; ++c) y_e(c, a) = y_i[3 * a + c] - y_j[3 * a + c];
+  for (std::size_t e = 0; e < grid.columns.size(); ++e) {
+    const BilinearGrid::Column& column = grid.columns[e];
+    y_e.setZero();
+    for (const BilinearGrid::Term& a : column.points) {
+      y_e += a.sign * Eigen::Map<const Eigen::Matrix3Xd>(
+                          y.data() + blocks_.blocks[a.block].offset, 3, k);
     }
     n.noalias() +=
-        edge.scale * edge.scale * grid_difference_[e].transpose() * y_e;
+        column.scale * column.scale * grid_difference_[g][e].transpose() * y_e;
   }
-  for (int w : grid.weights) {
-    const Block& b = blocks_.blocks[w];
-    out->segment(b.offset, k).noalias() +=
-        grid_gram_ * v.segment(b.offset, k) -
-        n * Eigen::Map<const Eigen::VectorXd>(b.values, k);
+  Eigen::VectorXd lambda(k), nu(k), z(k);
+  for (const std::vector<BilinearGrid::Term>& row : grid.rows) {
+    RowCombination(row, k, &lambda);
+    RowCombination(row, k, &nu, &v);
+    z.noalias() = grid_gram_[g] * nu;
+    z.noalias() -= n * lambda;
+    for (const BilinearGrid::Term& term : row) {
+      out->segment(blocks_.blocks[term.block].offset, k) += term.sign * z;
+    }
   }
 }
 

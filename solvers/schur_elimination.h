@@ -4,7 +4,8 @@
 // of solvers/structured_layout.h:
 //   C̃ = J_pᵀ J_p + μ D_p, block-diagonal when no residual block holds two
 //       points, else block-sparse with a block (i, j) per pair of points that
-//       a residual couples (Residual::coupled: the Delaunay smoothness term),
+//       a residual couples (Residual::coupled, or a grid's column of several
+//       points: the Delaunay smoothness term),
 //   S = J_fᵀ J_f + μ D_f − J_fᵀ J_p C̃⁻¹ J_pᵀ J_f (the Schur complement),
 //   S δ_f = −g_f + J_fᵀ J_p C̃⁻¹ g_p,   δ_p = C̃⁻¹ (−g_p − J_pᵀ J_f δ_f).
 // S is never formed: ApplyReduced() multiplies by it with two passes over
@@ -49,10 +50,10 @@ class SchurElimination {
   // C̃ when points are coupled (d_eliminated: the diagonal D_p, one value per
   // eliminated column).
   void Factor(double mu, const Eigen::VectorXd& d_eliminated);
-  // H = Σ_e s_e² D_eᵀ D_e (K × K), the smoothness grid's part of J_fᵀJ_f in
-  // each of its frames' weights block, from the last ComputeGram() (empty
-  // without a grid).
-  const Eigen::MatrixXd& grid_weights_gram() const { return grid_gram_; }
+  // Per grid g of StructuredBlocks::grids, H_g = Σ_e s_e² D_eᵀ D_e (K × K):
+  // J_fᵀJ_f of grid g's residuals in each row is σ_a σ_b H_g between the
+  // row's weights blocks a and b, from the last ComputeGram().
+  const std::vector<Eigen::MatrixXd>& grid_grams() const { return grid_gram_; }
   // out = C̃⁻¹ in (eliminated columns).
   void SolveEliminated(const Eigen::VectorXd& in, Eigen::VectorXd* out) const;
   // out = S v (reduced columns), D_f = diag(d_reduced).
@@ -75,18 +76,29 @@ class SchurElimination {
   // column k, its diagonal block's lower part, then the blocks of the
   // coupled points i > k in order.
   void BuildCoupledPattern();
-  // Adds the coupling residuals' J_aᵀ J_b to gram_ (a = b) and coupled_gram_;
-  // for the smoothness grid also D_e per edge and H (grid_weights_gram()).
+  // Adds the coupling residuals' J_aᵀ J_b to gram_ (a = b) and
+  // coupled_gram_ (grids' residuals: AddGridGram).
   void AddCouplingGram();
-  // The smoothness grid's part of the two passes of ApplyReduced
-  // (StructuredBlocks::smoothness; D_e = [b_i,k − b_j,k]_k, 3 × K):
-  // projected += J_pᵀ J_f v: s_e² D_e Mᵀ into b_i, minus into b_j,
-  //   M = Σ_t l_t v_tᵀ;
-  // out += J_fᵀ (J_f v − J_p y): H v_t − N l_t per frame, H = Σ_e s_e² D_eᵀ
-  //   D_e, N = Σ_e s_e² D_eᵀ Y_e, Y_e = [y_i,k − y_j,k]_k.
-  void AddGridProjected(const Eigen::VectorXd& v,
+  // The block J_aᵀ J_b of C̃ for eliminated positions a ≠ b (coupled_).
+  Eigen::MatrixXd& CoupledGram(int a, int b);
+  // Grid g's part of C̃ (τ_i τ_j s_e² G ⊗ I₃ per pair of a column's points,
+  // G = Σ_q λ_q λ_qᵀ), and its D_e per column and H_g (grid_grams()).
+  void AddGridGram(int g);
+  // λ_q = Σ_j σ_j l_j of `row` at the current values (v null), or the same
+  // combination of v's reduced columns, ν_q = Σ_j σ_j v_j.
+  void RowCombination(const std::vector<BilinearGrid::Term>& row, int k,
+                      Eigen::VectorXd* out,
+                      const Eigen::VectorXd* v = nullptr) const;
+  // Grid g's part of the two passes of ApplyReduced (BilinearGrid: residual
+  // (q, e) = s_e D_e λ_q):
+  // projected += J_pᵀ J_f v: τ_i s_e² D_e Mᵀ into each point i of column e,
+  //   M = Σ_q λ_q ν_qᵀ;
+  // out += J_fᵀ (J_f v − J_p y): σ_j (H ν_q − N λ_q) into each weights
+  //   block j of row q, N = Σ_e s_e² D_eᵀ Y_e, Y_e = Σ_i τ_i Y_i (y_i as
+  //   3 × K).
+  void AddGridProjected(int g, const Eigen::VectorXd& v,
                         Eigen::VectorXd* projected) const;
-  void AddGridReduced(const Eigen::VectorXd& v, const Eigen::VectorXd& y,
+  void AddGridReduced(int g, const Eigen::VectorXd& v, const Eigen::VectorXd& y,
                       Eigen::VectorXd* out) const;
 
   const StructuredBlocks& blocks_;
@@ -101,9 +113,9 @@ class SchurElimination {
   std::vector<std::vector<int>> coupled_;
   std::vector<std::vector<Eigen::MatrixXd>> coupled_gram_;
   std::vector<int> position_;  // eliminated position per Block index
-  // The smoothness grid at the current values: D_e per edge, and H.
-  std::vector<Eigen::Matrix3Xd> grid_difference_;
-  Eigen::MatrixXd grid_gram_;
+  // Per grid, at the current values: D_e per column, and H_g.
+  std::vector<std::vector<Eigen::Matrix3Xd>> grid_difference_;
+  std::vector<Eigen::MatrixXd> grid_gram_;
   SparseMatrix sparse_;  // lower triangle of C̃
   Eigen::SimplicialLLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>>
       sparse_llt_;

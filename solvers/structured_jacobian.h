@@ -79,8 +79,8 @@ class StructuredJacobian {
   // (solvers/schur_elimination.h), each one pass over the residual blocks in
   // storage order: rows = J_f reduced and projected = J_pᵀ rows; then
   // rows −= J_p eliminated and out = J_fᵀ rows. Both leave out the
-  // residuals of the smoothness grid (Residual::in_grid), whose part
-  // SchurElimination adds.
+  // residuals of the grids (Residual::in_grid), whose part SchurElimination
+  // adds.
   void MultiplyJReducedAndJtEliminated(const Eigen::VectorXd& reduced,
                                        Eigen::VectorXd* rows,
                                        Eigen::VectorXd* projected) const;
@@ -103,10 +103,10 @@ class StructuredJacobian {
 
  private:
   double* MutableJ(const Residual& r) { return jacobian_.data() + r.jac; }
-  // The residuals of the two Schur-complement passes: those not in the
-  // smoothness grid, or null (all) when there is no grid.
+  // The residuals of the two Schur-complement passes: those in no grid, or
+  // null (all) when there is no grid.
   const std::vector<int>* PassResiduals() const {
-    return blocks_.smoothness.empty() ? nullptr : &blocks_.not_in_grid;
+    return blocks_.grids.empty() ? nullptr : &blocks_.not_in_grid;
   }
 
   const StructuredBlocks& blocks_;

@@ -5,63 +5,96 @@
 #include <unordered_map>
 #include <utility>
 
-#include "problems/smoothness_error.h"
-
 namespace nrsfm {
 namespace structured {
 
 namespace {
 
-// Sets s->smoothness and the residuals' in_grid when the smoothness
-// residuals (weights free and reduced, both basis blocks eliminated, no
-// loss) are every edge in every frame of one set, each pair once.
-void FindSmoothnessGrid(StructuredBlocks* s) {
-  std::map<std::pair<int, int>, int> edge_index;
-  std::map<int, int> frame_index;
-  SmoothnessGrid grid;
-  std::vector<int> members;
-  std::vector<std::pair<int, int>> cells;  // (edge, frame)
+// Sets s->grids and the residuals' in_grid: the residual blocks with a
+// bilinear form are grouped by the pattern of their form (K, and which
+// slot is a weights or a basis block with which sign: one term), and each
+// group whose blocks are every row in every column, each once, with its
+// weights blocks free and in frame groups, its basis blocks eliminated and
+// one scale per column, becomes a grid. Other groups are handled block by
+// block.
+void FindGrids(StructuredBlocks* s) {
+  struct Candidate {
+    BilinearGrid grid;
+    std::map<std::vector<std::pair<int, double>>, int> row_index, column_index;
+    std::vector<int> members;
+    std::vector<std::pair<int, int>> cells;  // (row, column)
+    bool valid = true;
+  };
+  std::map<std::vector<double>, Candidate> candidates;
   for (std::size_t i = 0; i < s->residuals.size(); ++i) {
     const Residual& r = s->residuals[i];
-    const auto* cost = dynamic_cast<const SmoothnessError*>(r.cost);
-    if (cost == nullptr) continue;
-    const int w = r.slot_block.size() == 3 ? r.slot_block[0] : -1;
-    if (r.loss != nullptr || w < 0 || s->blocks[w].eliminated ||
-        s->blocks[w].group < 0 || s->blocks[w].manifold != nullptr ||
-        r.coupled.size() != 2 || r.slot_block[1] != r.coupled[0].block ||
-        r.slot_block[2] != r.coupled[1].block ||
-        (grid.num_bases != 0 && grid.num_bases != cost->num_bases())) {
-      return;
+    BilinearForm form;
+    if (r.product == nullptr || !r.product->GetBilinearForm(&form)) continue;
+    std::vector<double> pattern = {static_cast<double>(form.num_bases)};
+    for (std::size_t k = 0; k < form.signs.size(); ++k) {
+      pattern.push_back(form.is_weights[k] ? 1.0 : 0.0);
+      pattern.push_back(form.signs[k]);
     }
-    grid.num_bases = cost->num_bases();
-    const std::pair<int, int> key(r.slot_block[1], r.slot_block[2]);
-    auto edge = edge_index.find(key);
-    if (edge == edge_index.end()) {
-      edge = edge_index.emplace(key, static_cast<int>(grid.edges.size())).first;
-      grid.edges.push_back({key.first, key.second, cost->scale()});
-    } else if (grid.edges[edge->second].scale != cost->scale()) {
-      return;
+    Candidate& c = candidates[pattern];
+    if (!c.valid) continue;
+    std::vector<std::pair<int, double>> row, column;
+    for (std::size_t k = 0; k < r.slot_block.size() && c.valid; ++k) {
+      const int block = r.slot_block[k];
+      if (block < 0 || r.loss != nullptr) {
+        c.valid = false;  // a constant block: not the grid's form
+        break;
+      }
+      const Block& b = s->blocks[block];
+      if (form.is_weights[k]) {
+        c.valid = !b.eliminated && b.group >= 0 && b.manifold == nullptr &&
+                  b.size == form.num_bases;
+        row.emplace_back(block, form.signs[k]);
+      } else {
+        c.valid = b.eliminated && b.manifold == nullptr &&
+                  b.size == 3 * form.num_bases;
+        column.emplace_back(block, form.signs[k]);
+      }
     }
-    auto frame = frame_index.find(w);
-    if (frame == frame_index.end()) {
-      frame =
-          frame_index.emplace(w, static_cast<int>(grid.weights.size())).first;
-      grid.weights.push_back(w);
+    if (!c.valid) continue;
+    c.grid.num_bases = form.num_bases;
+    auto q = c.row_index.find(row);
+    if (q == c.row_index.end()) {
+      q = c.row_index.emplace(row, static_cast<int>(c.grid.rows.size())).first;
+      std::vector<BilinearGrid::Term> terms;
+      for (const auto& [block, sign] : row) terms.push_back({block, sign});
+      c.grid.rows.push_back(std::move(terms));
     }
-    members.push_back(static_cast<int>(i));
-    cells.emplace_back(edge->second, frame->second);
+    auto e = c.column_index.find(column);
+    if (e == c.column_index.end()) {
+      e = c.column_index
+              .emplace(column, static_cast<int>(c.grid.columns.size()))
+              .first;
+      BilinearGrid::Column added;
+      for (const auto& [block, sign] : column)
+        added.points.push_back({block, sign});
+      added.scale = form.scale;
+      c.grid.columns.push_back(std::move(added));
+    } else if (c.grid.columns[e->second].scale != form.scale) {
+      c.valid = false;
+      continue;
+    }
+    c.members.push_back(static_cast<int>(i));
+    c.cells.emplace_back(q->second, e->second);
   }
-  std::sort(cells.begin(), cells.end());
-  if (members.empty() ||
-      std::adjacent_find(cells.begin(), cells.end()) != cells.end() ||
-      cells.size() != grid.edges.size() * grid.weights.size()) {
-    return;  // not a full grid: the residuals are handled one by one
+  for (auto& [pattern, c] : candidates) {
+    std::sort(c.cells.begin(), c.cells.end());
+    if (!c.valid || c.members.empty() ||
+        std::adjacent_find(c.cells.begin(), c.cells.end()) != c.cells.end() ||
+        c.cells.size() != c.grid.rows.size() * c.grid.columns.size()) {
+      continue;  // not a full grid: its residuals are handled one by one
+    }
+    for (int i : c.members) s->residuals[i].in_grid = true;
+    s->grids.push_back(std::move(c.grid));
   }
-  for (int i : members) s->residuals[i].in_grid = true;
+  if (s->grids.empty()) return;
   for (std::size_t i = 0; i < s->residuals.size(); ++i) {
     if (!s->residuals[i].in_grid) s->not_in_grid.push_back(static_cast<int>(i));
   }
-  s->smoothness = std::move(grid);
 }
 
 }  // namespace
@@ -199,7 +232,7 @@ bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
   }
   s->jacobian_size = jac;
   s->factors_size = factor;
-  FindSmoothnessGrid(s);
+  FindGrids(s);
 
   s->group_refs.assign(num_groups, {});
   s->eliminated_refs.assign(s->eliminated_blocks.size(), {});
@@ -209,6 +242,7 @@ bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
   }
   for (std::size_t i = 0; i < s->residuals.size(); ++i) {
     const Residual& r = s->residuals[i];
+    if (r.in_grid) continue;  // a grid's part is added at once
     bool with_shared = false;
     for (std::size_t k = 0; k < r.reduced.size(); ++k) {
       if (r.reduced[k].group >= 0) {

@@ -94,9 +94,10 @@ struct Residual {
   // The product also provides its Gram blocks (JacobianProduct::ProvidesGram):
   // no Jacobian is stored for this residual at all.
   bool gram = false;
-  // A residual of StructuredBlocks::smoothness: the two Schur-complement
-  // passes of the conjugate gradients leave it out, and SchurElimination
-  // adds the grid's part at once.
+  // A residual of one of StructuredBlocks::grids: the two Schur-complement
+  // passes of the conjugate gradients, C̃'s blocks and the preconditioner
+  // leave it out (it is in no group_refs or eliminated_refs), and
+  // SchurElimination adds the grid's part at once.
   bool in_grid = false;
 
   // The parameter slot of the eliminated block, -1 when there is none.
@@ -108,21 +109,29 @@ struct Residual {
   }
 };
 
-// The smoothness residuals (problems/smoothness_error.h) when they form a
-// full grid of edges × frames: residual (e, t) = s_e Σ_k l_tk (b_i,k −
-// b_j,k) for every edge e = (i, j) and every frame t of `weights`. Their
-// part of a product with the Schur complement then needs O((E + F) K²)
-// operations instead of O(E F K) (solvers/schur_elimination.h).
-struct SmoothnessGrid {
-  struct Edge {
-    int block_i = -1, block_j = -1;  // eliminated Block indices
-    double scale = 0.0;              // s_e
+// The residual blocks of one term with a bilinear form
+// (problems/jacobian_product.h: r = s D λ) when they form a full grid: one
+// block for every row q and every column e, each once, with
+//   λ_q = Σ_j σ_j l_j   (a row: signed weights blocks, reduced, in frame
+//                        groups),
+//   D_e = Σ_i τ_i B_i   (a column: signed basis blocks, eliminated),
+// and the scale s_e of its column. The Delaunay smoothness is one (rows l_t,
+// columns b_i − b_j: the edges), the temporal shape prior another (rows
+// l_t − l_(t−1), columns b_p). Their part of a product with the Schur
+// complement, of C̃ and of the preconditioner then needs O((E + Q) K²)
+// operations instead of O(E Q K) (solvers/schur_elimination.h).
+struct BilinearGrid {
+  struct Term {
+    int block = -1;     // Block index
+    double sign = 0.0;  // σ_j or τ_i
   };
-  std::vector<Edge> edges;
-  std::vector<int> weights;  // reduced Block index of l_t per frame of the grid
+  struct Column {
+    std::vector<Term> points;
+    double scale = 0.0;  // s_e
+  };
+  std::vector<std::vector<Term>> rows;
+  std::vector<Column> columns;
   int num_bases = 0;
-
-  bool empty() const { return edges.empty(); }
 };
 
 // A reference from a target (group, shared block or eliminated block) to the
@@ -145,8 +154,8 @@ struct StructuredBlocks {
   std::vector<std::vector<Ref>> group_refs, eliminated_refs;
   std::vector<int> residuals_with_shared;  // residuals that hold a shared block
   std::vector<int> coupling_residuals;     // residuals with `coupled` blocks
-  SmoothnessGrid smoothness;      // empty unless its residuals form a full grid
-  std::vector<int> not_in_grid;   // the other residuals (when it is not empty)
+  std::vector<BilinearGrid> grids;         // the terms whose residuals form one
+  std::vector<int> not_in_grid;   // the other residuals (when there are grids)
   std::size_t jacobian_size = 0;  // values of the stored Jacobian
   std::size_t factors_size = 0;   // values of the basis factors A, 6 each
 

@@ -82,7 +82,7 @@ int Solver::SolveStep(double mu, Eigen::VectorXd* step_reduced,
                       Eigen::VectorXd* step_eliminated) {
   schur_.Factor(mu, d_eliminated_);
   Clock::time_point start = Clock::now();
-  preconditioner_.Build(mu, d_reduced_, schur_.grid_weights_gram());
+  preconditioner_.Build(mu, d_reduced_, schur_.grid_grams());
   preconditioner_seconds_ += SecondsSince(start);
   start = Clock::now();
   Eigen::VectorXd rhs;
@@ -256,9 +256,7 @@ bool SolveStructured(const StructuredSolverOptions& options,
   if (!structured::LayOutBlocks(layout, problem, &blocks, error)) return false;
   VLOG(2) << "structured layout: " << blocks.residuals.size()
           << " residual blocks, " << blocks.coupling_residuals.size()
-          << " coupling points, smoothness grid "
-          << blocks.smoothness.edges.size() << " edges x "
-          << blocks.smoothness.weights.size() << " frames";
+          << " coupling points, " << blocks.grids.size() << " grids";
   Solver solver(options, blocks);
   return solver.Run(summary);
 }

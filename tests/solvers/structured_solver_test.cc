@@ -12,7 +12,9 @@
 #include "core/metrics.h"
 #include "core/synthetic.h"
 #include "problems/extra_terms.h"
+#include "problems/problem_builder.h"
 #include "solvers/refine.h"
+#include "solvers/structured_layout.h"
 
 namespace nrsfm {
 namespace {
@@ -136,6 +138,80 @@ TEST(StructuredSolver, EliminatesPointsThatTheSmoothnessTermCouples) {
         Refine(terms, automatic, c.sequence.measurements, &d, &sd).ok());
     EXPECT_EQ(sd.final_cost, sb.final_cost);
     EXPECT_EQ(d.basis, b.basis);
+  }
+}
+
+// The layout Refine() gives the structured solver: a group per frame, the
+// points eliminated.
+StructuredLayout Layout(ProblemBuilder* builder) {
+  const Model& model = *builder->model();
+  StructuredLayout layout;
+  layout.groups.resize(model.num_frames);
+  for (int t = 0; t < model.num_frames; ++t) {
+    layout.groups[t] = {builder->RotationBlock(t, 0),
+                        builder->TranslationBlock(t, 0),
+                        builder->WeightsBlock(t)};
+  }
+  layout.eliminated = builder->PointBlocks();
+  return layout;
+}
+
+TEST(StructuredSolver, SumsTheSmoothnessAndTemporalShapeTermsAsGrids) {
+  // Both terms have the bilinear form r = s D λ: the smoothness one row per
+  // frame (l_t) and one column per edge (b_i − b_j), the temporal shape
+  // prior one row per pair of frames (l_t − l_(t−1)) and one column per
+  // point (b_p). The layout recognises each as a full grid, and leaves
+  // every other residual block to the block-by-block passes.
+  const Case c = MakeCase(0.2);
+  ProblemOptions terms = Terms();
+  terms.term_weights[kSmoothnessTerm] = 0.05;
+  Model model = c.start;
+  const int f = model.num_frames, p = model.num_points;
+  for (const bool constant_weights : {false, true}) {
+    ProblemBuilder builder(&c.sequence.measurements, &model);
+    ASSERT_TRUE(builder.AddReprojectionTerms(terms).ok());
+    std::vector<int> counts;
+    ASSERT_TRUE(AddExtraTerms(terms, &builder, &counts).ok());
+    if (constant_weights) {
+      // One frame's weights held: neither term is a grid of free blocks.
+      builder.problem()->SetParameterBlockConstant(builder.WeightsBlock(4));
+    }
+    structured::StructuredBlocks blocks;
+    std::string error;
+    ASSERT_TRUE(structured::LayOutBlocks(Layout(&builder), builder.problem(),
+                                         &blocks, &error))
+        << error;
+    int in_grid = 0;
+    for (const structured::Residual& r : blocks.residuals) in_grid += r.in_grid;
+    if (constant_weights) {
+      EXPECT_TRUE(blocks.grids.empty());
+      EXPECT_EQ(in_grid, 0);
+      continue;
+    }
+    ASSERT_EQ(blocks.grids.size(), 2u);
+    const int num_edges = counts[0] / f;  // the smoothness term comes first
+    ASSERT_EQ(counts[0], num_edges * f);
+    int found = 0;
+    for (const structured::BilinearGrid& grid : blocks.grids) {
+      EXPECT_EQ(grid.num_bases, model.num_bases);
+      if (grid.columns[0].points.size() == 2) {  // the smoothness term
+        ++found;
+        EXPECT_EQ(static_cast<int>(grid.rows.size()), f);
+        EXPECT_EQ(static_cast<int>(grid.columns.size()), num_edges);
+        EXPECT_EQ(grid.columns[0].points[0].sign, 1.0);
+        EXPECT_EQ(grid.columns[0].points[1].sign, -1.0);
+      } else {  // the temporal shape prior
+        found += 10;
+        EXPECT_EQ(static_cast<int>(grid.rows.size()), f - 1);
+        EXPECT_EQ(static_cast<int>(grid.columns.size()), p);
+        ASSERT_EQ(grid.rows[0].size(), 2u);
+        EXPECT_EQ(grid.rows[0][0].sign, 1.0);
+        EXPECT_EQ(grid.rows[0][1].sign, -1.0);
+      }
+    }
+    EXPECT_EQ(found, 11);
+    EXPECT_EQ(in_grid, num_edges * f + (f - 1) * p);
+    EXPECT_EQ(blocks.not_in_grid.size(), blocks.residuals.size() - in_grid);
   }
 }
 
