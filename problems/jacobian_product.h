@@ -16,11 +16,13 @@
 namespace nrsfm {
 
 // The form r = s · D λ of a residual block of 3 residuals (no robust loss),
-// λ = Σ_j σ_j l_j over its weights blocks l_j (K values each) and
+// λ = m ⊙ Σ_j σ_j l_j over its weights blocks l_j (K values each; m a fixed
+// mask of K values, all 1 unless `mask` says otherwise) and
 // D = Σ_i τ_i B_i (3 × K) over its basis blocks b_i (3K values each, read as
 // 3 × K: column k is the point's column of basis shape k, Model::basis), s a
-// scale. The Delaunay smoothness of a frame's shape (l_t; b_i − b_j) and the
-// temporal shape prior (l_t − l_(t−1); b_p) have it. A solver can then sum
+// scale. The Delaunay smoothness of a frame's shape (l_t; b_i − b_j), the
+// temporal shape prior (l_t − l_(t−1); b_p) and the deformation prior
+// (m ⊙ l_t with m = (0, 1, …, 1); b_p) have it. A solver can then sum
 // such blocks of one term over all frames at once
 // (solvers/structured_layout.h, BilinearGrid).
 struct BilinearForm {
@@ -28,6 +30,7 @@ struct BilinearForm {
   int num_bases = 0;             // K
   std::vector<double> signs;     // σ_j or τ_i, per parameter block in order
   std::vector<bool> is_weights;  // per parameter block: l_j (true) or b_i
+  std::vector<double> mask;      // m (K values), or empty: all 1
 };
 
 // For a residual block whose parameter blocks have no manifold (the tangent

@@ -127,7 +127,7 @@ class SmoothnessError final : public ceres::CostFunction,
   // r = s · (B_i − B_j) l_t.
   bool GetBilinearForm(BilinearForm* form) const override {
     *form = BilinearForm{
-        scale_, num_bases_, {1.0, 1.0, -1.0}, {true, false, false}};
+        scale_, num_bases_, {1.0, 1.0, -1.0}, {true, false, false}, {}};
     return true;
   }
 

@@ -203,7 +203,7 @@ class ShapeTemporalError final : public ceres::CostFunction,
   // r = s · B (l_t − l_(t−1)).
   bool GetBilinearForm(BilinearForm* form) const override {
     *form = BilinearForm{
-        sqrt_weight_, num_bases_, {1.0, -1.0, 1.0}, {true, true, false}};
+        sqrt_weight_, num_bases_, {1.0, -1.0, 1.0}, {true, true, false}, {}};
     return true;
   }
 

@@ -139,6 +139,7 @@ void SchurElimination::AddGridGram(int g) {
   Eigen::VectorXd lambda(k);
   for (const std::vector<BilinearGrid::Term>& row : grid.rows) {
     RowCombination(row, k, &lambda);
+    lambda.array() *= grid.mask.array();
     outer.selfadjointView<Eigen::Lower>().rankUpdate(lambda);
   }
   outer.triangularView<Eigen::StrictlyUpper>() = outer.transpose();
@@ -172,6 +173,7 @@ void SchurElimination::AddGridGram(int g) {
     }
     h.noalias() += s2 * d.transpose() * d;
   }
+  h = grid.mask.asDiagonal() * h * grid.mask.asDiagonal();  // M H M
 }
 
 void SchurElimination::RowCombination(
@@ -358,6 +360,8 @@ void SchurElimination::AddGridProjected(int g, const Eigen::VectorXd& v,
   for (const std::vector<BilinearGrid::Term>& row : grid.rows) {
     RowCombination(row, k, &lambda);
     RowCombination(row, k, &nu, &v);
+    lambda.array() *= grid.mask.array();
+    nu.array() *= grid.mask.array();
     m.noalias() += lambda * nu.transpose();
   }
   for (std::size_t e = 0; e < grid.columns.size(); ++e) {
@@ -393,8 +397,10 @@ void SchurElimination::AddGridReduced(int g, const Eigen::VectorXd& v,
   for (const std::vector<BilinearGrid::Term>& row : grid.rows) {
     RowCombination(row, k, &lambda);
     RowCombination(row, k, &nu, &v);
+    lambda.array() *= grid.mask.array();
+    // σ_j M (H M ν̃_q − N λ_q) = σ_j (M H M ν̃_q − M N λ_q), ν̃_q unmasked.
     z.noalias() = grid_gram_[g] * nu;
-    z.noalias() -= n * lambda;
+    z.array() -= grid.mask.array() * (n * lambda).array();
     for (const BilinearGrid::Term& term : row) {
       out->segment(blocks_.blocks[term.block].offset, k) += term.sign * z;
     }

@@ -50,9 +50,10 @@ class SchurElimination {
   // C̃ when points are coupled (d_eliminated: the diagonal D_p, one value per
   // eliminated column).
   void Factor(double mu, const Eigen::VectorXd& d_eliminated);
-  // Per grid g of StructuredBlocks::grids, H_g = Σ_e s_e² D_eᵀ D_e (K × K):
-  // J_fᵀJ_f of grid g's residuals in each row is σ_a σ_b H_g between the
-  // row's weights blocks a and b, from the last ComputeGram().
+  // Per grid g of StructuredBlocks::grids, H_g = M (Σ_e s_e² D_eᵀ D_e) M
+  // (K × K, M = diag(m)): J_fᵀJ_f of grid g's residuals in each row is
+  // σ_a σ_b H_g between the row's weights blocks a and b, from the last
+  // ComputeGram().
   const std::vector<Eigen::MatrixXd>& grid_grams() const { return grid_gram_; }
   // out = C̃⁻¹ in (eliminated columns).
   void SolveEliminated(const Eigen::VectorXd& in, Eigen::VectorXd* out) const;
@@ -83,9 +84,10 @@ class SchurElimination {
   Eigen::MatrixXd& CoupledGram(int a, int b);
   // Grid g's part of C̃ (τ_i τ_j s_e² G ⊗ I₃ per pair of a column's points,
   // G = Σ_q λ_q λ_qᵀ), and its D_e per column and H_g (grid_grams()).
+  // λ_q and ν_q below include the mask m.
   void AddGridGram(int g);
-  // λ_q = Σ_j σ_j l_j of `row` at the current values (v null), or the same
-  // combination of v's reduced columns, ν_q = Σ_j σ_j v_j.
+  // Σ_j σ_j l_j of `row` at the current values (v null), or the same
+  // combination of v's reduced columns, Σ_j σ_j v_j (without the mask).
   void RowCombination(const std::vector<BilinearGrid::Term>& row, int k,
                       Eigen::VectorXd* out,
                       const Eigen::VectorXd* v = nullptr) const;
@@ -93,7 +95,7 @@ class SchurElimination {
   // (q, e) = s_e D_e λ_q):
   // projected += J_pᵀ J_f v: τ_i s_e² D_e Mᵀ into each point i of column e,
   //   M = Σ_q λ_q ν_qᵀ;
-  // out += J_fᵀ (J_f v − J_p y): σ_j (H ν_q − N λ_q) into each weights
+  // out += J_fᵀ (J_f v − J_p y): σ_j M (H ν_q − N λ_q) into each weights
   //   block j of row q, N = Σ_e s_e² D_eᵀ Y_e, Y_e = Σ_i τ_i Y_i (y_i as
   //   3 × K).
   void AddGridProjected(int g, const Eigen::VectorXd& v,

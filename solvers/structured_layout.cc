@@ -11,8 +11,9 @@ namespace structured {
 namespace {
 
 // Sets s->grids and the residuals' in_grid: the residual blocks with a
-// bilinear form are grouped by the pattern of their form (K, and which
-// slot is a weights or a basis block with which sign: one term), and each
+// bilinear form are grouped by the pattern of their form (the mask, and
+// which slot is a weights or a basis block with which sign: one term), and
+// each
 // group whose blocks are every row in every column, each once, with its
 // weights blocks free and in frame groups, its basis blocks eliminated and
 // one scale per column, becomes a grid. Other groups are handled block by
@@ -30,7 +31,9 @@ void FindGrids(StructuredBlocks* s) {
     const Residual& r = s->residuals[i];
     BilinearForm form;
     if (r.product == nullptr || !r.product->GetBilinearForm(&form)) continue;
-    std::vector<double> pattern = {static_cast<double>(form.num_bases)};
+    std::vector<double> mask = form.mask;
+    if (mask.empty()) mask.assign(form.num_bases, 1.0);
+    std::vector<double> pattern = mask;
     for (std::size_t k = 0; k < form.signs.size(); ++k) {
       pattern.push_back(form.is_weights[k] ? 1.0 : 0.0);
       pattern.push_back(form.signs[k]);
@@ -57,6 +60,8 @@ void FindGrids(StructuredBlocks* s) {
     }
     if (!c.valid) continue;
     c.grid.num_bases = form.num_bases;
+    c.grid.mask = Eigen::Map<const Eigen::VectorXd>(
+        mask.data(), static_cast<Eigen::Index>(mask.size()));
     auto q = c.row_index.find(row);
     if (q == c.row_index.end()) {
       q = c.row_index.emplace(row, static_cast<int>(c.grid.rows.size())).first;

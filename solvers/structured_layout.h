@@ -112,12 +112,13 @@ struct Residual {
 // The residual blocks of one term with a bilinear form
 // (problems/jacobian_product.h: r = s D λ) when they form a full grid: one
 // block for every row q and every column e, each once, with
-//   λ_q = Σ_j σ_j l_j   (a row: signed weights blocks, reduced, in frame
-//                        groups),
+//   λ_q = m ⊙ Σ_j σ_j l_j   (a row: signed weights blocks, reduced, in
+//                            frame groups; m the term's mask),
 //   D_e = Σ_i τ_i B_i   (a column: signed basis blocks, eliminated),
 // and the scale s_e of its column. The Delaunay smoothness is one (rows l_t,
 // columns b_i − b_j: the edges), the temporal shape prior another (rows
-// l_t − l_(t−1), columns b_p). Their part of a product with the Schur
+// l_t − l_(t−1), columns b_p), the deformation prior a third (rows l_t with
+// m = (0, 1, …, 1), columns b_p). Their part of a product with the Schur
 // complement, of C̃ and of the preconditioner then needs O((E + Q) K²)
 // operations instead of O(E Q K) (solvers/schur_elimination.h).
 struct BilinearGrid {
@@ -132,6 +133,7 @@ struct BilinearGrid {
   std::vector<std::vector<Term>> rows;
   std::vector<Column> columns;
   int num_bases = 0;
+  Eigen::VectorXd mask;  // m, K values
 };
 
 // A reference from a target (group, shared block or eliminated block) to the

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "tests/problems/functor_test_util.h"
+#include "tests/problems/jacobian_product_test_util.h"
 #include "tests/problems/term_test_util.h"
 
 namespace nrsfm {
@@ -62,6 +63,24 @@ TEST(DeformationError, ZeroForAnyMultipleOfTheFirstShapeAndKeepsTheScaleGauge) {
   const double* scaled[2] = {scaled_weights, scaled_basis};
   ASSERT_TRUE(cost.Evaluate(scaled, r, nullptr));
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(r[i], reference[i], 1e-15);
+}
+
+TEST(DeformationError, ProductsGramAndBilinearFormAreThoseOfTheJacobian) {
+  // What the structured solver reads instead of a stored Jacobian
+  // (problems/jacobian_product.h), against Evaluate()'s Jacobian; the form
+  // r = s · B_p (m ⊙ l_t), m = (0, 1, …, 1).
+  std::mt19937 rng(22);
+  for (int k : {1, 2, 5, 12}) {
+    DeformationError cost(k, 0.7);
+    testing_util::ExpectProductsEqualTheJacobian(cost, cost, &rng);
+    testing_util::ExpectGramEqualsTheJacobian(cost, cost, &rng);
+    testing_util::ExpectTheBilinearFormGivesTheResidual(cost, cost, &rng);
+    BilinearForm form;
+    ASSERT_TRUE(cost.GetBilinearForm(&form));
+    ASSERT_EQ(static_cast<int>(form.mask.size()), k);
+    EXPECT_EQ(form.mask[0], 0.0);
+    for (int c = 1; c < k; ++c) EXPECT_EQ(form.mask[c], 1.0);
+  }
 }
 
 // Its row of problems/extra_terms.cc: one block per frame and point.

@@ -13,6 +13,7 @@
 
 #include "problems/delaunay_edges.h"
 #include "tests/problems/functor_test_util.h"
+#include "tests/problems/jacobian_product_test_util.h"
 #include "tests/problems/term_test_util.h"
 
 namespace nrsfm {
@@ -63,48 +64,16 @@ TEST(SmoothnessError, GradientChecker) {
   }
 }
 
-TEST(SmoothnessError, ProductsAreThoseOfTheJacobian) {
+TEST(SmoothnessError, ProductsAndBilinearFormAreThoseOfTheJacobian) {
+  // J x and Jᵀ y formed from the parameters (problems/jacobian_product.h)
+  // against the Jacobian Evaluate() returns; the form
+  // r = s · (B_i − B_j) l_t.
   std::mt19937 rng(5);
-  const int k = 3;
-  SmoothnessError cost(k, 0.8);
-  const std::vector<double> l = Random(k, &rng), b_i = Random(3 * k, &rng),
-                            b_j = Random(3 * k, &rng);
-  const double* parameters[3] = {l.data(), b_i.data(), b_j.data()};
-  std::vector<double> j[3] = {std::vector<double>(3 * k),
-                              std::vector<double>(9 * k),
-                              std::vector<double>(9 * k)};
-  double* jacobians[3] = {j[0].data(), j[1].data(), j[2].data()};
-  double r[3];
-  ASSERT_TRUE(cost.Evaluate(parameters, r, jacobians));
-  const int sizes[3] = {k, 3 * k, 3 * k};
-  const std::vector<double> x[3] = {Random(k, &rng), Random(3 * k, &rng),
-                                    Random(3 * k, &rng)};
-  const std::vector<double> y = Random(3, &rng);
-  const double* xs[3] = {x[0].data(), x[1].data(), x[2].data()};
-  double jx[3] = {0.0, 0.0, 0.0};
-  cost.AddJacobianProduct(parameters, xs, jx);
-  std::vector<double> jty[3] = {std::vector<double>(k, 0.0),
-                                std::vector<double>(3 * k, 0.0),
-                                std::vector<double>(3 * k, 0.0)};
-  double* outs[3] = {jty[0].data(), jty[1].data(), jty[2].data()};
-  cost.AddJacobianTransposeProduct(parameters, y.data(), outs);
-  for (int row = 0; row < 3; ++row) {
-    double want = 0.0;
-    for (int b = 0; b < 3; ++b) {
-      for (int col = 0; col < sizes[b]; ++col) {
-        want += j[b][row * sizes[b] + col] * x[b][col];
-      }
-    }
-    EXPECT_NEAR(jx[row], want, 1e-12) << row;
-  }
-  for (int b = 0; b < 3; ++b) {
-    for (int col = 0; col < sizes[b]; ++col) {
-      double want = 0.0;
-      for (int row = 0; row < 3; ++row) {
-        want += j[b][row * sizes[b] + col] * y[row];
-      }
-      EXPECT_NEAR(jty[b][col], want, 1e-12) << b << " " << col;
-    }
+  for (int k : {1, 3, 7}) {
+    SmoothnessError cost(k, 0.8);
+    EXPECT_FALSE(cost.ProvidesGram());
+    testing_util::ExpectProductsEqualTheJacobian(cost, cost, &rng);
+    testing_util::ExpectTheBilinearFormGivesTheResidual(cost, cost, &rng);
   }
 }
 

@@ -13,6 +13,7 @@
 
 #include "core/rotation.h"
 #include "tests/problems/functor_test_util.h"
+#include "tests/problems/jacobian_product_test_util.h"
 #include "tests/problems/term_test_util.h"
 
 namespace nrsfm {
@@ -163,120 +164,16 @@ TEST(ShapeTemporalError, InvariantToTheMixingGauge) {
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(r[i], r_mixed[i], 1e-12);
 }
 
-// A shape term evaluated with its Jacobian at random parameters (l_t, l_{t−1},
-// b_p): the blocks' sizes and their row-major 3 × size Jacobians.
-struct EvaluatedShapeTerm {
-  EvaluatedShapeTerm(const ShapeTemporalError& cost, int k, std::mt19937* rng)
-      : values(Random(5 * k, rng)),
-        parameters{values.data(), values.data() + k, values.data() + 2 * k},
-        sizes{k, k, 3 * k},
-        jacobian(3) {
-    double* jacobians[3];
-    for (int b = 0; b < 3; ++b) {
-      jacobian[b].resize(3 * sizes[b]);
-      jacobians[b] = jacobian[b].data();
-    }
-    double r[3];
-    EXPECT_TRUE(cost.Evaluate(parameters, r, jacobians));
-  }
-  std::vector<double> values;
-  const double* parameters[3];
-  int sizes[3];
-  std::vector<std::vector<double>> jacobian;
-};
-
-TEST(ShapeTemporalError, JacobianProductsEqualTheEvaluatedJacobian) {
-  // J x and Jᵀ y formed from the parameters (problems/jacobian_product.h)
-  // against the Jacobian Evaluate() returns, every block on and off.
+TEST(ShapeTemporalError, ProductsGramAndBilinearFormAreThoseOfTheJacobian) {
+  // J x, Jᵀ y and the Gram blocks formed from the parameters
+  // (problems/jacobian_product.h) against the Jacobian Evaluate() returns;
+  // the form r = s · B_p (l_t − l_(t−1)).
   std::mt19937 rng(15);
-  for (int k : {1, 2, 5}) {
+  for (int k : {1, 2, 5, 12}) {
     ShapeTemporalError cost(k, 0.8);
-    const EvaluatedShapeTerm e(cost, k, &rng);
-    const double* const* parameters = e.parameters;
-    const int* sizes = e.sizes;
-    const std::vector<std::vector<double>>& jacobian = e.jacobian;
-    const std::vector<double> x = Random(5 * k, &rng);
-    const std::vector<double> y = Random(3, &rng);
-    for (int mask = 0; mask < 8; ++mask) {
-      const double* xs[3];
-      double expected_y[3] = {0.5, -0.25, 1.0};  // products are added
-      double got_y[3] = {0.5, -0.25, 1.0};
-      std::vector<std::vector<double>> expected_x(3), got_x(3);
-      double* outs[3];
-      int offset = 0;
-      for (int b = 0; b < 3; ++b) {
-        const bool on = (mask >> b) & 1;
-        xs[b] = on ? x.data() + offset : nullptr;
-        expected_x[b].assign(sizes[b], 0.1 * b);
-        got_x[b].assign(sizes[b], 0.1 * b);
-        outs[b] = on ? got_x[b].data() : nullptr;
-        for (int i = 0; i < 3 && on; ++i) {
-          for (int j = 0; j < sizes[b]; ++j) {
-            expected_y[i] += jacobian[b][i * sizes[b] + j] * x[offset + j];
-            expected_x[b][j] += jacobian[b][i * sizes[b] + j] * y[i];
-          }
-        }
-        offset += sizes[b];
-      }
-      cost.AddJacobianProduct(parameters, xs, got_y);
-      cost.AddJacobianTransposeProduct(parameters, y.data(), outs);
-      for (int i = 0; i < 3; ++i)
-        EXPECT_NEAR(got_y[i], expected_y[i], 1e-14) << k << " " << mask;
-      for (int b = 0; b < 3; ++b) {
-        for (int j = 0; j < sizes[b]; ++j) {
-          EXPECT_NEAR(got_x[b][j], expected_x[b][j], 1e-14)
-              << k << " " << mask << " " << b;
-        }
-      }
-    }
-  }
-}
-
-TEST(ShapeTemporalError, GramBlocksEqualTheEvaluatedJacobian) {
-  // J_aᵀ J_b for every pair of blocks (problems/jacobian_product.h), added to
-  // what `out` holds, in a column-major buffer with a larger leading
-  // dimension, against the products of the evaluated Jacobian.
-  std::mt19937 rng(16);
-  for (int k : {1, 3, 12}) {
-    ShapeTemporalError cost(k, 1.3);
-    ASSERT_TRUE(cost.ProvidesGram());
-    const EvaluatedShapeTerm e(cost, k, &rng);
-    const double* const* parameters = e.parameters;
-    const int* sizes = e.sizes;
-    const std::vector<std::vector<double>>& jacobian = e.jacobian;
-    for (int a = 0; a < 3; ++a) {
-      for (int b = 0; b < 3; ++b) {
-        const int ld = sizes[a] + 2;
-        std::vector<double> got(static_cast<std::size_t>(ld) * sizes[b], 0.25);
-        cost.AddGram(parameters, a, b, got.data(), ld);
-        for (int j = 0; j < sizes[b]; ++j) {
-          for (int i = 0; i < ld; ++i) {
-            double expected = 0.25;
-            if (i < sizes[a]) {
-              for (int row = 0; row < 3; ++row) {
-                expected += jacobian[a][row * sizes[a] + i] *
-                            jacobian[b][row * sizes[b] + j];
-              }
-            }
-            EXPECT_NEAR(got[i + static_cast<std::size_t>(j) * ld], expected,
-                        1e-13)
-                << "K = " << k << ", blocks " << a << ", " << b << ", entry "
-                << i << ", " << j;
-          }
-        }
-      }
-      std::vector<double> diagonal(sizes[a], -0.5);
-      cost.AddGramDiagonal(parameters, a, diagonal.data());
-      for (int i = 0; i < sizes[a]; ++i) {
-        double expected = -0.5;
-        for (int row = 0; row < 3; ++row) {
-          expected +=
-              jacobian[a][row * sizes[a] + i] * jacobian[a][row * sizes[a] + i];
-        }
-        EXPECT_NEAR(diagonal[i], expected, 1e-13)
-            << "K = " << k << ", block " << a << ", " << i;
-      }
-    }
+    testing_util::ExpectProductsEqualTheJacobian(cost, cost, &rng);
+    testing_util::ExpectGramEqualsTheJacobian(cost, cost, &rng);
+    testing_util::ExpectTheBilinearFormGivesTheResidual(cost, cost, &rng);
   }
 }
 

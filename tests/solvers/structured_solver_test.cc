@@ -104,7 +104,8 @@ TEST(StructuredSolver, AutoChoosesItWhenThePointsCanBeEliminated) {
 TEST(StructuredSolver, EliminatesPointsThatTheSmoothnessTermCouples) {
   // The Delaunay smoothness term couples neighbouring points: the structured
   // solver eliminates them with one sparse factorisation, its products over
-  // the grid of edges × frames formed at once. With exact linear solves
+  // the grid of edges × frames formed at once (and those of the temporal
+  // shape and deformation priors over theirs). With exact linear solves
   // (conjugate gradients to 1e-10) its LM steps are those of Ceres' exact
   // sparse Cholesky, so the two follow one path: the same cost after the
   // same iterations. `auto` picks it (it took CGNR before).
@@ -112,6 +113,7 @@ TEST(StructuredSolver, EliminatesPointsThatTheSmoothnessTermCouples) {
     const Case c = MakeCase(missing);
     ProblemOptions terms = Terms();
     terms.term_weights[kSmoothnessTerm] = 0.05;
+    terms.term_weights[kDeformationTerm] = 0.01;
     SolverOptions exact;
     exact.linear_solver = LinearSolverChoice::kSparseNormalCholesky;
     exact.max_iterations = 15;
@@ -156,15 +158,17 @@ StructuredLayout Layout(ProblemBuilder* builder) {
   return layout;
 }
 
-TEST(StructuredSolver, SumsTheSmoothnessAndTemporalShapeTermsAsGrids) {
-  // Both terms have the bilinear form r = s D λ: the smoothness one row per
+TEST(StructuredSolver, SumsTheTermsOfBilinearFormAsGrids) {
+  // Three terms have the bilinear form r = s D λ: the smoothness one row per
   // frame (l_t) and one column per edge (b_i − b_j), the temporal shape
   // prior one row per pair of frames (l_t − l_(t−1)) and one column per
-  // point (b_p). The layout recognises each as a full grid, and leaves
-  // every other residual block to the block-by-block passes.
+  // point (b_p), the deformation prior one row per frame (l_t masked) and
+  // one column per point. The layout recognises each as a full grid, and
+  // leaves every other residual block to the block-by-block passes.
   const Case c = MakeCase(0.2);
   ProblemOptions terms = Terms();
   terms.term_weights[kSmoothnessTerm] = 0.05;
+  terms.term_weights[kDeformationTerm] = 0.3;
   Model model = c.start;
   const int f = model.num_frames, p = model.num_points;
   for (const bool constant_weights : {false, true}) {
@@ -188,29 +192,36 @@ TEST(StructuredSolver, SumsTheSmoothnessAndTemporalShapeTermsAsGrids) {
       EXPECT_EQ(in_grid, 0);
       continue;
     }
-    ASSERT_EQ(blocks.grids.size(), 2u);
+    ASSERT_EQ(blocks.grids.size(), 3u);
     const int num_edges = counts[0] / f;  // the smoothness term comes first
     ASSERT_EQ(counts[0], num_edges * f);
     int found = 0;
     for (const structured::BilinearGrid& grid : blocks.grids) {
       EXPECT_EQ(grid.num_bases, model.num_bases);
       if (grid.columns[0].points.size() == 2) {  // the smoothness term
-        ++found;
+        found += 1;
         EXPECT_EQ(static_cast<int>(grid.rows.size()), f);
         EXPECT_EQ(static_cast<int>(grid.columns.size()), num_edges);
         EXPECT_EQ(grid.columns[0].points[0].sign, 1.0);
         EXPECT_EQ(grid.columns[0].points[1].sign, -1.0);
-      } else {  // the temporal shape prior
+        EXPECT_EQ(grid.mask, Eigen::VectorXd::Ones(model.num_bases));
+      } else if (grid.rows[0].size() == 2) {  // the temporal shape prior
         found += 10;
         EXPECT_EQ(static_cast<int>(grid.rows.size()), f - 1);
         EXPECT_EQ(static_cast<int>(grid.columns.size()), p);
-        ASSERT_EQ(grid.rows[0].size(), 2u);
         EXPECT_EQ(grid.rows[0][0].sign, 1.0);
         EXPECT_EQ(grid.rows[0][1].sign, -1.0);
+      } else {  // the deformation prior: basis shape 1 masked out
+        found += 100;
+        EXPECT_EQ(static_cast<int>(grid.rows.size()), f);
+        EXPECT_EQ(static_cast<int>(grid.columns.size()), p);
+        EXPECT_EQ(grid.mask[0], 0.0);
+        EXPECT_EQ(grid.mask.tail(model.num_bases - 1).sum(),
+                  model.num_bases - 1.0);
       }
     }
-    EXPECT_EQ(found, 11);
-    EXPECT_EQ(in_grid, num_edges * f + (f - 1) * p);
+    EXPECT_EQ(found, 111);
+    EXPECT_EQ(in_grid, num_edges * f + (f - 1) * p + f * p);
     EXPECT_EQ(blocks.not_in_grid.size(), blocks.residuals.size() - in_grid);
   }
 }
