@@ -100,7 +100,6 @@ void SchurElimination::AddCouplingGram() {
   }
   for (int i : blocks_.coupling_residuals) {
     const Residual& r = blocks_.residuals[i];
-    if (r.in_grid) continue;  // below, for all frames at once
     for (const Coupled& a : r.coupled) {
       const int pa = position_[a.block];
       const int size_a = blocks_.blocks[a.block].size;

@@ -1,5 +1,7 @@
 #include "solvers/structured_layout.h"
 
+#include <glog/logging.h>
+
 #include <algorithm>
 #include <map>
 #include <unordered_map>
@@ -31,6 +33,10 @@ void FindGrids(StructuredBlocks* s) {
     const Residual& r = s->residuals[i];
     BilinearForm form;
     if (r.product == nullptr || !r.product->GetBilinearForm(&form)) continue;
+    CHECK_EQ(form.signs.size(), r.slot_block.size());
+    CHECK_EQ(form.is_weights.size(), r.slot_block.size());
+    CHECK(form.mask.empty() ||
+          static_cast<int>(form.mask.size()) == form.num_bases);
     std::vector<double> mask = form.mask;
     if (mask.empty()) mask.assign(form.num_bases, 1.0);
     std::vector<double> pattern = mask;

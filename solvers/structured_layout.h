@@ -152,7 +152,8 @@ struct StructuredBlocks {
   int band = 0;
   std::vector<int> eliminated_blocks;  // Block indices, in the layout's order
   std::vector<Residual> residuals;     // in the problem's order
-  // Per group, per eliminated block: the residual segments that touch it.
+  // Per group, per eliminated block: the residual segments that touch it
+  // (the grids' residuals left out, as in the two lists below).
   std::vector<std::vector<Ref>> group_refs, eliminated_refs;
   std::vector<int> residuals_with_shared;  // residuals that hold a shared block
   std::vector<int> coupling_residuals;     // residuals with `coupled` blocks

@@ -255,8 +255,10 @@ bool SolveStructured(const StructuredSolverOptions& options,
   StructuredBlocks blocks;
   if (!structured::LayOutBlocks(layout, problem, &blocks, error)) return false;
   VLOG(2) << "structured layout: " << blocks.residuals.size()
-          << " residual blocks, " << blocks.coupling_residuals.size()
-          << " coupling points, " << blocks.grids.size() << " grids";
+          << " residual blocks, " << blocks.grids.size()
+          << " grids (terms summed at once), "
+          << blocks.coupling_residuals.size()
+          << " other blocks that couple points";
   Solver solver(options, blocks);
   return solver.Run(summary);
 }
