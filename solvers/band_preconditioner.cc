@@ -94,7 +94,9 @@ void BandPreconditioner::Build(double mu, const Eigen::VectorXd& d_reduced,
         }
       }
       // The grids' rows with a weights block a in group g: σ_a σ_b H_grid
-      // against each weights block b of the row in a group ≤ g.
+      // against each weights block b of the row in a group ≤ g (the band's
+      // lower triangle of blocks; a diagonal block is filled in full, as
+      // above).
       for (const auto& [grid, q] : grid_rows_[g]) {
         const Eigen::MatrixXd& h = grid_grams[grid];
         const std::vector<BilinearGrid::Term>& row =
@@ -104,20 +106,10 @@ void BandPreconditioner::Build(double mu, const Eigen::VectorXd& d_reduced,
           if (ba.group != g) continue;
           for (const BilinearGrid::Term& b : row) {
             const Block& bb = blocks_.blocks[b.block];
-            if (bb.group > ba.group ||
-                (bb.group == ba.group && bb.offset > ba.offset)) {
-              continue;  // the lower triangle only
-            }
-            Eigen::MatrixXd& block = band_[ba.group][ba.group - bb.group];
-            const int row_a = ba.offset - group_offset[ba.group];
-            const int col_b = bb.offset - group_offset[bb.group];
-            block.block(row_a, col_b, h.rows(), h.cols()) +=
-                a.sign * b.sign * h;
-            if (bb.group == ba.group && bb.offset < ba.offset) {
-              // Within the diagonal block, its upper mirror too.
-              block.block(col_b, row_a, h.rows(), h.cols()) +=
-                  a.sign * b.sign * h.transpose();
-            }
+            if (bb.group > g) continue;
+            band_[g][g - bb.group].block(
+                ba.offset - group_offset[g], bb.offset - group_offset[bb.group],
+                h.rows(), h.cols()) += a.sign * b.sign * h;
           }
         }
       }

@@ -134,14 +134,14 @@ void SchurElimination::AddGridGram(int g) {
   // τ_i τ_j s_e² (G ⊗ I₃), G = Σ_q λ_q λ_qᵀ (K × K, the same for every column).
   const BilinearGrid& grid = blocks_.grids[g];
   const int k = grid.num_bases;
-  Eigen::MatrixXd outer = Eigen::MatrixXd::Zero(k, k);
+  Eigen::MatrixXd& lambdas = grid_lambdas_[g];  // λ_q per row, masked
+  lambdas.resize(k, static_cast<Eigen::Index>(grid.rows.size()));
   Eigen::VectorXd lambda(k);
-  for (const std::vector<BilinearGrid::Term>& row : grid.rows) {
-    RowCombination(row, k, &lambda);
-    lambda.array() *= grid.mask.array();
-    outer.selfadjointView<Eigen::Lower>().rankUpdate(lambda);
+  for (std::size_t q = 0; q < grid.rows.size(); ++q) {
+    RowCombination(grid.rows[q], k, &lambda);
+    lambdas.col(q) = grid.mask.cwiseProduct(lambda);
   }
-  outer.triangularView<Eigen::StrictlyUpper>() = outer.transpose();
+  const Eigen::MatrixXd outer = lambdas * lambdas.transpose();
   Eigen::MatrixXd g3 = Eigen::MatrixXd::Zero(3 * k, 3 * k);  // G ⊗ I₃
   for (int a = 0; a < k; ++a) {
     for (int b = 0; b < k; ++b) {
@@ -279,6 +279,7 @@ void SchurElimination::ComputeGram() {
   if (!coupled_.empty()) AddCouplingGram();
   grid_difference_.resize(blocks_.grids.size());
   grid_gram_.resize(blocks_.grids.size());
+  grid_lambdas_.resize(blocks_.grids.size());
   for (std::size_t g = 0; g < blocks_.grids.size(); ++g) {
     AddGridGram(static_cast<int>(g));
   }
@@ -355,13 +356,11 @@ void SchurElimination::AddGridProjected(int g, const Eigen::VectorXd& v,
   const BilinearGrid& grid = blocks_.grids[g];
   const int k = grid.num_bases;
   Eigen::MatrixXd m = Eigen::MatrixXd::Zero(k, k);  // Σ_q λ_q ν_qᵀ
-  Eigen::VectorXd lambda(k), nu(k);
-  for (const std::vector<BilinearGrid::Term>& row : grid.rows) {
-    RowCombination(row, k, &lambda);
-    RowCombination(row, k, &nu, &v);
-    lambda.array() *= grid.mask.array();
+  Eigen::VectorXd nu(k);
+  for (std::size_t q = 0; q < grid.rows.size(); ++q) {
+    RowCombination(grid.rows[q], k, &nu, &v);
     nu.array() *= grid.mask.array();
-    m.noalias() += lambda * nu.transpose();
+    m.noalias() += grid_lambdas_[g].col(q) * nu.transpose();
   }
   for (std::size_t e = 0; e < grid.columns.size(); ++e) {
     const BilinearGrid::Column& column = grid.columns[e];
@@ -392,14 +391,13 @@ void SchurElimination::AddGridReduced(int g, const Eigen::VectorXd& v,
     n.noalias() +=
         column.scale * column.scale * grid_difference_[g][e].transpose() * y_e;
   }
-  Eigen::VectorXd lambda(k), nu(k), z(k);
-  for (const std::vector<BilinearGrid::Term>& row : grid.rows) {
-    RowCombination(row, k, &lambda);
+  Eigen::VectorXd nu(k), z(k);
+  for (std::size_t q = 0; q < grid.rows.size(); ++q) {
+    const std::vector<BilinearGrid::Term>& row = grid.rows[q];
     RowCombination(row, k, &nu, &v);
-    lambda.array() *= grid.mask.array();
     // σ_j M (H M ν̃_q − N λ_q) = σ_j (M H M ν̃_q − M N λ_q), ν̃_q unmasked.
     z.noalias() = grid_gram_[g] * nu;
-    z.array() -= grid.mask.array() * (n * lambda).array();
+    z.array() -= grid.mask.array() * (n * grid_lambdas_[g].col(q)).array();
     for (const BilinearGrid::Term& term : row) {
       out->segment(blocks_.blocks[term.block].offset, k) += term.sign * z;
     }

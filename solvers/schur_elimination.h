@@ -83,7 +83,8 @@ class SchurElimination {
   // The block J_aᵀ J_b of C̃ for eliminated positions a ≠ b (coupled_).
   Eigen::MatrixXd& CoupledGram(int a, int b);
   // Grid g's part of C̃ (τ_i τ_j s_e² G ⊗ I₃ per pair of a column's points,
-  // G = Σ_q λ_q λ_qᵀ), and its D_e per column and H_g (grid_grams()).
+  // G = Σ_q λ_q λ_qᵀ), and its λ_q per row, D_e per column and H_g
+  // (grid_grams()).
   // λ_q and ν_q below include the mask m.
   void AddGridGram(int g);
   // Σ_j σ_j l_j of `row` at the current values (v null), or the same
@@ -115,8 +116,10 @@ class SchurElimination {
   std::vector<std::vector<int>> coupled_;
   std::vector<std::vector<Eigen::MatrixXd>> coupled_gram_;
   std::vector<int> position_;  // eliminated position per Block index
-  // Per grid, at the current values: D_e per column, and H_g.
+  // Per grid, at the current values: D_e per column, H_g, and the rows'
+  // masked λ_q (K × Q, a column per row).
   std::vector<std::vector<Eigen::Matrix3Xd>> grid_difference_;
+  std::vector<Eigen::MatrixXd> grid_lambdas_;
   std::vector<Eigen::MatrixXd> grid_gram_;
   SparseMatrix sparse_;  // lower triangle of C̃
   Eigen::SimplicialLLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>>

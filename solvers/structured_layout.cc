@@ -13,13 +13,12 @@ namespace structured {
 namespace {
 
 // Sets s->grids and the residuals' in_grid: the residual blocks with a
-// bilinear form are grouped by the pattern of their form (the mask, and
+// bilinear form are grouped by the pattern of their form (K, the mask, and
 // which slot is a weights or a basis block with which sign: one term), and
-// each
-// group whose blocks are every row in every column, each once, with its
-// weights blocks free and in frame groups, its basis blocks eliminated and
-// one scale per column, becomes a grid. Other groups are handled block by
-// block.
+// each group whose blocks are every row in every column, each once, with
+// its weights blocks free and in frame groups, its basis blocks eliminated
+// and one scale per column, becomes a grid. Other groups are handled block
+// by block.
 void FindGrids(StructuredBlocks* s) {
   struct Candidate {
     BilinearGrid grid;
@@ -39,17 +38,24 @@ void FindGrids(StructuredBlocks* s) {
           static_cast<int>(form.mask.size()) == form.num_bases);
     std::vector<double> mask = form.mask;
     if (mask.empty()) mask.assign(form.num_bases, 1.0);
-    std::vector<double> pattern = mask;
+    std::vector<double> pattern = {static_cast<double>(form.num_bases),
+                                   static_cast<double>(form.signs.size())};
+    pattern.insert(pattern.end(), mask.begin(), mask.end());
     for (std::size_t k = 0; k < form.signs.size(); ++k) {
       pattern.push_back(form.is_weights[k] ? 1.0 : 0.0);
       pattern.push_back(form.signs[k]);
     }
     Candidate& c = candidates[pattern];
     if (!c.valid) continue;
+    if (c.members.empty()) {
+      c.grid.num_bases = form.num_bases;
+      c.grid.mask = Eigen::Map<const Eigen::VectorXd>(
+          mask.data(), static_cast<Eigen::Index>(mask.size()));
+    }
     std::vector<std::pair<int, double>> row, column;
     for (std::size_t k = 0; k < r.slot_block.size() && c.valid; ++k) {
       const int block = r.slot_block[k];
-      if (block < 0 || r.loss != nullptr) {
+      if (block < 0) {
         c.valid = false;  // a constant block: not the grid's form
         break;
       }
@@ -65,9 +71,6 @@ void FindGrids(StructuredBlocks* s) {
       }
     }
     if (!c.valid) continue;
-    c.grid.num_bases = form.num_bases;
-    c.grid.mask = Eigen::Map<const Eigen::VectorXd>(
-        mask.data(), static_cast<Eigen::Index>(mask.size()));
     auto q = c.row_index.find(row);
     if (q == c.row_index.end()) {
       q = c.row_index.emplace(row, static_cast<int>(c.grid.rows.size())).first;
