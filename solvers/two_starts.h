@@ -48,11 +48,13 @@ using RaceRefinement = std::function<RaceOutcome(const SolverOptions& solver)>;
 // Runs `first` and `second` as described in the header, each with `solver`
 // (its num_threads as given). The caller's `solver.progress` receives the
 // first refinement's reports and then the second's, on the calling thread,
-// and `solver.stop_requested` is asked on the calling thread after each;
-// when it returns true both refinements stop after their current
-// iteration. `solver.max_seconds` limits each refinement's wall time from
-// its own start; taking turns, that time includes the other's iterations,
-// so a limit is reached after about half the iterations it allows alone.
+// and `solver.stop_requested` is asked on the calling thread after each
+// (and after each of the second's reports while they wait for the first's
+// end); each refinement waits for that answer after every iteration, so
+// when it returns true both stop after their current iteration.
+// `solver.max_seconds` limits each refinement's wall time from its own start;
+// taking turns, that time includes the other's iterations, so a limit is
+// reached after about half the iterations it allows alone.
 void RunTwoRefinements(const SolverOptions& solver, bool concurrent,
                        const RaceRefinement& first,
                        const RaceRefinement& second);
