@@ -3,63 +3,34 @@
 #include <matio.h>
 
 #include <Eigen/Core>
-#include <cerrno>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <system_error>
+
+#include "core/text_io.h"
 
 namespace nrsfm {
 namespace {
 
 namespace fs = std::filesystem;
 
-// A file written with fprintf; Close() reports any write error.
-class OutputFile {
- public:
-  ~OutputFile() {
-    if (file_ != nullptr) std::fclose(file_);
-  }
-  Status Open(const fs::path& path) {
-    path_ = path.string();
-    file_ = std::fopen(path_.c_str(), "w");
-    if (file_ == nullptr) {
-      return Status::Error(path_ +
-                           ": cannot create the file: " + std::strerror(errno));
-    }
-    return Status::OK();
-  }
-  std::FILE* get() { return file_; }
-  Status Close() {
-    const bool failed = std::ferror(file_) != 0;
-    const bool close_failed = std::fclose(file_) != 0;
-    file_ = nullptr;
-    if (failed || close_failed)
-      return Status::Error(path_ + ": error while writing the file");
-    return Status::OK();
-  }
-
- private:
-  std::string path_;
-  std::FILE* file_ = nullptr;
-};
-
-void PrintXyz(std::FILE* file, const Eigen::Vector3d& x) {
-  std::fprintf(file, ",%.17g,%.17g,%.17g\n", x(0), x(1), x(2));
+void PrintXyz(TextWriter* out, const Eigen::Vector3d& x) {
+  out->Char(',').Number(x(0)).Char(',').Number(x(1)).Char(',').Number(x(2));
+  out->Char('\n');
 }
 
 Status WritePointsCamera(const fs::path& dir, const Model& model) {
-  OutputFile out;
-  NRSFM_RETURN_IF_ERROR(out.Open(dir / "points_camera.csv"));
-  std::fputs("frame,camera,point,x,y,z\n", out.get());
+  TextWriter out;
+  NRSFM_RETURN_IF_ERROR(out.Open((dir / "points_camera.csv").string()));
+  out.Text("frame,camera,point,x,y,z\n");
   for (int t = 0; t < model.num_frames; ++t) {
     for (int c = 0; c < model.num_cameras; ++c) {
       const Eigen::Matrix3Xd points = model.ShapeInCamera(t, c);
       for (int p = 0; p < model.num_points; ++p) {
-        std::fprintf(out.get(), "%d,%d,%d", t, c, p);
-        PrintXyz(out.get(), points.col(p));
+        out.Int(t).Char(',').Int(c).Char(',').Int(p);
+        PrintXyz(&out, points.col(p));
       }
     }
   }
@@ -67,39 +38,38 @@ Status WritePointsCamera(const fs::path& dir, const Model& model) {
 }
 
 Status WritePointsObject(const fs::path& dir, const Model& model) {
-  OutputFile out;
-  NRSFM_RETURN_IF_ERROR(out.Open(dir / "points_object.csv"));
-  std::fputs("frame,point,x,y,z\n", out.get());
+  TextWriter out;
+  NRSFM_RETURN_IF_ERROR(out.Open((dir / "points_object.csv").string()));
+  out.Text("frame,point,x,y,z\n");
   for (int t = 0; t < model.num_frames; ++t) {
     const Eigen::Matrix3Xd shape = model.ShapeInObject(t);
     for (int p = 0; p < model.num_points; ++p) {
-      std::fprintf(out.get(), "%d,%d", t, p);
-      PrintXyz(out.get(), shape.col(p));
+      out.Int(t).Char(',').Int(p);
+      PrintXyz(&out, shape.col(p));
     }
   }
   return out.Close();
 }
 
 Status WriteViews(const fs::path& dir, const Model& model) {
-  OutputFile rotations, translations;
-  NRSFM_RETURN_IF_ERROR(rotations.Open(dir / "rotations.csv"));
-  NRSFM_RETURN_IF_ERROR(translations.Open(dir / "translations.csv"));
-  std::fputs("frame,camera,r11,r12,r13,r21,r22,r23,r31,r32,r33\n",
-             rotations.get());
-  std::fputs("frame,camera,tx,ty,scale\n", translations.get());
+  TextWriter rotations, translations;
+  NRSFM_RETURN_IF_ERROR(rotations.Open((dir / "rotations.csv").string()));
+  NRSFM_RETURN_IF_ERROR(translations.Open((dir / "translations.csv").string()));
+  rotations.Text("frame,camera,r11,r12,r13,r21,r22,r23,r31,r32,r33\n");
+  translations.Text("frame,camera,tx,ty,scale\n");
   for (int t = 0; t < model.num_frames; ++t) {
     for (int c = 0; c < model.num_cameras; ++c) {
       const Eigen::Matrix3d r = model.Rotation(t, c);
-      std::fprintf(rotations.get(), "%d,%d", t, c);
+      rotations.Int(t).Char(',').Int(c);
       for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j < 3; ++j)
-          std::fprintf(rotations.get(), ",%.17g", r(i, j));
+        for (int j = 0; j < 3; ++j) rotations.Char(',').Number(r(i, j));
       }
-      std::fputc('\n', rotations.get());
+      rotations.Char('\n');
       const int view = model.View(t, c);
-      std::fprintf(translations.get(), "%d,%d,%.17g,%.17g,%.17g\n", t, c,
-                   model.translations(0, view), model.translations(1, view),
-                   model.scales(view));
+      translations.Int(t).Char(',').Int(c).Char(',');
+      translations.Number(model.translations(0, view)).Char(',');
+      translations.Number(model.translations(1, view)).Char(',');
+      translations.Number(model.scales(view)).Char('\n');
     }
   }
   NRSFM_RETURN_IF_ERROR(rotations.Close());
@@ -107,25 +77,24 @@ Status WriteViews(const fs::path& dir, const Model& model) {
 }
 
 Status WriteWeightsAndBasis(const fs::path& dir, const Model& model) {
-  OutputFile weights, basis;
-  NRSFM_RETURN_IF_ERROR(weights.Open(dir / "weights.csv"));
-  NRSFM_RETURN_IF_ERROR(basis.Open(dir / "basis.csv"));
-  std::fputs("frame", weights.get());
-  for (int k = 0; k < model.num_bases; ++k)
-    std::fprintf(weights.get(), ",l%d", k + 1);
-  std::fputc('\n', weights.get());
+  TextWriter weights, basis;
+  NRSFM_RETURN_IF_ERROR(weights.Open((dir / "weights.csv").string()));
+  NRSFM_RETURN_IF_ERROR(basis.Open((dir / "basis.csv").string()));
+  weights.Text("frame");
+  for (int k = 0; k < model.num_bases; ++k) weights.Text(",l").Int(k + 1);
+  weights.Char('\n');
   for (int t = 0; t < model.num_frames; ++t) {
-    std::fprintf(weights.get(), "%d", t);
+    weights.Int(t);
     for (int k = 0; k < model.num_bases; ++k) {
-      std::fprintf(weights.get(), ",%.17g", model.weights(k, t));
+      weights.Char(',').Number(model.weights(k, t));
     }
-    std::fputc('\n', weights.get());
+    weights.Char('\n');
   }
-  std::fputs("k,point,x,y,z\n", basis.get());
+  basis.Text("k,point,x,y,z\n");
   for (int k = 0; k < model.num_bases; ++k) {
     for (int p = 0; p < model.num_points; ++p) {
-      std::fprintf(basis.get(), "%d,%d", k, p);
-      PrintXyz(basis.get(), model.basis.block<3, 1>(3 * k, p));
+      basis.Int(k).Char(',').Int(p);
+      PrintXyz(&basis, model.basis.block<3, 1>(3 * k, p));
     }
   }
   NRSFM_RETURN_IF_ERROR(weights.Close());
@@ -142,18 +111,19 @@ Status WritePly(const fs::path& dir, const Model& model) {
   for (int t = 0; t < model.num_frames; ++t) {
     char name[32];
     std::snprintf(name, sizeof(name), "frame_%05d.ply", t);
-    OutputFile out;
-    NRSFM_RETURN_IF_ERROR(out.Open(ply_dir / name));
-    std::fprintf(out.get(),
-                 "ply\nformat ascii 1.0\ncomment nrsfm frame %d in the frame "
-                 "of camera 0\n"
-                 "element vertex %d\nproperty double x\nproperty double y\n"
-                 "property double z\nend_header\n",
-                 t, model.num_points);
+    TextWriter out;
+    NRSFM_RETURN_IF_ERROR(out.Open((ply_dir / name).string()));
+    out.Text("ply\nformat ascii 1.0\ncomment nrsfm frame ")
+        .Int(t)
+        .Text(" in the frame of camera 0\nelement vertex ")
+        .Int(model.num_points)
+        .Text(
+            "\nproperty double x\nproperty double y\nproperty double z\n"
+            "end_header\n");
     const Eigen::Matrix3Xd points = model.ShapeInCamera(t, 0);
     for (int p = 0; p < model.num_points; ++p) {
-      std::fprintf(out.get(), "%.17g %.17g %.17g\n", points(0, p), points(1, p),
-                   points(2, p));
+      out.Number(points(0, p)).Char(' ').Number(points(1, p)).Char(' ');
+      out.Number(points(2, p)).Char('\n');
     }
     NRSFM_RETURN_IF_ERROR(out.Close());
   }
@@ -229,11 +199,9 @@ namespace {
 
 Status WriteJson(const fs::path& dir, const Measurements& measurements,
                  const Model& model, const ReconstructionReport& report) {
-  OutputFile out;
-  NRSFM_RETURN_IF_ERROR(out.Open(dir / "result.json"));
-  const std::string text = ReconstructionJson(measurements, model, report);
-  std::fputs(text.c_str(), out.get());
-  std::fputc('\n', out.get());
+  TextWriter out;
+  NRSFM_RETURN_IF_ERROR(out.Open((dir / "result.json").string()));
+  out.Text(ReconstructionJson(measurements, model, report)).Char('\n');
   return out.Close();
 }
 

@@ -1,6 +1,7 @@
 // Writes a reconstruction into one directory (docs/guide.md, "Outputs").
 //
-// Files (indices 0-based; numbers with %.17g so they read back exactly):
+// Files (indices 0-based; numbers in the shortest form that reads back to
+// the same double, core/text_io.h TextWriter):
 //   points_camera.csv  frame,camera,point,x,y,z   X_tc = s_tc R_tc S_t, for
 //                      every frame, camera and point (missing ones too);
 //                      F·M·P rows, frame-major, then camera, then point.

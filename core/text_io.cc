@@ -1,11 +1,15 @@
 #include "core/text_io.h"
 
+#include <glog/logging.h>
+
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -18,6 +22,9 @@
 
 namespace nrsfm {
 namespace {
+
+// TextWriter's buffer: written out when it holds this much.
+constexpr std::size_t kBufferBytes = 1 << 20;
 
 Status OpenTextFile(const std::string& path, std::ifstream* in) {
   std::error_code ec;
@@ -169,23 +176,6 @@ Status ParseIndex(std::string_view field, const std::string& where, int column,
   return Status::OK();
 }
 
-// Closes `file` and reports a write error on `path`.
-Status FinishWrite(const std::string& path, std::FILE* file) {
-  const bool failed = std::ferror(file) != 0;
-  const bool close_failed = std::fclose(file) != 0;
-  if (failed || close_failed)
-    return Status::Error(path + ": error while writing the file");
-  return Status::OK();
-}
-
-void WriteNumber(std::FILE* file, double value) {
-  if (std::isnan(value)) {
-    std::fputs("NaN", file);
-  } else {
-    std::fprintf(file, "%.17g", value);
-  }
-}
-
 // One line of an observation list.
 struct Observation {
   int frame, camera, point;
@@ -274,16 +264,16 @@ Status ReadTextMatrix(const std::string& path, Eigen::MatrixXd* matrix) {
 }
 
 Status WriteTextMatrix(const std::string& path, const Eigen::MatrixXd& matrix) {
-  std::FILE* file = std::fopen(path.c_str(), "w");
-  if (file == nullptr) return Status::Error(path + ": cannot create the file");
+  TextWriter out;
+  NRSFM_RETURN_IF_ERROR(out.Open(path));
   for (Eigen::Index i = 0; i < matrix.rows(); ++i) {
     for (Eigen::Index j = 0; j < matrix.cols(); ++j) {
-      if (j > 0) std::fputc(' ', file);
-      WriteNumber(file, matrix(i, j));
+      if (j > 0) out.Char(' ');
+      out.Number(matrix(i, j), "NaN");
     }
-    std::fputc('\n', file);
+    out.Char('\n');
   }
-  return FinishWrite(path, file);
+  return out.Close();
 }
 
 Status ReadCsvTable(const std::string& path,
@@ -402,23 +392,101 @@ Status ReadObservationList(const std::string& path,
 
 Status WriteObservationList(const std::string& path,
                             const Measurements& measurements) {
-  std::FILE* file = std::fopen(path.c_str(), "w");
-  if (file == nullptr) return Status::Error(path + ": cannot create the file");
-  std::fputs("# frame camera point u v\n", file);
+  TextWriter out;
+  NRSFM_RETURN_IF_ERROR(out.Open(path));
+  out.Text("# frame camera point u v\n");
   for (int t = 0; t < measurements.num_frames; ++t) {
     for (int c = 0; c < measurements.num_cameras; ++c) {
       const int view = measurements.View(t, c);
       for (int p = 0; p < measurements.num_points; ++p) {
         if (!measurements.visible(view, p)) continue;
-        std::fprintf(
-            file, "%d %d %d %.17g %.17g\n",
-            measurements.frame_ids.empty() ? t : measurements.frame_ids[t], c,
-            measurements.point_ids.empty() ? p : measurements.point_ids[p],
-            measurements.W(2 * view, p), measurements.W(2 * view + 1, p));
+        out.Int(measurements.frame_ids.empty() ? t : measurements.frame_ids[t])
+            .Char(' ')
+            .Int(c)
+            .Char(' ')
+            .Int(measurements.point_ids.empty() ? p : measurements.point_ids[p])
+            .Char(' ')
+            .Number(measurements.W(2 * view, p))
+            .Char(' ')
+            .Number(measurements.W(2 * view + 1, p))
+            .Char('\n');
       }
     }
   }
-  return FinishWrite(path, file);
+  return out.Close();
+}
+
+TextWriter::~TextWriter() {
+  if (file_ != nullptr) std::fclose(file_);
+}
+
+Status TextWriter::Open(const std::string& path) {
+  CHECK(file_ == nullptr) << "TextWriter opened twice";
+  path_ = path;
+  file_ = std::fopen(path.c_str(), "w");
+  if (file_ == nullptr) {
+    return Status::Error(path +
+                         ": cannot create the file: " + std::strerror(errno));
+  }
+  failed_ = false;
+  buffer_.clear();
+  buffer_.reserve(kBufferBytes + 256);
+  return Status::OK();
+}
+
+TextWriter& TextWriter::Text(std::string_view text) {
+  buffer_.append(text);
+  FlushIfFull();
+  return *this;
+}
+
+TextWriter& TextWriter::Char(char c) {
+  buffer_.push_back(c);
+  FlushIfFull();
+  return *this;
+}
+
+TextWriter& TextWriter::Int(long long value) {
+  char digits[24];
+  const std::to_chars_result end =
+      std::to_chars(digits, digits + sizeof(digits), value);
+  buffer_.append(digits, end.ptr);
+  FlushIfFull();
+  return *this;
+}
+
+TextWriter& TextWriter::Number(double value, std::string_view nan_text) {
+  if (std::isnan(value)) return Text(nan_text);
+  char digits[32];  // the longest shortest form is 24 characters
+  const std::to_chars_result end =
+      std::to_chars(digits, digits + sizeof(digits), value);
+  CHECK(end.ec == std::errc()) << "to_chars failed on " << value;
+  buffer_.append(digits, end.ptr);
+  FlushIfFull();
+  return *this;
+}
+
+void TextWriter::FlushIfFull() {
+  if (buffer_.size() >= kBufferBytes) Flush();
+}
+
+bool TextWriter::Flush() {
+  CHECK(file_ != nullptr) << "TextWriter written before Open()";
+  if (!failed_ && !buffer_.empty() &&
+      std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size())
+    failed_ = true;
+  buffer_.clear();
+  return !failed_;
+}
+
+Status TextWriter::Close() {
+  const bool flushed = Flush();
+  const bool failed = !flushed || std::ferror(file_) != 0;
+  const bool close_failed = std::fclose(file_) != 0;
+  file_ = nullptr;
+  if (failed || close_failed)
+    return Status::Error(path_ + ": error while writing the file");
+  return Status::OK();
 }
 
 }  // namespace nrsfm

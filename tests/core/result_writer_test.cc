@@ -100,7 +100,7 @@ TEST(ResultWriter, WritesEveryFileWithExactValues) {
               c = static_cast<int>(points(r, 1)),
               p = static_cast<int>(points(r, 2));
     EXPECT_EQ(r, (t * 2 + c) * 4 + p);
-    // %.17g round-trips exactly.
+    // The shortest form round-trips exactly.
     EXPECT_EQ(Eigen::Vector3d(points.block(r, 3, 1, 3).transpose()),
               model.ShapeInCamera(t, c).col(p));
   }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <random>
 #include <string>
 
@@ -64,6 +65,53 @@ TEST(TextMatrix, WriteThenReadIsBitIdentical) {
   ASSERT_EQ(read.rows(), m.rows());
   ASSERT_EQ(read.cols(), m.cols());
   EXPECT_EQ(std::memcmp(read.data(), m.data(), sizeof(double) * m.size()), 0);
+}
+
+TEST(TextWriter, WritesTheShortestFormThatReadsBackAndReportsWriteErrors) {
+  const std::string path = MakeTempDir("text_writer") + "/out.txt";
+  {
+    TextWriter out;
+    ASSERT_TRUE(out.Open(path).ok());
+    out.Int(-12).Char(' ').Number(0.1).Char(' ').Number(3.0).Char(' ');
+    out.Number(-2.5e-7).Char(' ').Number(std::nan("")).Char(' ');
+    out.Number(std::nan(""), "NaN").Char(' ').Number(1.0 / 3.0).Char(' ');
+    out.Number(1.7976931348623157e308).Char(' ').Number(-0.0).Text("\n");
+    ASSERT_TRUE(out.Close().ok());
+  }
+  std::ifstream in(path);
+  std::string text((std::istreambuf_iterator<char>(in)),
+                   std::istreambuf_iterator<char>());
+  EXPECT_EQ(text,
+            "-12 0.1 3 -2.5e-07 nan NaN 0.3333333333333333 "
+            "1.7976931348623157e+308 -0\n");
+
+  // More than the buffer holds, in one file: every value reads back.
+  std::mt19937 rng(5);
+  std::normal_distribution<double> normal(0.0, 1e4);
+  Eigen::MatrixXd m(20000, 9);
+  for (Eigen::Index i = 0; i < m.size(); ++i) m.data()[i] = normal(rng);
+  ASSERT_TRUE(WriteTextMatrix(path, m).ok());
+  Eigen::MatrixXd read;
+  ASSERT_TRUE(ReadTextMatrix(path, &read).ok());
+  ASSERT_EQ(read.rows(), m.rows());
+  EXPECT_EQ(std::memcmp(read.data(), m.data(), sizeof(double) * m.size()), 0);
+
+  // A full device: Close() names the file.
+  if (std::ifstream("/dev/full").good()) {
+    TextWriter out;
+    ASSERT_TRUE(out.Open("/dev/full").ok());
+    for (int i = 0; i < 300000; ++i) out.Number(i + 0.5).Char('\n');
+    const Status status = out.Close();
+    ASSERT_FALSE(status.ok());
+    EXPECT_TRUE(Contains(status.message(), "/dev/full: error while writing"))
+        << status.message();
+  }
+  TextWriter missing;
+  const Status status = missing.Open("/nonexistent-dir/x.txt");
+  ASSERT_FALSE(status.ok());
+  EXPECT_TRUE(
+      Contains(status.message(), "/nonexistent-dir/x.txt: cannot create"))
+      << status.message();
 }
 
 TEST(TextMatrix, BadInputsNameLineAndColumn) {
