@@ -4,8 +4,7 @@
 //   r = sqrt(w_obs) · ( s · Π R(ω) X + T − w_tcp ),   X = Σ_k l_k b_k = B l
 //
 // with B = [b_1 … b_K] (3 × K, the basis column b_p reshaped). Then
-//   ∂r/∂ω   = sqrt(w_obs) · s · Π ∂(R(ω) X)/∂ω    (2 × 3, dual numbers on ω
-//             through ceres::AngleAxisToRotationMatrix, exact at ω = 0)
+//   ∂r/∂ω   = sqrt(w_obs) · s · Π ∂(R(ω) X)/∂ω    (2 × 3, ProjectedRotation)
 //   ∂r/∂T   = sqrt(w_obs) · I_2                    (2 × 2)
 //   ∂r/∂l   = sqrt(w_obs) · s · Π R B              (2 × K)
 //   ∂r/∂b_k = sqrt(w_obs) · s · l_k · Π R          (2 × 3 per k)
@@ -34,6 +33,32 @@ namespace nrsfm {
 // dispatches 1…kMaxStaticBases with a switch).
 inline constexpr int kMaxStaticBases = 16;
 
+// What a reprojection residual needs of its rotation block ω: Π R(ω) and its
+// derivatives by ω_i (dual numbers through ceres::AngleAxisToRotationMatrix,
+// exact at ω = 0). It is the same for every residual of a view, so a caller
+// that evaluates many can form it once per view; formed here or inside
+// Evaluate(), it is the same bits.
+struct ProjectedRotation {
+  Eigen::Matrix<double, 2, 3> projection;     // Π R
+  Eigen::Matrix<double, 2, 3> derivative[3];  // ∂(Π R)/∂ω_i
+
+  static ProjectedRotation FromAngleAxis(const double* omega) {
+    using Jet3 = ceres::Jet<double, 3>;
+    const Jet3 w[3] = {Jet3(omega[0], 0), Jet3(omega[1], 1), Jet3(omega[2], 2)};
+    Jet3 rotation[9];  // column-major
+    ceres::AngleAxisToRotationMatrix(w, rotation);
+    ProjectedRotation out;
+    for (int col = 0; col < 3; ++col) {
+      for (int row = 0; row < 2; ++row) {
+        const Jet3& entry = rotation[3 * col + row];
+        out.projection(row, col) = entry.a;
+        for (int i = 0; i < 3; ++i) out.derivative[i](row, col) = entry.v[i];
+      }
+    }
+    return out;
+  }
+};
+
 // The basis block's Jacobian of the reprojection error factors as
 //   ∂r/∂b_k = l_k · A,   A = sqrt(w_obs) · s · Π R(ω)   (2 × 3),
 // so a solver that multiplies by it many times (solvers/structured_solver.h:
@@ -42,16 +67,19 @@ inline constexpr int kMaxStaticBases = 16;
 // with the weights l it reads from the weights block.
 class BasisJacobianFactor {
  public:
-  static constexpr int kWeightsSlot = 2;  // parameter block l (K)
-  static constexpr int kBasisSlot = 3;    // parameter block b_p (3K)
+  static constexpr int kRotationSlot = 0;  // parameter block ω (3)
+  static constexpr int kWeightsSlot = 2;   // parameter block l (K)
+  static constexpr int kBasisSlot = 3;     // parameter block b_p (3K)
 
   virtual ~BasisJacobianFactor() = default;
   virtual int num_bases() const = 0;
   // Evaluate() that also writes A (row-major 2 × 3) to `factor` when it is
   // not null; jacobians[kBasisSlot] may be null then (not computed).
-  virtual bool EvaluateWithBasisFactor(double const* const* parameters,
-                                       double* residuals, double** jacobians,
-                                       double* factor) const = 0;
+  // `rotation`, when not null, must be ProjectedRotation::FromAngleAxis of
+  // parameters[kRotationSlot] (it is then not formed again).
+  virtual bool EvaluateWithBasisFactor(
+      double const* const* parameters, double* residuals, double** jacobians,
+      double* factor, const ProjectedRotation* rotation) const = 0;
 };
 
 template <int kNumBases>
@@ -79,12 +107,13 @@ class ReprojectionCostFunction final : public ceres::CostFunction,
 
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
-    return EvaluateWithBasisFactor(parameters, residuals, jacobians, nullptr);
+    return EvaluateWithBasisFactor(parameters, residuals, jacobians, nullptr,
+                                   nullptr);
   }
 
-  bool EvaluateWithBasisFactor(double const* const* parameters,
-                               double* residuals, double** jacobians,
-                               double* factor) const override {
+  bool EvaluateWithBasisFactor(
+      double const* const* parameters, double* residuals, double** jacobians,
+      double* factor, const ProjectedRotation* rotation) const override {
     // Eigen forbids a row-major 2 × 1 type; for K = 1 both layouts agree.
     using RowMajor2xK =
         Eigen::Matrix<double, 2, kNumBases,
@@ -96,18 +125,12 @@ class ReprojectionCostFunction final : public ceres::CostFunction,
     const double scale = with_scale_ ? parameters[4][0] : 1.0;
     const Eigen::Vector3d point = basis * weights;
 
-    // R and ∂R/∂ω_i: dual numbers on the three angle-axis components only.
-    using Jet3 = ceres::Jet<double, 3>;
-    const Jet3 omega[3] = {Jet3(parameters[0][0], 0), Jet3(parameters[0][1], 1),
-                           Jet3(parameters[0][2], 2)};
-    Jet3 rotation_jet[9];  // column-major
-    ceres::AngleAxisToRotationMatrix(omega, rotation_jet);
-    Eigen::Matrix<double, 2, 3> projection;  // Π R
-    for (int col = 0; col < 3; ++col) {
-      for (int row = 0; row < 2; ++row) {
-        projection(row, col) = rotation_jet[3 * col + row].a;
-      }
-    }
+    const ProjectedRotation formed =
+        rotation == nullptr
+            ? ProjectedRotation::FromAngleAxis(parameters[kRotationSlot])
+            : ProjectedRotation();
+    const ProjectedRotation& rot = rotation == nullptr ? formed : *rotation;
+    const Eigen::Matrix<double, 2, 3>& projection = rot.projection;
     const Eigen::Vector2d projected = projection * point;
     const Eigen::Map<const Eigen::Vector2d> translation(parameters[1]);
     Eigen::Map<Eigen::Vector2d> residual(residuals);
@@ -123,11 +146,7 @@ class ReprojectionCostFunction final : public ceres::CostFunction,
       Eigen::Map<Eigen::Matrix<double, 2, 3, Eigen::RowMajor>> d_rotation(
           jacobians[0]);
       for (int i = 0; i < 3; ++i) {
-        for (int row = 0; row < 2; ++row) {
-          d_rotation(row, i) = scaled * (rotation_jet[row].v[i] * point[0] +
-                                         rotation_jet[3 + row].v[i] * point[1] +
-                                         rotation_jet[6 + row].v[i] * point[2]);
-        }
+        d_rotation.col(i) = scaled * (rot.derivative[i] * point);
       }
     }
     if (jacobians[1] != nullptr) {

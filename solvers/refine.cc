@@ -133,7 +133,8 @@ bool SolveWithStructuredSolver(const SolverOptions& options,
          << " -> " << result.final_cost << ", " << result.message << ", "
          << result.total_seconds << " s (evaluation " << result.evaluate_seconds
          << " s, preconditioner " << result.preconditioner_seconds
-         << " s, conjugate gradients " << result.cg_seconds << " s)";
+         << " s, conjugate gradients " << result.cg_seconds
+         << " s; set-up before it " << result.setup_seconds << " s)";
   summary->ceres_report = report.str();
   VLOG(1) << "refine: " << summary->ceres_report;
   return true;
@@ -197,6 +198,8 @@ Status Refine(const ProblemOptions& problem, const SolverOptions& solver,
   const double build_seconds = SecondsSince(start);
   NRSFM_RETURN_IF_ERROR(SolveProblem(solver, &builder, summary));
   summary->build_seconds += build_seconds;
+  VLOG(1) << "refine: problem built in " << build_seconds << " s, solved in "
+          << SecondsSince(start) - build_seconds << " s";
   summary->seconds = SecondsSince(start);
   return Status::OK();
 }

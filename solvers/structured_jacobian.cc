@@ -60,10 +60,41 @@ StructuredJacobian::StructuredJacobian(const StructuredBlocks& blocks,
   jacobian_.assign(blocks_.jacobian_size, 0.0);
   factors_.assign(blocks_.factors_size, 0.0);
   r_.setZero(blocks_.num_rows);
+  plus_jacobians_.resize(blocks_.blocks.size());
+  rotation_of_block_.assign(blocks_.blocks.size(), -1);
+  for (const Residual& r : blocks_.residuals) {
+    if (r.basis_factor == nullptr) continue;
+    const int block = r.slot_block[BasisJacobianFactor::kRotationSlot];
+    if (block < 0 || rotation_of_block_[block] >= 0) continue;
+    rotation_of_block_[block] = static_cast<int>(rotation_blocks_.size());
+    rotation_blocks_.push_back(block);
+  }
+  rotations_.resize(rotation_blocks_.size());
+}
+
+void StructuredJacobian::FormSharedDerivatives(bool with_jacobian) {
+  const int num_blocks =
+      with_jacobian ? static_cast<int>(blocks_.blocks.size()) : 0;
+  ParallelFor(num_blocks, num_threads_, kGrain, [&](int begin, int end) {
+    for (int i = begin; i < end; ++i) {
+      const Block& b = blocks_.blocks[i];
+      if (b.manifold == nullptr) continue;
+      plus_jacobians_[i].resize(b.ambient, b.size);
+      b.manifold->PlusJacobian(b.values, plus_jacobians_[i].data());
+    }
+  });
+  const int num_rotations = static_cast<int>(rotation_blocks_.size());
+  ParallelFor(num_rotations, num_threads_, kGrain, [&](int begin, int end) {
+    for (int i = begin; i < end; ++i) {
+      rotations_[i] = ProjectedRotation::FromAngleAxis(
+          blocks_.blocks[rotation_blocks_[i]].values);
+    }
+  });
 }
 
 bool StructuredJacobian::Evaluate(bool with_jacobian, double* cost) {
   const int n = static_cast<int>(blocks_.residuals.size());
+  FormSharedDerivatives(with_jacobian);
   std::vector<double> partial(kReductionPieces, 0.0);
   std::vector<char> ok(kReductionPieces, 1);
   ParallelForPieces(
@@ -87,13 +118,18 @@ bool StructuredJacobian::Evaluate(bool with_jacobian, double* cost) {
               jacobians[k] = ambient[k].data();
             }
           }
-          const bool evaluated =
-              r.basis_factor != nullptr && store
-                  ? r.basis_factor->EvaluateWithBasisFactor(
-                        r.parameters.data(), residual, jacobians.data(),
-                        factors_.data() + r.factor)
-                  : r.cost->Evaluate(r.parameters.data(), residual,
-                                     store ? jacobians.data() : nullptr);
+          bool evaluated;
+          if (r.basis_factor != nullptr) {
+            const int block = r.slot_block[BasisJacobianFactor::kRotationSlot];
+            evaluated = r.basis_factor->EvaluateWithBasisFactor(
+                r.parameters.data(), residual,
+                store ? jacobians.data() : nullptr,
+                store ? factors_.data() + r.factor : nullptr,
+                block >= 0 ? &rotations_[rotation_of_block_[block]] : nullptr);
+          } else {
+            evaluated = r.cost->Evaluate(r.parameters.data(), residual,
+                                         store ? jacobians.data() : nullptr);
+          }
           if (!evaluated) {
             ok[worker] = 0;
             return;
@@ -109,9 +145,7 @@ bool StructuredJacobian::Evaluate(bool with_jacobian, double* cost) {
               if (b.manifold == nullptr) {
                 out = in;
               } else {
-                RowMatrix plus(b.ambient, b.size);
-                b.manifold->PlusJacobian(b.values, plus.data());
-                out.noalias() = in * plus;
+                out.noalias() = in * plus_jacobians_[r.slot_block[k]];
               }
             }
           }

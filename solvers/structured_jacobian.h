@@ -103,6 +103,9 @@ class StructuredJacobian {
 
  private:
   double* MutableJ(const Residual& r) { return jacobian_.data() + r.jac; }
+  // rotations_ (and plus_jacobians_ when with_jacobian) at the blocks'
+  // current values.
+  void FormSharedDerivatives(bool with_jacobian);
   // The residuals of the two Schur-complement passes: those in no grid, or
   // null (all) when there is no grid.
   const std::vector<int>* PassResiduals() const {
@@ -115,6 +118,14 @@ class StructuredJacobian {
   std::vector<double>
       factors_;  // A of the residuals with a basis_factor, 6 each
   Eigen::VectorXd r_;
+  // Formed once per Evaluate() for every residual block that shares them: the
+  // PlusJacobian of each block with a manifold (indexed by Block, empty for the
+  // others), and the ProjectedRotation of each rotation block of a reprojection
+  // residual (rotation_of_block_[Block] indexes rotations_, -1 for the others).
+  std::vector<RowMatrix> plus_jacobians_;
+  std::vector<int> rotation_blocks_;
+  std::vector<int> rotation_of_block_;
+  std::vector<ProjectedRotation> rotations_;
 };
 
 template <typename Body>

@@ -149,6 +149,9 @@ bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
   for (double* values : layout.eliminated) add(values, true, -1);
   const int num_groups = static_cast<int>(layout.groups.size());
 
+  // `index` gets the constant blocks too (-1) as they are met, so that each
+  // is asked of the problem once; `last` holds per slot the last block met.
+  std::vector<std::pair<const double*, int>> last;
   std::vector<ceres::ResidualBlockId> ids;
   problem->GetResidualBlocks(&ids);
   s->residuals.reserve(ids.size());
@@ -164,16 +167,24 @@ bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
     r.row = s->num_rows;
     s->num_rows += r.m;
     problem->GetParameterBlocksForResidualBlock(id, &r.parameters);
-    for (double* values : r.parameters) {
-      int block = -1;
-      if (!problem->IsParameterBlockConstant(values)) {
+    if (last.size() < r.parameters.size())
+      last.resize(r.parameters.size(), {nullptr, -1});
+    for (std::size_t k = 0; k < r.parameters.size(); ++k) {
+      double* values = r.parameters[k];
+      // Consecutive residual blocks often share a block in the same slot.
+      if (last[k].first != values) {
         const auto it = index.find(values);
-        if (it == index.end()) {
+        if (it != index.end()) {
+          last[k] = {values, it->second};
+        } else if (problem->IsParameterBlockConstant(values)) {
+          index.emplace(values, -1);
+          last[k] = {values, -1};
+        } else {
           *error = "a free parameter block of the problem is not in the layout";
           return false;
         }
-        block = it->second;
       }
+      const int block = last[k].second;
       r.slot_block.push_back(block);
       r.slot_jcol.push_back(r.width);
       if (block < 0) continue;

@@ -252,6 +252,7 @@ bool SolveStructured(const StructuredSolverOptions& options,
                      const StructuredLayout& layout, ceres::Problem* problem,
                      StructuredSolverSummary* summary, std::string* error) {
   *summary = StructuredSolverSummary();
+  const Clock::time_point start = Clock::now();
   StructuredBlocks blocks;
   if (!structured::LayOutBlocks(layout, problem, &blocks, error)) return false;
   VLOG(2) << "structured layout: " << blocks.residuals.size()
@@ -260,7 +261,10 @@ bool SolveStructured(const StructuredSolverOptions& options,
           << blocks.coupling_residuals.size()
           << " other blocks that couple points";
   Solver solver(options, blocks);
-  return solver.Run(summary);
+  const double setup_seconds = SecondsSince(start);
+  const bool ran = solver.Run(summary);
+  summary->setup_seconds = setup_seconds;
+  return ran;
 }
 
 }  // namespace nrsfm

@@ -84,6 +84,9 @@ struct StructuredSolverSummary {
   int cg_iterations = 0;  // in all
   double evaluate_seconds = 0.0, preconditioner_seconds = 0.0, cg_seconds = 0.0,
          total_seconds = 0.0;
+  // Reading the problem into the solver's layout and allocating its buffers
+  // (before the iterations; not in total_seconds).
+  double setup_seconds = 0.0;
 };
 
 // Solves in place (the blocks hold the result). Returns false with `error` set

@@ -4,6 +4,7 @@
 #include <ceres/numeric_diff_options.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <random>
@@ -246,12 +247,26 @@ TEST(ReprojectionError, BasisJacobianIsWeightTimesTheReportedFactor) {
       const std::vector<const double*> parameters = b.Pointers(with_scale);
       ASSERT_TRUE(cost->Evaluate(parameters.data(), r_full, full_ptr.data()));
       ASSERT_TRUE(factor_source->EvaluateWithBasisFactor(
-          parameters.data(), r_partial, partial_ptr.data(), a));
+          parameters.data(), r_partial, partial_ptr.data(), a, nullptr));
       EXPECT_EQ(r_full[0], r_partial[0]);
       EXPECT_EQ(r_full[1], r_partial[1]);
       for (size_t i = 0; i < sizes.size(); ++i) {
         if (i == BasisJacobianFactor::kBasisSlot) continue;
         EXPECT_EQ(full[i], partial[i]) << "block " << i;
+      }
+      // The rotation's derivatives formed by the caller: the same bits.
+      const ProjectedRotation rotation = ProjectedRotation::FromAngleAxis(
+          parameters[BasisJacobianFactor::kRotationSlot]);
+      for (std::vector<double>& block : partial) block.assign(block.size(), 9);
+      double r_given[2], a_given[6];
+      ASSERT_TRUE(factor_source->EvaluateWithBasisFactor(
+          parameters.data(), r_given, partial_ptr.data(), a_given, &rotation));
+      EXPECT_EQ(r_full[0], r_given[0]);
+      EXPECT_EQ(r_full[1], r_given[1]);
+      EXPECT_TRUE(std::equal(a, a + 6, a_given));
+      for (size_t i = 0; i < sizes.size(); ++i) {
+        if (i == BasisJacobianFactor::kBasisSlot) continue;
+        EXPECT_EQ(full[i], partial[i]) << "block " << i << " (rotation given)";
       }
       const double* weights = parameters[BasisJacobianFactor::kWeightsSlot];
       const std::vector<double>& jb = full[BasisJacobianFactor::kBasisSlot];
