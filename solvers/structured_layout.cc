@@ -167,6 +167,8 @@ bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
     r.row = s->num_rows;
     s->num_rows += r.m;
     problem->GetParameterBlocksForResidualBlock(id, &r.parameters);
+    r.slot_block.reserve(r.parameters.size());
+    r.slot_jcol.reserve(r.parameters.size());
     if (last.size() < r.parameters.size())
       last.resize(r.parameters.size(), {nullptr, -1});
     for (std::size_t k = 0; k < r.parameters.size(); ++k) {
