@@ -244,7 +244,7 @@ Status RotationsFromTriple(const Measurements& centered, int num_bases,
         << num_bases << ", F = " << f << ", P = " << centered.num_points;
     return Status::Error(msg.str());
   }
-  const ThinSvd svd = ComputeThinSvd(centered.W, SingularVectors::kLeft);
+  const ThinSvd svd = ComputeTopSvd(centered.W, r, SingularVectors::kLeft);
   NRSFM_RETURN_IF_ERROR(CheckRotationObservable(svd.singular_values)
                             .WithContext("corrective triple"));
   const Eigen::MatrixXd q_hat =

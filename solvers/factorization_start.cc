@@ -33,7 +33,7 @@ Status FactorizationStart(const Measurements& centered, int num_bases,
 
   ThinSvd computed;
   if (given_svd == nullptr) {
-    computed = ComputeThinSvd(centered.W, SingularVectors::kBoth);
+    computed = ComputeTopSvd(centered.W, r, SingularVectors::kBoth);
   }
   const ThinSvd& svd = given_svd != nullptr ? *given_svd : computed;
   CHECK_GE(svd.u.cols(), r);

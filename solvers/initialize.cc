@@ -184,12 +184,9 @@ std::shared_ptr<const ThinSvd> CameraZeroSvd(const StartOptions& options,
   if (cache == nullptr) return nullptr;
   const int columns = 3 * options.num_bases;
   return cache->Svd(CenteredKey(options, data), [&camera0, columns] {
-    ThinSvd svd = ComputeThinSvd(camera0.W, SingularVectors::kBoth);
-    if (svd.u.cols() > columns) {
-      svd.u = svd.u.leftCols(columns).eval();
-      svd.v = svd.v.leftCols(columns).eval();
-    }
-    return svd;
+    const int count = static_cast<int>(std::min<Eigen::Index>(
+        columns, std::min(camera0.W.rows(), camera0.W.cols())));
+    return ComputeTopSvd(camera0.W, count, SingularVectors::kBoth);
   });
 }
 

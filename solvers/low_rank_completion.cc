@@ -226,7 +226,7 @@ Status FitLowRankAffine(const Measurements& measurements, int rank,
   const double data_rms =
       std::sqrt(filled.squaredNorm() / (measurements.NumVisible() + 1e-300));
   Eigen::MatrixXd b =
-      ComputeThinSvd(filled, SingularVectors::kRight).v.leftCols(r).transpose();
+      ComputeTopSvd(filled, r, SingularVectors::kRight).v.transpose();
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(num_rows, r);
   Eigen::VectorXd t = Eigen::VectorXd::Zero(num_rows);
   NormalizeGauge(&a, &t, &b);  // a, t are set by the first row step
