@@ -13,9 +13,10 @@ namespace nrsfm {
 enum class SingularVectors { kNone, kLeft, kRight, kBoth };
 
 struct ThinSvd {
-  Eigen::VectorXd singular_values;  // min(m, n) values, decreasing, ≥ 0
-  Eigen::MatrixXd u;  // m × min(m, n) with kLeft / kBoth, else empty
-  Eigen::MatrixXd v;  // n × min(m, n) with kRight / kBoth, else empty
+  Eigen::VectorXd
+      singular_values;  // min(m, n) values (ComputeTopSvd: count), decreasing
+  Eigen::MatrixXd u;    // m × min(m, n) with kLeft / kBoth, else empty
+  Eigen::MatrixXd v;    // n × min(m, n) with kRight / kBoth, else empty
 };
 
 // Divide and conquer (Eigen::BDCSVD), for large matrices (e.g. the 2F × P

@@ -428,7 +428,7 @@ Status TextWriter::Open(const std::string& path) {
     return Status::Error(path +
                          ": cannot create the file: " + std::strerror(errno));
   }
-  failed_ = false;
+  error_.clear();
   buffer_.clear();
   buffer_.reserve(kBufferBytes + 256);
   return Status::OK();
@@ -471,21 +471,22 @@ void TextWriter::FlushIfFull() {
 }
 
 bool TextWriter::Flush() {
-  CHECK(file_ != nullptr) << "TextWriter written before Open()";
-  if (!failed_ && !buffer_.empty() &&
+  CHECK(file_ != nullptr)
+      << "TextWriter written before Open() or after Close()";
+  if (error_.empty() && !buffer_.empty() &&
       std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size())
-    failed_ = true;
+    error_ = std::strerror(errno);
   buffer_.clear();
-  return !failed_;
+  return error_.empty();
 }
 
 Status TextWriter::Close() {
-  const bool flushed = Flush();
-  const bool failed = !flushed || std::ferror(file_) != 0;
-  const bool close_failed = std::fclose(file_) != 0;
+  Flush();
+  if (error_.empty() && std::fflush(file_) != 0) error_ = std::strerror(errno);
+  if (std::fclose(file_) != 0 && error_.empty()) error_ = std::strerror(errno);
   file_ = nullptr;
-  if (failed || close_failed)
-    return Status::Error(path_ + ": error while writing the file");
+  if (!error_.empty())
+    return Status::Error(path_ + ": error while writing the file: " + error_);
   return Status::OK();
 }
 

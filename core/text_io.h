@@ -23,9 +23,12 @@ namespace nrsfm {
 
 // A text file written through a buffer, numbers in the shortest decimal form
 // that reads back to the same double (std::to_chars: "0.1", "-2.5e-07",
-// "3"; as exact as %.17g and several times faster to format). Every
-// append is a no-op after a write error; Close() reports it, naming the
-// file. Destroying an unclosed writer closes the file and drops any error.
+// "3"; as exact as %.17g and several times faster to format). After a
+// write error the rest is dropped; Close() reports the error, naming the
+// file and the reason. Destroying a writer that was opened and not closed
+// closes the file without writing what is still buffered (a result that was
+// not Close()d is incomplete anyway). Open() once and Close() once (a CHECK
+// on misuse).
 class TextWriter {
  public:
   TextWriter() = default;
@@ -50,7 +53,7 @@ class TextWriter {
   std::string path_;
   std::FILE* file_ = nullptr;
   std::string buffer_;
-  bool failed_ = false;
+  std::string error_;  // the first write error's reason, "" = none
 };
 
 // Reads a matrix, one row per line; every row must have the same number of

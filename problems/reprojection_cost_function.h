@@ -146,7 +146,12 @@ class ReprojectionCostFunction final : public ceres::CostFunction,
       Eigen::Map<Eigen::Matrix<double, 2, 3, Eigen::RowMajor>> d_rotation(
           jacobians[0]);
       for (int i = 0; i < 3; ++i) {
-        d_rotation.col(i) = scaled * (rot.derivative[i] * point);
+        const Eigen::Matrix<double, 2, 3>& d = rot.derivative[i];
+        for (int row = 0; row < 2; ++row) {
+          d_rotation(row, i) =
+              scaled * (d(row, 0) * point[0] + d(row, 1) * point[1] +
+                        d(row, 2) * point[2]);
+        }
       }
     }
     if (jacobians[1] != nullptr) {

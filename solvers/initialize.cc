@@ -174,6 +174,13 @@ std::string CenteredKey(const StartOptions& options, const Measurements& data) {
   return key.str();
 }
 
+// The key of their top-3K SVD: the tracks' key and the count (ComputeTopSvd's
+// vectors depend on how many are asked for).
+std::string SvdKey(const StartOptions& options, const Measurements& data) {
+  return CenteredKey(options, data) + ", top " +
+         std::to_string(3 * options.num_bases);
+}
+
 // The SVD the factorization and rigid starts begin with, from `cache` when
 // there is one (truncated to the top 3K' singular vectors there), else null
 // (the start computes it).
@@ -183,7 +190,7 @@ std::shared_ptr<const ThinSvd> CameraZeroSvd(const StartOptions& options,
                                              StartCache* cache) {
   if (cache == nullptr) return nullptr;
   const int columns = 3 * options.num_bases;
-  return cache->Svd(CenteredKey(options, data), [&camera0, columns] {
+  return cache->Svd(SvdKey(options, data), [&camera0, columns] {
     const int count = static_cast<int>(std::min<Eigen::Index>(
         columns, std::min(camera0.W.rows(), camera0.W.cols())));
     return ComputeTopSvd(camera0.W, count, SingularVectors::kBoth);

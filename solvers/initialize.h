@@ -95,13 +95,13 @@ struct StartSummary {
 // Work the starts of one set of measurements share, each piece computed
 // once: the low-rank completions of step 1 (also the prior rule's,
 // solvers/prior_rule.h) and the thin SVD of camera 0's centred tracks that
-// the factorization and rigid starts begin with (its top 3K' singular
-// vectors, all singular values). Reconstruct() keeps one for its prior rule
-// and its starts; the starts it gives are the same, bit for bit, as
-// without it. Safe to use from several threads. `measurements` must outlive
-// it, and it may only be given to Initialize() with these measurements. The
-// completions run on up to `num_threads` threads (the result does not depend
-// on it).
+// the factorization and rigid starts begin with (ComputeTopSvd: its top
+// 3K' singular values and vectors, one entry per 3K'). Reconstruct() keeps one
+// for its prior rule and its starts; the starts it gives are the same, bit for
+// bit, as without it. Safe to use from several threads. `measurements` must
+// outlive it, and it may only be given to Initialize() with these measurements.
+// The completions run on up to `num_threads` threads (the result does not
+// depend on it).
 class StartCache {
  public:
   explicit StartCache(const Measurements& measurements, int num_threads = 1)

@@ -10,7 +10,7 @@ namespace nrsfm {
 namespace {
 
 // The state both refinements and the calling thread share; every field is
-// guarded by `mutex`.
+// guarded by `mutex_`.
 class Race {
  public:
   Race(bool concurrent, bool asks, bool stop)

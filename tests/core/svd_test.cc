@@ -80,11 +80,29 @@ TEST(TopSvd, MatchesTheFullSvdOnWideAndTallMatrices) {
   sigma << 1e3, 4e2, 1e2, 3e1, 1.0, 1e-2, 1e-3, 1e-4;
   // 2^20 entries or more: the Gram route.
   const Eigen::MatrixXd wide = Planted(64, 16500, sigma, 1e-9, &rng);
-  SCOPED_TRACE("wide");
-  ExpectTopSvdMatches(wide, 8, 1e-10, 1e-8);
-  ExpectTopSvdMatches(wide, 3, 1e-12, 1e-12);
-  SCOPED_TRACE("tall");
-  ExpectTopSvdMatches(wide.transpose(), 8, 1e-10, 1e-8);
+  {
+    SCOPED_TRACE("wide");
+    ExpectTopSvdMatches(wide, 8, 1e-10, 1e-8);
+    ExpectTopSvdMatches(wide, 3, 1e-12, 1e-12);
+  }
+  {
+    SCOPED_TRACE("tall");
+    ExpectTopSvdMatches(wide.transpose(), 8, 1e-10, 1e-8);
+  }
+  // Two counts on one matrix: the same leading values and subspace (not
+  // the same bits: the starts' cache keys its SVD by the count), and the
+  // values alone.
+  const ThinSvd three = ComputeTopSvd(wide, 3, SingularVectors::kBoth);
+  const ThinSvd eight = ComputeTopSvd(wide, 8, SingularVectors::kBoth);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(three.singular_values(i), eight.singular_values(i),
+                1e-12 * eight.singular_values(i));
+  }
+  EXPECT_LT(SubspaceGap(eight.u.leftCols(3), three.u), 1e-12);
+  const ThinSvd values = ComputeTopSvd(wide, 8, SingularVectors::kNone);
+  EXPECT_EQ(values.u.size(), 0);
+  EXPECT_EQ(values.v.size(), 0);
+  EXPECT_EQ(values.singular_values, eight.singular_values);
 }
 
 TEST(TopSvd, RankDeficientMatrixGetsZeroTrailingValues) {
@@ -111,6 +129,15 @@ TEST(TopSvd, IsTheFullSvdForSmallMatricesOrMostOfTheSpectrum) {
   EXPECT_EQ(top.singular_values, full.singular_values.head(6));
   EXPECT_EQ(top.u, full.u.leftCols(6));
   EXPECT_EQ(top.v, full.v.leftCols(6));
+  // A large matrix of which more than a quarter of the spectrum is wanted.
+  Eigen::VectorXd many(20);
+  for (int i = 0; i < 20; ++i) many(i) = 100.0 / (1 + i);
+  const Eigen::MatrixXd large = Planted(64, 16500, many, 1e-6, &rng);
+  const ThinSvd large_full = ComputeThinSvd(large, SingularVectors::kBoth);
+  const ThinSvd large_top = ComputeTopSvd(large, 17, SingularVectors::kBoth);
+  EXPECT_EQ(large_top.singular_values, large_full.singular_values.head(17));
+  EXPECT_EQ(large_top.u, large_full.u.leftCols(17));
+  EXPECT_EQ(large_top.v, large_full.v.leftCols(17));
   // A small matrix, however few values are wanted.
   const ThinSvd few = ComputeTopSvd(a, 2, SingularVectors::kBoth);
   EXPECT_EQ(few.u, full.u.leftCols(2));
