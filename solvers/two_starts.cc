@@ -84,7 +84,7 @@ class Race {
       while (true) {
         changed_.wait(lock, [&] {
           return !lanes_[c].reports.empty() || lanes_[c].ended ||
-                 asked_ < generation_;
+                 (asks_ && asked_ < generation_);
         });
         const int generation = generation_;
         std::deque<IterationReport> batch;
