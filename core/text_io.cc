@@ -470,14 +470,13 @@ void TextWriter::FlushIfFull() {
   if (buffer_.size() >= kBufferBytes) Flush();
 }
 
-bool TextWriter::Flush() {
+void TextWriter::Flush() {
   CHECK(file_ != nullptr)
       << "TextWriter written before Open() or after Close()";
   if (error_.empty() && !buffer_.empty() &&
       std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size())
     error_ = std::strerror(errno);
   buffer_.clear();
-  return error_.empty();
 }
 
 Status TextWriter::Close() {

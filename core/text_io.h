@@ -48,7 +48,7 @@ class TextWriter {
 
  private:
   void FlushIfFull();
-  bool Flush();
+  void Flush();  // writes the buffer out (unless an error came before)
 
   std::string path_;
   std::FILE* file_ = nullptr;

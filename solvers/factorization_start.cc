@@ -33,7 +33,7 @@ Status FactorizationStart(const Measurements& centered, int num_bases,
 
   ThinSvd computed;
   if (given_svd == nullptr) {
-    computed = ComputeTopSvd(centered.W, r, SingularVectors::kBoth);
+    computed = StartSvd(centered.W, k);
   }
   const ThinSvd& svd = given_svd != nullptr ? *given_svd : computed;
   CHECK_GE(svd.u.cols(), r);

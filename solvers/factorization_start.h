@@ -44,9 +44,9 @@ struct FactorizationStartSummary {
 // Fills `model` (Resize'd to F, 1, P, K; zero translations, unit scales).
 // Errors when 3K exceeds 2F or P − 1, when the centred tracks have rank < 3
 // (σ₃ < 1e-6 σ₁: no rotation, or a flat object), or when the metric upgrade
-// fails (too little rotation). `svd`: ComputeTopSvd(centered.W, 3K, kBoth)
-// when the caller has it (the same count gives the same bits as computing it
-// here), else null and it is computed here.
+// fails (too little rotation). `svd`: StartSvd(centered.W, K)
+// (solvers/metric_upgrade.h) when the caller has it, else null and it is
+// computed here.
 Status FactorizationStart(const Measurements& centered, int num_bases,
                           Model* model, FactorizationStartSummary* summary,
                           const ThinSvd* svd = nullptr);

@@ -15,6 +15,7 @@
 #include "core/svd.h"
 #include "solvers/factorization_start.h"
 #include "solvers/low_rank_completion.h"
+#include "solvers/metric_upgrade.h"
 #include "solvers/multi_camera_start.h"
 #include "solvers/rigid_start.h"
 #include "solvers/triple_start.h"
@@ -181,19 +182,16 @@ std::string SvdKey(const StartOptions& options, const Measurements& data) {
          std::to_string(3 * options.num_bases);
 }
 
-// The SVD the factorization and rigid starts begin with, from `cache` when
-// there is one (truncated to the top 3K' singular vectors there), else null
-// (the start computes it).
+// The SVD the factorization and rigid starts begin with (StartSvd), from
+// `cache` when there is one, else null (the start computes it).
 std::shared_ptr<const ThinSvd> CameraZeroSvd(const StartOptions& options,
                                              const Measurements& data,
                                              const Measurements& camera0,
                                              StartCache* cache) {
   if (cache == nullptr) return nullptr;
-  const int columns = 3 * options.num_bases;
-  return cache->Svd(SvdKey(options, data), [&camera0, columns] {
-    const int count = static_cast<int>(std::min<Eigen::Index>(
-        columns, std::min(camera0.W.rows(), camera0.W.cols())));
-    return ComputeTopSvd(camera0.W, count, SingularVectors::kBoth);
+  const int num_bases = options.num_bases;
+  return cache->Svd(SvdKey(options, data), [&camera0, num_bases] {
+    return StartSvd(camera0.W, num_bases);
   });
 }
 

@@ -3,6 +3,7 @@
 #include <glog/logging.h>
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -21,6 +22,12 @@ Eigen::Matrix<double, 1, 6> BilinearRow(const Eigen::RowVector3d& a,
 }
 
 }  // namespace
+
+ThinSvd StartSvd(const Eigen::MatrixXd& w, int num_bases) {
+  const int count = static_cast<int>(std::min<Eigen::Index>(
+      3 * static_cast<Eigen::Index>(num_bases), std::min(w.rows(), w.cols())));
+  return ComputeTopSvd(w, count, SingularVectors::kBoth);
+}
 
 Status CheckRotationObservable(const Eigen::VectorXd& singular_values) {
   if (singular_values.size() < 3 ||

@@ -24,6 +24,7 @@
 #include <Eigen/Core>
 
 #include "core/status.h"
+#include "core/svd.h"
 
 namespace nrsfm {
 
@@ -52,6 +53,13 @@ constexpr double kMinThirdSingularValueRatio = 1e-6;
 // is then unobservable. Noise hides this case (σ₃ is then the noise level);
 // the conditioning test of SolveMetricUpgrade is the second guard.
 Status CheckRotationObservable(const Eigen::VectorXd& singular_values);
+
+// The SVD of the centred 2F × P tracks `w` that the factorization and rigid
+// starts upgrade: ComputeTopSvd(w, min(3K, 2F, P), kBoth). One function for
+// a start's own SVD and the starts' shared one (StartCache,
+// solvers/initialize.h): ComputeTopSvd's vectors depend on the count, so
+// both must ask for the same.
+ThinSvd StartSvd(const Eigen::MatrixXd& w, int num_bases);
 
 // `blocks` is 2N × 3, rows 2n and 2n + 1 the block M_n (N ≥ 3). Errors when
 // the conditioning is below kMinMetricConditioning (no or too little rotation

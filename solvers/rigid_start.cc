@@ -3,7 +3,6 @@
 #include <glog/logging.h>
 
 #include <Eigen/LU>
-#include <algorithm>
 #include <vector>
 
 #include "core/svd.h"
@@ -25,11 +24,7 @@ Status RigidStart(const Measurements& centered, int num_bases,
   // Step 1: Tomasi-Kanade with the metric upgrade.
   ThinSvd computed;
   if (given_svd == nullptr) {
-    // As many vectors as the starts' shared SVD keeps (CameraZeroSvd,
-    // solvers/initialize.cc), so that both paths give the same bits.
-    const int count = static_cast<int>(std::min<Eigen::Index>(
-        3 * k, std::min(centered.W.rows(), centered.W.cols())));
-    computed = ComputeTopSvd(centered.W, count, SingularVectors::kBoth);
+    computed = StartSvd(centered.W, k);
   }
   const ThinSvd& svd = given_svd != nullptr ? *given_svd : computed;
   CHECK_GE(svd.u.cols(), 3);

@@ -35,10 +35,9 @@ struct RigidStartSummary {
 // to be added to the translations removed from `centered`); `seed` seeds the
 // random initial weights. Errors on invalid options, when K < 1, 3 > 2F or
 // P < 4, when the centred tracks have rank < 3 (no rotation or a flat
-// object) or when the metric upgrade fails. `svd`: ComputeTopSvd(
-// centered.W, min(3K, 2F, P), kBoth) when the caller has it (the same count
-// gives the same bits as computing it here), else null and it is computed
-// here.
+// object) or when the metric upgrade fails. `svd`: StartSvd(centered.W, K)
+// (solvers/metric_upgrade.h) when the caller has it, else null and it is
+// computed here.
 // The alternation runs on up to `num_threads` threads; the start does not
 // depend on it.
 Status RigidStart(const Measurements& centered, int num_bases,

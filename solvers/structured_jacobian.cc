@@ -61,33 +61,25 @@ StructuredJacobian::StructuredJacobian(const StructuredBlocks& blocks,
   factors_.assign(blocks_.factors_size, 0.0);
   r_.setZero(blocks_.num_rows);
   plus_jacobians_.resize(blocks_.blocks.size());
-  rotation_of_block_.assign(blocks_.blocks.size(), -1);
+  rotations_.resize(blocks_.blocks.size());
+  is_rotation_.assign(blocks_.blocks.size(), 0);
   for (const Residual& r : blocks_.residuals) {
-    if (r.basis_factor == nullptr) continue;
     const int block = r.slot_block[BasisJacobianFactor::kRotationSlot];
-    if (block < 0 || rotation_of_block_[block] >= 0) continue;
-    rotation_of_block_[block] = static_cast<int>(rotation_blocks_.size());
-    rotation_blocks_.push_back(block);
+    if (r.basis_factor != nullptr && block >= 0) is_rotation_[block] = 1;
   }
-  rotations_.resize(rotation_blocks_.size());
 }
 
 void StructuredJacobian::FormSharedDerivatives(bool with_jacobian) {
-  const int num_blocks =
-      with_jacobian ? static_cast<int>(blocks_.blocks.size()) : 0;
+  const int num_blocks = static_cast<int>(blocks_.blocks.size());
   ParallelFor(num_blocks, num_threads_, kGrain, [&](int begin, int end) {
     for (int i = begin; i < end; ++i) {
       const Block& b = blocks_.blocks[i];
-      if (b.manifold == nullptr) continue;
-      plus_jacobians_[i].resize(b.ambient, b.size);
-      b.manifold->PlusJacobian(b.values, plus_jacobians_[i].data());
-    }
-  });
-  const int num_rotations = static_cast<int>(rotation_blocks_.size());
-  ParallelFor(num_rotations, num_threads_, kGrain, [&](int begin, int end) {
-    for (int i = begin; i < end; ++i) {
-      rotations_[i] = ProjectedRotation::FromAngleAxis(
-          blocks_.blocks[rotation_blocks_[i]].values);
+      if (is_rotation_[i])
+        rotations_[i] = ProjectedRotation::FromAngleAxis(b.values);
+      if (with_jacobian && b.manifold != nullptr) {
+        plus_jacobians_[i].resize(b.ambient, b.size);
+        b.manifold->PlusJacobian(b.values, plus_jacobians_[i].data());
+      }
     }
   });
 }
@@ -125,7 +117,7 @@ bool StructuredJacobian::Evaluate(bool with_jacobian, double* cost) {
                 r.parameters.data(), residual,
                 store ? jacobians.data() : nullptr,
                 store ? factors_.data() + r.factor : nullptr,
-                block >= 0 ? &rotations_[rotation_of_block_[block]] : nullptr);
+                block >= 0 ? &rotations_[block] : nullptr);
           } else {
             evaluated = r.cost->Evaluate(r.parameters.data(), residual,
                                          store ? jacobians.data() : nullptr);

@@ -118,14 +118,13 @@ class StructuredJacobian {
   std::vector<double>
       factors_;  // A of the residuals with a basis_factor, 6 each
   Eigen::VectorXd r_;
-  // Formed once per Evaluate() for every residual block that shares them: the
-  // PlusJacobian of each block with a manifold (indexed by Block, empty for the
-  // others), and the ProjectedRotation of each rotation block of a reprojection
-  // residual (rotation_of_block_[Block] indexes rotations_, -1 for the others).
+  // Formed once per Evaluate() for every residual block that shares them,
+  // indexed by Block: the PlusJacobian of each block with a manifold, and the
+  // ProjectedRotation of each rotation block of a reprojection residual
+  // (is_rotation_); unused entries stay empty.
   std::vector<RowMatrix> plus_jacobians_;
-  std::vector<int> rotation_blocks_;
-  std::vector<int> rotation_of_block_;
   std::vector<ProjectedRotation> rotations_;
+  std::vector<char> is_rotation_;
 };
 
 template <typename Body>
