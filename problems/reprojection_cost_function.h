@@ -73,6 +73,8 @@ class BasisJacobianFactor {
 
   virtual ~BasisJacobianFactor() = default;
   virtual int num_bases() const = 0;
+  // sqrt(w_obs), the residual's weight.
+  virtual double sqrt_weight() const = 0;
   // Evaluate() that also writes A (row-major 2 × 3) to `factor` when it is
   // not null; jacobians[kBasisSlot] may be null then (not computed).
   // `rotation`, when not null, must be ProjectedRotation::FromAngleAxis of
@@ -104,6 +106,7 @@ class ReprojectionCostFunction final : public ceres::CostFunction,
   }
 
   int num_bases() const override { return num_bases_; }
+  double sqrt_weight() const override { return sqrt_weight_; }
 
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {

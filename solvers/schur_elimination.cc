@@ -194,9 +194,12 @@ void SchurElimination::ComputeGram() {
   ParallelFor(
       static_cast<int>(blocks_.eliminated_blocks.size()), num_threads_,
       kEliminatedGrain, [&](int begin, int end) {
-        RowMatrix stacked, outer, products, sums;
+        RowMatrix stacked, outer, products;
+        Eigen::MatrixXd sums;
+        const ReprojectionPanel* panel = jacobian_.panel();
         for (int k = begin; k < end; ++k) {
-          const Block& b = blocks_.blocks[blocks_.eliminated_blocks[k]];
+          const int b_index = blocks_.eliminated_blocks[k];
+          const Block& b = blocks_.blocks[b_index];
           Eigen::MatrixXd& c = gram_[k];
           c.setZero(b.size, b.size);
           // Residuals with a basis factor add (l lᵀ) ⊗ (Aᵀ A), l the frame's
@@ -204,10 +207,14 @@ void SchurElimination::ComputeGram() {
           // (`outer`) and of the K(K+1)/2 products l_a l_b, a ≥ b
           // (`products`), and their product outerᵀ products (one matrix
           // product instead of a small update per residual).
+          // The panel's residuals: their part at once (AddGram).
+          const auto in_panel = [panel](const Ref& ref) {
+            return panel != nullptr && panel->Holds(ref.residual);
+          };
           int rows = 0, factored = 0;
           for (const Ref& ref : blocks_.eliminated_refs[k]) {
             const Residual& r = blocks_.residuals[ref.residual];
-            if (r.basis_factor != nullptr) ++factored;
+            if (r.basis_factor != nullptr && !in_panel(ref)) ++factored;
           }
           const int num_bases = b.size / 3;
           const int num_pairs = num_bases * (num_bases + 1) / 2;
@@ -218,6 +225,7 @@ void SchurElimination::ComputeGram() {
           factored = 0;
           for (const Ref& ref : blocks_.eliminated_refs[k]) {
             const Residual& r = blocks_.residuals[ref.residual];
+            if (in_panel(ref)) continue;
             if (r.gram) {
               const int slot = r.EliminatedSlot();
               r.product->AddGram(r.parameters.data(), slot, slot, c.data(),
@@ -246,18 +254,9 @@ void SchurElimination::ComputeGram() {
           }
           if (factored > 0) {
             sums.noalias() = outer.transpose() * products;
-            for (int q = 0, kb = 0; kb < num_bases; ++kb) {
-              for (int ka = kb; ka < num_bases; ++ka, ++q) {
-                for (int e = 0, j = 0; j < 3; ++j) {
-                  for (int i = j; i < 3; ++i, ++e) {
-                    const double v = sums(e, q);
-                    c(3 * ka + i, 3 * kb + j) += v;
-                    if (ka != kb && i != j) c(3 * ka + j, 3 * kb + i) += v;
-                  }
-                }
-              }
-            }
+            AddKroneckerGram(sums.data(), num_bases, &c);
           }
+          if (panel != nullptr) panel->AddGram(b_index, &c);
           if (rows > 0) {
             // The block's stored Jacobian rows stacked, then one
             // symmetric rank update (the small products one by one
@@ -407,20 +406,28 @@ void SchurElimination::AddGridReduced(int g, const Eigen::VectorXd& v,
 void SchurElimination::ReducedRightHandSide(
     const Eigen::VectorXd& gradient_reduced,
     const Eigen::VectorXd& gradient_eliminated, Eigen::VectorXd* rhs) const {
-  Eigen::VectorXd solved, rows;
+  // J_fᵀ J_p C̃⁻¹ g_p = −J_fᵀ (−J_p C̃⁻¹ g_p): the second pass of
+  // ApplyReduced() without the first.
+  Eigen::VectorXd solved, out;
   SolveEliminated(gradient_eliminated, &solved);
-  jacobian_.MultiplyJ(nullptr, &solved, &rows);
-  jacobian_.MultiplyJtReduced(rows, rhs);
-  *rhs -= gradient_reduced;
+  jacobian_.SubtractJEliminatedAndMultiplyJtReduced(solved, nullptr, &out);
+  const Eigen::VectorXd none = Eigen::VectorXd::Zero(blocks_.num_reduced);
+  for (std::size_t g = 0; g < blocks_.grids.size(); ++g) {
+    AddGridReduced(static_cast<int>(g), none, solved, &out);
+  }
+  *rhs = -out - gradient_reduced;
 }
 
 void SchurElimination::BackSubstitute(
     const Eigen::VectorXd& step_reduced,
     const Eigen::VectorXd& gradient_eliminated,
     Eigen::VectorXd* step_eliminated) const {
-  Eigen::VectorXd jx, projected;
-  jacobian_.MultiplyJ(&step_reduced, nullptr, &jx);
-  jacobian_.MultiplyJtEliminated(jx, &projected);
+  // J_pᵀ J_f δ_f: the first pass of ApplyReduced().
+  Eigen::VectorXd rows, projected;
+  jacobian_.MultiplyJReducedAndJtEliminated(step_reduced, &rows, &projected);
+  for (std::size_t g = 0; g < blocks_.grids.size(); ++g) {
+    AddGridProjected(static_cast<int>(g), step_reduced, &projected);
+  }
   SolveEliminated(-gradient_eliminated - projected, step_eliminated);
 }
 

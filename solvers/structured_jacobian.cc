@@ -52,6 +52,14 @@ class SlotPointers {
   double** data_;
 };
 
+// Whether the panel's products (every entry of the V × P panel, observed
+// or not) cost less than the passes over its residuals one by one: measured
+// per conjugate-gradient iteration (docs/performance.md), an entry of the
+// panel costs about a fifth of a residual block.
+bool PanelCostsLess(long long entries, int views, int points) {
+  return 5 * entries >= static_cast<long long>(views) * points;
+}
+
 }  // namespace
 
 StructuredJacobian::StructuredJacobian(const StructuredBlocks& blocks,
@@ -66,6 +74,16 @@ StructuredJacobian::StructuredJacobian(const StructuredBlocks& blocks,
   for (const Residual& r : blocks_.residuals) {
     const int block = r.slot_block[BasisJacobianFactor::kRotationSlot];
     if (r.basis_factor != nullptr && block >= 0) is_rotation_[block] = 1;
+  }
+  if (panel_.Build(blocks_) &&
+      PanelCostsLess(panel_.num_entries(), panel_.num_views(),
+                     panel_.num_points())) {
+    use_panel_ = true;
+    for (int i = 0; i < static_cast<int>(blocks_.residuals.size()); ++i) {
+      if (panel_.Holds(i)) continue;
+      non_panel_.push_back(i);
+      if (!blocks_.residuals[i].in_grid) pass_residuals_.push_back(i);
+    }
   }
 }
 
@@ -175,6 +193,7 @@ bool StructuredJacobian::Evaluate(bool with_jacobian, double* cost) {
         partial[worker] += sum;
       });
   if (std::find(ok.begin(), ok.end(), 0) != ok.end()) return false;
+  if (with_jacobian && use_panel_) panel_.Update(num_threads_);
   *cost = 0.0;
   for (double p : partial) *cost += p;
   return std::isfinite(*cost);
@@ -296,6 +315,57 @@ void StructuredJacobian::MultiplyJ(const Eigen::VectorXd* reduced,
               });
 }
 
+void StructuredJacobian::Gradient(Eigen::VectorXd* reduced,
+                                  Eigen::VectorXd* eliminated) const {
+  const std::vector<int>* only = use_panel_ ? &non_panel_ : nullptr;
+  SumOverResiduals(
+      blocks_.num_reduced,
+      [&](int i, double* sum) {
+        const Residual& r = blocks_.residuals[i];
+        AddResidualJty(r, r_.data() + r.row, sum, nullptr);
+      },
+      reduced, only);
+  SumOverResiduals(
+      blocks_.num_eliminated,
+      [&](int i, double* sum) {
+        const Residual& r = blocks_.residuals[i];
+        AddResidualJty(r, r_.data() + r.row, nullptr, sum);
+      },
+      eliminated, only);
+  if (use_panel_) panel_.AddGradient(r_, num_threads_, reduced, eliminated);
+}
+
+void StructuredJacobian::StepProducts(const Eigen::VectorXd& reduced,
+                                      const Eigen::VectorXd& eliminated,
+                                      double* dot, double* squared) const {
+  const std::vector<int>* only = use_panel_ ? &non_panel_ : nullptr;
+  Eigen::VectorXd sums;
+  SumOverResiduals(
+      2,
+      [&](int i, double* sum) {
+        const Residual& r = blocks_.residuals[i];
+        double y[8] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+        std::vector<double> heap;
+        double* j = y;
+        if (r.m > 8) {
+          heap.assign(r.m, 0.0);
+          j = heap.data();
+        }
+        AddResidualJx(r, reduced.data(), eliminated.data(), j);
+        const double* res = r_.data() + r.row;
+        for (int a = 0; a < r.m; ++a) {
+          sum[0] += j[a] * res[a];
+          sum[1] += j[a] * j[a];
+        }
+      },
+      &sums, only);
+  *dot = sums[0];
+  *squared = sums[1];
+  if (use_panel_) {
+    panel_.AddStepProducts(reduced, eliminated, r_, num_threads_, dot, squared);
+  }
+}
+
 void StructuredJacobian::MultiplyJtReduced(const Eigen::VectorXd& rows,
                                            Eigen::VectorXd* out) const {
   SumOverResiduals(
@@ -333,6 +403,7 @@ void StructuredJacobian::MultiplyJReducedAndJtEliminated(
           AddResidualJty(r, y, nullptr, sum);
       },
       projected, PassResiduals());
+  if (use_panel_) panel_.ProjectReduced(reduced, num_threads_, projected);
 }
 
 void StructuredJacobian::SubtractJEliminatedAndMultiplyJtReduced(
@@ -342,67 +413,88 @@ void StructuredJacobian::SubtractJEliminatedAndMultiplyJtReduced(
       blocks_.num_reduced,
       [&](int i, double* sum) {
         const Residual& r = blocks_.residuals[i];
-        double* y = rows->data() + r.row;  // each residual's own rows: no race
-        if (r.eliminated >= 0 || !r.coupled.empty()) {
-          double correction[8] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-          std::vector<double> heap;
-          double* c = correction;
-          if (r.m > 8) {
-            heap.assign(r.m, 0.0);
-            c = heap.data();
-          }
-          AddResidualJx(r, nullptr, eliminated.data(), c);
+        if (r.eliminated < 0 && r.coupled.empty()) {
+          if (rows != nullptr)
+            AddResidualJty(r, rows->data() + r.row, sum, nullptr);
+          return;
+        }
+        double correction[8] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+        std::vector<double> heap;
+        double* c = correction;
+        if (r.m > 8) {
+          heap.assign(r.m, 0.0);
+          c = heap.data();
+        }
+        AddResidualJx(r, nullptr, eliminated.data(), c);
+        // y = rows − J_p e, each residual's own rows (no race), or −J_p e.
+        double* y = c;
+        if (rows != nullptr) {
+          y = rows->data() + r.row;
           for (int a = 0; a < r.m; ++a) y[a] -= c[a];
+        } else {
+          for (int a = 0; a < r.m; ++a) c[a] = -c[a];
         }
         AddResidualJty(r, y, sum, nullptr);
       },
       out, PassResiduals());
+  if (use_panel_) {
+    panel_.AddReduced(eliminated, /*with_reduced=*/rows != nullptr,
+                      num_threads_, out);
+  }
 }
 
 void StructuredJacobian::ColumnSquaredNorms(Eigen::VectorXd* reduced,
                                             Eigen::VectorXd* eliminated) const {
-  reduced->setZero(blocks_.num_reduced);
-  eliminated->setZero(blocks_.num_eliminated);
-  for (const Residual& r : blocks_.residuals) {
-    if (r.gram) {
-      for (std::size_t k = 0; k < r.parameters.size(); ++k) {
-        if (r.slot_block[k] < 0) continue;
-        const Block& b = blocks_.blocks[r.slot_block[k]];
-        double* d = (b.eliminated ? *eliminated : *reduced).data() + b.offset;
-        r.product->AddGramDiagonal(r.parameters.data(), static_cast<int>(k), d);
-      }
-      continue;
-    }
-    for (const Segment& s : r.reduced) {
-      reduced->segment(s.col, s.width) +=
-          Cols(r, s.jcol, s.width).colwise().squaredNorm().transpose();
-    }
-    for (const Coupled& c : r.coupled) {
-      const Block& b = blocks_.blocks[c.block];
-      eliminated->segment(b.offset, b.size) +=
-          Cols(r, c.jcol, b.size).colwise().squaredNorm().transpose();
-    }
-    if (r.eliminated >= 0) {
-      const Block& b = blocks_.blocks[r.eliminated];
-      if (r.basis_factor != nullptr) {
-        // Column (k, i) of l_k A: l_k² Σ_rows A(row, i)².
-        const double* a = Factor(r);
-        for (int k = 0; k < r.num_bases; ++k) {
-          const double l2 = r.weights[k] * r.weights[k];
-          for (int i = 0; i < 3; ++i) {
-            (*eliminated)[b.offset + 3 * k + i] +=
-                l2 * (a[i] * a[i] + a[3 + i] * a[3 + i]);
+  // One sum over the residual blocks of both parts: reduced columns first,
+  // then the eliminated ones.
+  const int num_reduced = blocks_.num_reduced;
+  Eigen::VectorXd both;
+  SumOverResiduals(
+      num_reduced + blocks_.num_eliminated,
+      [&](int i, double* sum) {
+        const Residual& r = blocks_.residuals[i];
+        double* const e_sum = sum + num_reduced;
+        if (r.gram) {
+          for (std::size_t k = 0; k < r.parameters.size(); ++k) {
+            if (r.slot_block[k] < 0) continue;
+            const Block& b = blocks_.blocks[r.slot_block[k]];
+            r.product->AddGramDiagonal(r.parameters.data(), static_cast<int>(k),
+                                       (b.eliminated ? e_sum : sum) + b.offset);
           }
+          return;
         }
-        continue;
-      }
-      eliminated->segment(b.offset, b.size) +=
-          Cols(r, r.eliminated_jcol, b.size)
-              .colwise()
-              .squaredNorm()
-              .transpose();
-    }
-  }
+        for (const Segment& s : r.reduced) {
+          Eigen::Map<Eigen::VectorXd>(sum + s.col, s.width) +=
+              Cols(r, s.jcol, s.width).colwise().squaredNorm().transpose();
+        }
+        for (const Coupled& c : r.coupled) {
+          const Block& b = blocks_.blocks[c.block];
+          Eigen::Map<Eigen::VectorXd>(e_sum + b.offset, b.size) +=
+              Cols(r, c.jcol, b.size).colwise().squaredNorm().transpose();
+        }
+        if (r.eliminated < 0) return;
+        const Block& b = blocks_.blocks[r.eliminated];
+        if (r.basis_factor != nullptr) {
+          // Column (k, i) of l_k A: l_k² Σ_rows A(row, i)².
+          const double* a = Factor(r);
+          for (int k = 0; k < r.num_bases; ++k) {
+            const double l2 = r.weights[k] * r.weights[k];
+            for (int i = 0; i < 3; ++i) {
+              e_sum[b.offset + 3 * k + i] +=
+                  l2 * (a[i] * a[i] + a[3 + i] * a[3 + i]);
+            }
+          }
+          return;
+        }
+        Eigen::Map<Eigen::VectorXd>(e_sum + b.offset, b.size) +=
+            Cols(r, r.eliminated_jcol, b.size)
+                .colwise()
+                .squaredNorm()
+                .transpose();
+      },
+      &both);
+  *reduced = both.head(num_reduced);
+  *eliminated = both.tail(blocks_.num_eliminated);
 }
 
 }  // namespace structured

@@ -25,13 +25,12 @@
 #include <vector>
 
 #include "core/parallel_for.h"
+#include "solvers/reprojection_panel.h"
 #include "solvers/structured_layout.h"
 
 namespace nrsfm {
 namespace structured {
 
-using RowMatrix =
-    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 using ConstRowMap = Eigen::Map<const RowMatrix, 0, Eigen::OuterStride<>>;
 
 // Loops are split over threads in pieces of at least this many items
@@ -70,15 +69,25 @@ class StructuredJacobian {
   void MultiplyJ(const Eigen::VectorXd* reduced,
                  const Eigen::VectorXd* eliminated,
                  Eigen::VectorXd* rows) const;
-  // out = J_fᵀ rows, J_pᵀ rows.
+  // Jᵀ r at the last Evaluate(true): its reduced and eliminated columns (the
+  // reprojection residuals as one panel when uses_panel()).
+  void Gradient(Eigen::VectorXd* reduced, Eigen::VectorXd* eliminated) const;
+  // (J δ)·r and ||J δ||² for δ = [reduced; eliminated], r at the last
+  // Evaluate(true) (the linear model's decrease).
+  void StepProducts(const Eigen::VectorXd& reduced,
+                    const Eigen::VectorXd& eliminated, double* dot,
+                    double* squared) const;
+  // out = J_fᵀ rows, J_pᵀ rows (residual by residual).
   void MultiplyJtReduced(const Eigen::VectorXd& rows,
                          Eigen::VectorXd* out) const;
   void MultiplyJtEliminated(const Eigen::VectorXd& rows,
                             Eigen::VectorXd* out) const;
   // The two passes of a product with the Schur complement
   // (solvers/schur_elimination.h), each one pass over the residual blocks in
-  // storage order: rows = J_f reduced and projected = J_pᵀ rows; then
-  // rows −= J_p eliminated and out = J_fᵀ rows. Both leave out the
+  // storage order (the reprojection residuals as one panel when
+  // uses_panel()): rows = J_f reduced and projected = J_pᵀ rows; then
+  // rows −= J_p eliminated and out = J_fᵀ rows (rows null: out =
+  // J_fᵀ (−J_p eliminated), without a first pass). Both leave out the
   // residuals of the grids (Residual::in_grid), whose part SchurElimination
   // adds.
   void MultiplyJReducedAndJtEliminated(const Eigen::VectorXd& reduced,
@@ -87,6 +96,14 @@ class StructuredJacobian {
   void SubtractJEliminatedAndMultiplyJtReduced(
       const Eigen::VectorXd& eliminated, Eigen::VectorXd* rows,
       Eigen::VectorXd* out) const;
+  // Whether the two passes above take the reprojection residuals as one
+  // panel (solvers/reprojection_panel.h).
+  bool uses_panel() const { return use_panel_; }
+  // The panel when the passes use it (its Gram blocks with it), else null.
+  const ReprojectionPanel* panel() const {
+    return use_panel_ ? &panel_ : nullptr;
+  }
+
   // diag(JᵀJ), the columns' sums of squares, unclamped.
   void ColumnSquaredNorms(Eigen::VectorXd* reduced,
                           Eigen::VectorXd* eliminated) const;
@@ -106,9 +123,10 @@ class StructuredJacobian {
   // rotations_ (and plus_jacobians_ when with_jacobian) at the blocks'
   // current values.
   void FormSharedDerivatives(bool with_jacobian);
-  // The residuals of the two Schur-complement passes: those in no grid, or
-  // null (all) when there is no grid.
+  // The residuals of the two Schur-complement passes one by one: those in
+  // no grid and not in the panel, or null (all).
   const std::vector<int>* PassResiduals() const {
+    if (use_panel_) return &pass_residuals_;
     return blocks_.grids.empty() ? nullptr : &blocks_.not_in_grid;
   }
 
@@ -125,6 +143,13 @@ class StructuredJacobian {
   std::vector<RowMatrix> plus_jacobians_;
   std::vector<ProjectedRotation> rotations_;
   std::vector<char> is_rotation_;
+  // The reprojection residuals as one panel in the two passes when that
+  // costs less (solvers/reprojection_panel.h; the rule in the .cc), and the
+  // residuals the passes then take one by one.
+  ReprojectionPanel panel_;
+  bool use_panel_ = false;
+  std::vector<int> pass_residuals_;
+  std::vector<int> non_panel_;  // the residuals the panel does not hold
 };
 
 template <typename Body>

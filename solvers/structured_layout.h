@@ -35,6 +35,9 @@
 namespace nrsfm {
 namespace structured {
 
+using RowMatrix =
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
 struct Block {
   double* values = nullptr;
   int ambient = 0;  // values in memory

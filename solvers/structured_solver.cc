@@ -71,8 +71,7 @@ bool Solver::Evaluate(bool with_jacobian, double* cost) {
 
 void Solver::ComputeGradientAndScaling() {
   schur_.ComputeGram();
-  jacobian_.MultiplyJtReduced(jacobian_.residuals(), &gradient_reduced_);
-  jacobian_.MultiplyJtEliminated(jacobian_.residuals(), &gradient_eliminated_);
+  jacobian_.Gradient(&gradient_reduced_, &gradient_eliminated_);
   jacobian_.ColumnSquaredNorms(&d_reduced_, &d_eliminated_);
   d_reduced_ = d_reduced_.cwiseMax(1e-6).cwiseMin(1e32);
   d_eliminated_ = d_eliminated_.cwiseMax(1e-6).cwiseMin(1e32);
@@ -159,7 +158,7 @@ bool Solver::Run(StructuredSolverSummary* summary) {
   double radius = solver.initial_trust_region_radius, decrease = 2.0;
   int iteration = 0;
   summary->message = "iteration limit";
-  Eigen::VectorXd step_reduced, step_eliminated, j_step;
+  Eigen::VectorXd step_reduced, step_eliminated;
   while (true) {
     const double gradient_max = std::max(
         gradient_reduced_.size() ? gradient_reduced_.cwiseAbs().maxCoeff()
@@ -184,10 +183,10 @@ bool Solver::Run(StructuredSolverSummary* summary) {
     ++iteration;
     const double mu = 1.0 / radius;
     summary->cg_iterations += SolveStep(mu, &step_reduced, &step_eliminated);
-    jacobian_.MultiplyJ(&step_reduced, &step_eliminated, &j_step);
     // The decrease the linear model predicts: cost − ½||r + J δ||².
-    const double model_decrease =
-        -(j_step.dot(jacobian_.residuals()) + 0.5 * j_step.squaredNorm());
+    double j_dot_r = 0.0, j_squared = 0.0;
+    jacobian_.StepProducts(step_reduced, step_eliminated, &j_dot_r, &j_squared);
+    const double model_decrease = -(j_dot_r + 0.5 * j_squared);
     const std::vector<double> saved = Save();
     const double step_norm =
         std::sqrt(step_reduced.squaredNorm() + step_eliminated.squaredNorm());

@@ -1,0 +1,140 @@
+// The reprojection residuals of a structured layout
+// (solvers/structured_layout.h) as one dense panel: the products with the
+// Jacobian that the structured solver forms in every step and conjugate-
+// gradient iteration (the two passes of a product with the Schur complement,
+// solvers/schur_elimination.h; the gradient; the Gram blocks J_pᵀ J_p; the
+// linear model's decrease) as matrix products instead of one small product
+// per residual block.
+//
+// A residual of the panel is a reprojection residual with a basis factor
+// (problems/reprojection_cost_function.h: no robust loss, its basis block
+// eliminated, in no grid). Its view v is its rotation block (with the
+// translation, weights and scale blocks that go with it), its column p its
+// basis block, and its weight w_vp = sqrt(w_obs) (0 where nothing is
+// observed). With the view's a_v = s Π R, d_vi = s ∂(Π R)/∂ω_i, l_v its
+// weights and s_p the point's basis values (3K):
+//   J_f δ = w (C_v(δ) s_p + δT_v),  C_v = [l_vk E_v + δl_vk a_v]_k,
+//   E_v = Σ_i δω_i d_vi + δs Π R,   J_p δb = w N_v δb, N_v = [l_vk a_v]_k,
+//   J_pᵀ J_p (point p) = Σ_v w_vp² (l_v l_vᵀ) ⊗ (a_vᵀ a_v),
+// so over all views and points these are products of (2V × 3K) and
+// (3K × P) matrices, masked by w or w² (every entry of the panel costs the
+// same, observed or not; solvers/structured_jacobian.cc decides when that
+// pays). The products are cut into column pieces fixed by P, so the results
+// are the same bits for any thread count.
+//
+// Everything uses the blocks' values of the last Update(); not thread-safe
+// (the passes keep J_f v between them).
+#ifndef NRSFM_SOLVERS_REPROJECTION_PANEL_H_
+#define NRSFM_SOLVERS_REPROJECTION_PANEL_H_
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "problems/reprojection_cost_function.h"
+#include "solvers/structured_layout.h"
+
+namespace nrsfm {
+namespace structured {
+
+// Adds (l lᵀ) ⊗ (Aᵀ A) summed over residuals to the lower triangle of the
+// 3K × 3K block `c` (and the upper entries of its off-diagonal 3 × 3 blocks
+// that the lower triangle does not hold): `sums` (6 × K(K+1)/2, column-major)
+// holds Σ (Aᵀ A)_(i,j) l_a l_b with (i, j), i ≥ j, in the order
+// (0,0) (1,0) (2,0) (1,1) (2,1) (2,2) and (a, b), a ≥ b, in the order b = 0,
+// a = 0 … K−1, then b = 1, ….
+void AddKroneckerGram(const double* sums, int num_bases, Eigen::MatrixXd* c);
+
+class ReprojectionPanel {
+ public:
+  // The panel of `blocks`' reprojection residuals with a basis factor, or
+  // false (it holds none) when two of them share a view and a point, their
+  // views disagree on the blocks that go with a rotation block, or there
+  // are none. `blocks` must outlive this.
+  bool Build(const StructuredBlocks& blocks);
+
+  int num_views() const { return static_cast<int>(views_.size()); }
+  int num_points() const { return static_cast<int>(points_.size()); }
+  // Observed entries (residuals) of the panel.
+  long long num_entries() const { return num_entries_; }
+
+  // The views' derivatives and the points' values at the blocks' current
+  // values.
+  void Update(int num_threads);
+
+  // Adds the panel's part of Jᵀ r to `reduced` and `eliminated`, r the
+  // residual vector (rows of solvers/structured_layout.h) at the values of
+  // the last Update().
+  void AddGradient(const Eigen::VectorXd& residuals, int num_threads,
+                   Eigen::VectorXd* reduced, Eigen::VectorXd* eliminated) const;
+
+  // J δ of the panel's residuals (δ = [reduced; eliminated]): adds
+  // Σ (J δ)·r to *dot and Σ (J δ)² to *squared, r the residual vector.
+  void AddStepProducts(const Eigen::VectorXd& reduced,
+                       const Eigen::VectorXd& eliminated,
+                       const Eigen::VectorXd& residuals, int num_threads,
+                       double* dot, double* squared) const;
+
+  // Whether `residual` (index into blocks.residuals) is in the panel.
+  bool Holds(int residual) const { return members_[residual] != 0; }
+  // Adds the panel's part of J_pᵀ J_p for eliminated block `block` (a Block
+  // index) to `c` as AddKroneckerGram does, at the values of the last
+  // Update(); nothing for a block the panel does not hold.
+  void AddGram(int block, Eigen::MatrixXd* c) const;
+
+  // The first pass: keeps J_f v (v: reduced columns) and adds J_pᵀ J_f v to
+  // `projected` (eliminated columns).
+  void ProjectReduced(const Eigen::VectorXd& v, int num_threads,
+                      Eigen::VectorXd* projected) const;
+  // The second pass: adds J_fᵀ (J_f v − J_p e) to `out` (reduced columns),
+  // J_f v from the last ProjectReduced(), or J_fᵀ (−J_p e) when not
+  // with_reduced.
+  void AddReduced(const Eigen::VectorXd& e, bool with_reduced, int num_threads,
+                  Eigen::VectorXd* out) const;
+
+ private:
+  struct View {
+    int rotation = -1, translation = -1, weights = -1, scale = -1;  // Block
+    const double* rotation_values = nullptr;
+    const double* weights_values = nullptr;
+    const double* scale_value = nullptr;  // null: s = 1
+  };
+  // Adds to `out` the views' gradients from Z = Σ_pieces G Sᵀ and the row
+  // sums of G (G: 2V × P, per piece), as J_fᵀ y with G = w ⊙ y.
+  void AddViewGradients(const std::vector<Eigen::MatrixXd>& z,
+                        const std::vector<Eigen::VectorXd>& t,
+                        Eigen::VectorXd* out) const;
+  // Holds nothing; returns false (Build's failure).
+  bool Clear();
+  // Column pieces [piece_begin(i), piece_begin(i + 1)).
+  int NumPieces() const { return static_cast<int>(piece_begin_.size()) - 1; }
+  // C (2V × 3K) and δT (2V, zero for a constant translation) for the
+  // reduced vector v.
+  void FormC(const Eigen::VectorXd& v, Eigen::MatrixXd* c,
+             Eigen::VectorXd* translation) const;
+
+  const StructuredBlocks* blocks_ = nullptr;
+  int num_bases_ = 0;
+  long long num_entries_ = 0;
+  std::vector<View> views_;
+  std::vector<char> members_;     // per residual of blocks
+  std::vector<int> points_;       // eliminated Block per column
+  std::vector<int> column_of_;    // column per Block, −1 = none
+  std::vector<int> piece_begin_;  // fixed by the number of points
+  Eigen::MatrixXd w_;             // 2V × P: w for both rows of a view
+  Eigen::MatrixXi rows_;          // V × P: first row of r, −1 = none
+  // At the last Update(): a_v, d_vi (ambient), Π R, the tangent map of ω
+  // (3 × size, identity without a manifold), l_v per view; s_p per column.
+  std::vector<Eigen::Matrix<double, 2, 3>> a_, projection_;
+  std::vector<Eigen::Matrix<double, 2, 3>> d_;  // 3 per view
+  std::vector<Eigen::MatrixXd> tangent_;
+  Eigen::MatrixXd n_;  // 2V × 3K: N_v
+  // The sums of AddKroneckerGram per column (6 K(K+1)/2 × P).
+  Eigen::MatrixXd gram_;
+  Eigen::MatrixXd basis_;        // 3K × P: s_p
+  mutable Eigen::MatrixXd jfv_;  // 2V × P: J_f v / w, from ProjectReduced()
+};
+
+}  // namespace structured
+}  // namespace nrsfm
+
+#endif  // NRSFM_SOLVERS_REPROJECTION_PANEL_H_

@@ -1,0 +1,165 @@
+// The reprojection residuals as one dense panel in the two passes of the
+// Schur complement's product (solvers/reprojection_panel.h) against the same
+// products formed residual by residual (StructuredJacobian::MultiplyJ and
+// its transposes, which never use the panel): two cameras with a scale,
+// self-occlusion (missing entries), observation weights, a term that is not
+// a reprojection residual, free and constant translations and scales.
+#include "solvers/reprojection_panel.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "core/synthetic.h"
+#include "problems/extra_terms.h"
+#include "problems/problem_builder.h"
+#include "solvers/schur_elimination.h"
+#include "solvers/structured_jacobian.h"
+#include "solvers/structured_layout.h"
+
+namespace nrsfm {
+namespace {
+
+// The layout Refine() gives the structured solver (solvers/refine.cc).
+StructuredLayout Layout(ProblemBuilder* builder) {
+  const Model& model = *builder->model();
+  StructuredLayout layout;
+  layout.groups.resize(model.num_frames);
+  for (int t = 0; t < model.num_frames; ++t) {
+    for (int c = 0; c < model.num_cameras; ++c) {
+      layout.groups[t].push_back(builder->RotationBlock(t, c));
+      layout.groups[t].push_back(builder->TranslationBlock(t, c));
+      if (c > 0) layout.groups[t].push_back(builder->ScaleBlock(t, c));
+    }
+    layout.groups[t].push_back(builder->WeightsBlock(t));
+  }
+  layout.eliminated = builder->PointBlocks();
+  return layout;
+}
+
+double RelativeDifference(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  return (a - b).norm() / b.norm();
+}
+
+TEST(ReprojectionPanel, PassesEqualTheProductsResidualByResidual) {
+  ShoeOptions shoe;
+  shoe.num_frames = 12;
+  shoe.num_points = 30;
+  shoe.noise_stddev = 0.01;
+  SyntheticSequence sequence;
+  ASSERT_TRUE(GenerateShoe(shoe, &sequence).ok());
+  const Measurements& m = sequence.measurements;
+  ASSERT_EQ(m.num_cameras, 2);
+  ASSERT_LT(m.NumVisible(), m.NumViews() * m.num_points);  // some hidden
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> uniform(0.5, 2.0);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  for (const bool constant : {false, true}) {
+    SCOPED_TRACE(constant ? "constant translations and scales" : "all free");
+    Model model = sequence.truth;
+    for (Eigen::Index i = 0; i < model.rotations.size(); ++i)
+      model.rotations.data()[i] += 0.05 * normal(rng);
+    for (Eigen::Index i = 0; i < model.basis.size(); ++i)
+      model.basis.data()[i] += 0.05 * normal(rng);
+    ProblemOptions problem;
+    problem.constant_translations = constant;
+    problem.constant_scales = constant;
+    problem.observation_weights.resize(m.NumViews(), m.num_points);
+    for (Eigen::Index i = 0; i < problem.observation_weights.size(); ++i)
+      problem.observation_weights.data()[i] = uniform(rng);
+    problem.term_weights[kRotationAccelerationTerm] = 2.0;
+    ProblemBuilder builder(&m, &model);
+    ASSERT_TRUE(builder.AddReprojectionTerms(problem).ok());
+    ASSERT_TRUE(AddExtraTerms(problem, &builder).ok());
+    structured::StructuredBlocks blocks;
+    std::string error;
+    ASSERT_TRUE(structured::LayOutBlocks(Layout(&builder), builder.problem(),
+                                         &blocks, &error))
+        << error;
+    ASSERT_TRUE(blocks.grids.empty());
+    for (const int threads : {1, 2}) {
+      structured::StructuredJacobian jacobian(blocks, threads);
+      ASSERT_TRUE(jacobian.uses_panel());
+      double cost = 0.0;
+      ASSERT_TRUE(jacobian.Evaluate(true, &cost));
+      Eigen::VectorXd v(blocks.num_reduced), e(blocks.num_eliminated);
+      for (Eigen::Index i = 0; i < v.size(); ++i) v[i] = normal(rng);
+      for (Eigen::Index i = 0; i < e.size(); ++i) e[i] = normal(rng);
+
+      // First pass: J_pᵀ J_f v.
+      Eigen::VectorXd rows, projected, jv, expected;
+      jacobian.MultiplyJReducedAndJtEliminated(v, &rows, &projected);
+      jacobian.MultiplyJ(&v, nullptr, &jv);
+      jacobian.MultiplyJtEliminated(jv, &expected);
+      EXPECT_LT(RelativeDifference(projected, expected), 1e-12);
+      // Second pass: J_fᵀ (J_f v − J_p e).
+      Eigen::VectorXd out, both, expected_out;
+      jacobian.SubtractJEliminatedAndMultiplyJtReduced(e, &rows, &out);
+      const Eigen::VectorXd minus_e = -e;
+      jacobian.MultiplyJ(&v, &minus_e, &both);
+      jacobian.MultiplyJtReduced(both, &expected_out);
+      EXPECT_LT(RelativeDifference(out, expected_out), 1e-12);
+      // The second pass alone: J_fᵀ (−J_p e).
+      Eigen::VectorXd alone, je, expected_alone;
+      jacobian.SubtractJEliminatedAndMultiplyJtReduced(e, nullptr, &alone);
+      jacobian.MultiplyJ(nullptr, &minus_e, &je);
+      jacobian.MultiplyJtReduced(je, &expected_alone);
+      EXPECT_LT(RelativeDifference(alone, expected_alone), 1e-12);
+      // The gradient Jᵀ r.
+      Eigen::VectorXd g_reduced, g_eliminated, r_reduced, r_eliminated;
+      jacobian.Gradient(&g_reduced, &g_eliminated);
+      jacobian.MultiplyJtReduced(jacobian.residuals(), &r_reduced);
+      jacobian.MultiplyJtEliminated(jacobian.residuals(), &r_eliminated);
+      EXPECT_LT(RelativeDifference(g_reduced, r_reduced), 1e-12);
+      EXPECT_LT(RelativeDifference(g_eliminated, r_eliminated), 1e-12);
+      // The linear model's terms (J δ)·r and ||J δ||².
+      double dot = 0.0, squared = 0.0;
+      jacobian.StepProducts(v, e, &dot, &squared);
+      Eigen::VectorXd j_step;
+      jacobian.MultiplyJ(&v, &e, &j_step);
+      EXPECT_NEAR(dot, j_step.dot(jacobian.residuals()),
+                  1e-12 * j_step.norm() * jacobian.residuals().norm());
+      EXPECT_NEAR(squared, j_step.squaredNorm(), 1e-12 * j_step.squaredNorm());
+      // The Gram blocks J_pᵀ J_p (the panel's part at once): C̃ with μ D_p
+      // = I inverts (J_pᵀ J_p + I) e.
+      structured::SchurElimination schur(blocks, jacobian, threads);
+      schur.ComputeGram();
+      schur.Factor(1.0, Eigen::VectorXd::Ones(blocks.num_eliminated));
+      Eigen::VectorXd jpe, gram_e, solved;
+      jacobian.MultiplyJ(nullptr, &e, &jpe);
+      jacobian.MultiplyJtEliminated(jpe, &gram_e);
+      schur.SolveEliminated(gram_e + e, &solved);
+      EXPECT_LT(RelativeDifference(solved, e), 1e-12);
+    }
+  }
+}
+
+TEST(ReprojectionPanel, NotBuiltForRobustResiduals) {
+  // A robust loss corrects each residual's Jacobian by its own residual:
+  // those residuals have no basis factor and stay one by one.
+  ShoeOptions shoe;
+  shoe.num_frames = 6;
+  shoe.num_points = 20;
+  shoe.num_cameras = 1;
+  SyntheticSequence sequence;
+  ASSERT_TRUE(GenerateShoe(shoe, &sequence).ok());
+  Model model = sequence.truth;
+  ProblemOptions problem;
+  problem.robust_loss = RobustLoss::kHuber;
+  ProblemBuilder builder(&sequence.measurements, &model);
+  ASSERT_TRUE(builder.AddReprojectionTerms(problem).ok());
+  structured::StructuredBlocks blocks;
+  std::string error;
+  ASSERT_TRUE(structured::LayOutBlocks(Layout(&builder), builder.problem(),
+                                       &blocks, &error))
+      << error;
+  structured::ReprojectionPanel panel;
+  EXPECT_FALSE(panel.Build(blocks));
+  for (int i = 0; i < static_cast<int>(blocks.residuals.size()); ++i)
+    EXPECT_FALSE(panel.Holds(i));
+  structured::StructuredJacobian jacobian(blocks, 1);
+  EXPECT_FALSE(jacobian.uses_panel());
+}
+
+}  // namespace
+}  // namespace nrsfm
