@@ -51,7 +51,6 @@ class StructuredJacobian {
   // finite (r and J are then partly written).
   bool Evaluate(bool with_jacobian, double* cost);
   const Eigen::VectorXd& residuals() const { return r_; }
-  void set_residuals(const Eigen::VectorXd& r) { r_ = r; }
 
   // y (r.m values) += J_r x for the reduced and eliminated parts given
   // (null = zero), and the transposed products into the parts wanted.

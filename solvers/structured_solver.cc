@@ -197,9 +197,10 @@ bool Solver::Run(StructuredSolverSummary* summary) {
       break;
     }
     Step(saved, step_reduced, step_eliminated);
-    const Eigen::VectorXd saved_r = jacobian_.residuals();
+    // With the Jacobian: most steps are taken, and a rejected one evaluates
+    // again at the restored values (the same bits as before the step).
     double new_cost = 0.0;
-    const bool finite = Evaluate(false, &new_cost);
+    const bool finite = Evaluate(true, &new_cost);
     const double ratio = finite && model_decrease > 0.0
                              ? (cost - new_cost) / model_decrease
                              : -1.0;
@@ -213,7 +214,6 @@ bool Solver::Run(StructuredSolverSummary* summary) {
           1e16,
           radius / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * ratio - 1.0, 3)));
       decrease = 2.0;
-      Evaluate(true, &new_cost);
       ComputeGradientAndScaling();
       if (solver.progress)
         solver.progress(IterationReport{iteration, cost, SecondsSince(start)});
@@ -224,7 +224,8 @@ bool Solver::Run(StructuredSolverSummary* summary) {
       }
     } else {
       Restore(saved);
-      jacobian_.set_residuals(saved_r);
+      double restored_cost = 0.0;
+      Evaluate(true, &restored_cost);
       radius /= decrease;
       decrease *= 2.0;
       if (solver.progress)
