@@ -52,11 +52,13 @@ namespace {
 
 // One start followed by its refinement. With priors = auto the start's
 // camera path decides the path prior (`decision` holds the rule's other facts).
-// `cache` holds the work the starts share (solvers/initialize.h).
+// `cache` holds the work the starts share (solvers/initialize.h); `kept`,
+// when not null, the refinement's problem for the next start's
+// (solvers/refine.h, KeptProblem).
 Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
                       const Measurements& measurements,
                       const PriorDecision& decision, StartCache* cache,
-                      ReconstructResult* result) {
+                      ReconstructResult* result, KeptProblem* kept) {
   if (options.solver.stop_requested && options.solver.stop_requested()) {
     return Status::Error("stopped on request");
   }
@@ -89,6 +91,10 @@ Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
   } else {
     result->priors.term_weights = problem.term_weights;
   }
+  if (kept != nullptr) {
+    return Refine(problem, options.solver, measurements, &result->model,
+                  &result->refine, kept);
+  }
   return Refine(problem, options.solver, measurements, &result->model,
                 &result->refine);
 }
@@ -99,7 +105,9 @@ Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
 // num_threads / 2 threads), in turns with one. Inputs of more than
 // kMaxObservationsForTwoAtOnce observations, whose two problems would not
 // both fit in memory, refine one start after the other on every thread,
-// the second abandoned by the same rule once the first has converged.
+// the second abandoned by the same rule once the first has converged; the
+// second then refines in the first's problem when it is the same (no extra
+// term: KeptProblem).
 void RefineBothStarts(const ReconstructOptions& options,
                       const Measurements& measurements,
                       const PriorDecision& decision, StartCache* cache,
@@ -107,9 +115,10 @@ void RefineBothStarts(const ReconstructOptions& options,
                       Status* factorization_status, ReconstructResult* rigid,
                       Status* rigid_status) {
   if (measurements.NumVisible() > kMaxObservationsForTwoAtOnce) {
+    KeptProblem kept;
     *factorization_status =
         StartAndRefine(options, StartMethod::kFactorization, measurements,
-                       decision, cache, factorization);
+                       decision, cache, factorization, &kept);
     // The rule of solvers/two_starts.h with the first refinement ended: the
     // second is abandoned once it has run RaceIterations(n) iterations
     // without reaching the first's cost.
@@ -133,7 +142,7 @@ void RefineBothStarts(const ReconstructOptions& options,
              cost >= first.final_cost;
     };
     *rigid_status = StartAndRefine(second, StartMethod::kRigid, measurements,
-                                   decision, cache, rigid);
+                                   decision, cache, rigid, &kept);
     return;
   }
   const auto lane = [&options, &measurements, &decision, cache](
@@ -143,8 +152,8 @@ void RefineBothStarts(const ReconstructOptions& options,
             status](const SolverOptions& solver) {
       ReconstructOptions own = options;
       own.solver = solver;
-      *status =
-          StartAndRefine(own, method, measurements, decision, cache, result);
+      *status = StartAndRefine(own, method, measurements, decision, cache,
+                               result, /*kept=*/nullptr);
       RaceOutcome outcome;
       if (!status->ok()) return outcome;
       outcome.converged = result->refine.converged;
@@ -289,11 +298,13 @@ Status ReconstructInUnits(const ReconstructOptions& options,
                  options.prior_rule.camera_function_tolerance);
   }
   if (options.start.method != StartMethod::kAuto) {
-    NRSFM_RETURN_IF_ERROR(StartAndRefine(
-        camera, options.start.method, measurements, decision, &cache, result));
+    NRSFM_RETURN_IF_ERROR(StartAndRefine(camera, options.start.method,
+                                         measurements, decision, &cache, result,
+                                         /*kept=*/nullptr));
   } else if (decision.term_weights.count(kTemporalShapeTerm) > 0) {
-    NRSFM_RETURN_IF_ERROR(StartAndRefine(
-        camera, StartMethod::kTriple, measurements, decision, &cache, result));
+    NRSFM_RETURN_IF_ERROR(StartAndRefine(camera, StartMethod::kTriple,
+                                         measurements, decision, &cache, result,
+                                         /*kept=*/nullptr));
   } else {
     // Both starts are refined and the lower refined cost is kept: a start's
     // own reprojection error does not tell which basin it is in (the rigid

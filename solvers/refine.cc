@@ -14,6 +14,7 @@
 #include "core/metrics.h"
 #include "problems/extra_terms.h"
 #include "solvers/minimizer_choice.h"
+#include "solvers/structured_layout.h"
 #include "solvers/structured_solver.h"
 
 namespace nrsfm {
@@ -100,7 +101,8 @@ StructuredLayout MakeStructuredLayout(ProblemBuilder* builder) {
 // problem (`error` says why).
 bool SolveWithStructuredSolver(const SolverOptions& options,
                                ProblemBuilder* builder, RefineSummary* summary,
-                               std::string* error) {
+                               std::string* error,
+                               structured::StructuredBlocks* kept) {
   StructuredSolverOptions structured;
   structured.solver = options;
   structured.solver.progress = [&options](const IterationReport& report) {
@@ -111,10 +113,13 @@ bool SolveWithStructuredSolver(const SolverOptions& options,
     if (options.progress) options.progress(report);
   };
   StructuredSolverSummary result;
-  if (!SolveStructured(structured, MakeStructuredLayout(builder),
-                       builder->problem(), &result, error)) {
-    return false;
-  }
+  const bool solved =
+      kept != nullptr
+          ? SolveStructured(structured, MakeStructuredLayout(builder),
+                            builder->problem(), &result, error, kept)
+          : SolveStructured(structured, MakeStructuredLayout(builder),
+                            builder->problem(), &result, error);
+  if (!solved) return false;
   summary->message = result.message;
   summary->converged = result.converged;
   summary->stopped = result.stopped;
@@ -183,6 +188,120 @@ Status SolveWithCeres(const SolverOptions& options,
 
 }  // namespace
 
+namespace {
+
+// Whether the data term of `a` and `b` is built the same way and neither
+// has an extra term (AddExtraTerms then adds nothing and changes nothing).
+bool SameDataTermAlone(const ProblemOptions& a, const ProblemOptions& b) {
+  for (const ProblemOptions* o : {&a, &b}) {
+    for (const auto& term : o->term_weights) {
+      if (term.second != 0.0) return false;
+    }
+  }
+  const Eigen::ArrayXXd& wa = a.observation_weights;
+  const Eigen::ArrayXXd& wb = b.observation_weights;
+  return a.constant_rotations == b.constant_rotations &&
+         a.constant_translations == b.constant_translations &&
+         a.constant_weights == b.constant_weights &&
+         a.constant_basis == b.constant_basis &&
+         a.constant_scales == b.constant_scales &&
+         a.constant_rig == b.constant_rig && a.robust_loss == b.robust_loss &&
+         a.robust_scale == b.robust_scale && a.autodiff == b.autodiff &&
+         wa.rows() == wb.rows() && wa.cols() == wb.cols() &&
+         (wa.size() == 0 || (wa == wb).all());
+}
+
+bool SameSizes(const Model& a, const Model& b) {
+  const auto same = [](const auto& x, const auto& y) {
+    return x.rows() == y.rows() && x.cols() == y.cols();
+  };
+  return a.num_frames == b.num_frames && a.num_cameras == b.num_cameras &&
+         a.num_points == b.num_points && a.num_bases == b.num_bases &&
+         same(a.rotations, b.rotations) &&
+         same(a.translations, b.translations) && same(a.weights, b.weights) &&
+         same(a.basis, b.basis) && same(a.scales, b.scales) &&
+         same(a.rig_rotations, b.rig_rotations) &&
+         same(a.rig_scales, b.rig_scales);
+}
+
+}  // namespace
+
+struct KeptProblem::State {
+  Model storage;  // the blocks' values (a copy of the caller's model)
+  const Measurements* measurements = nullptr;
+  ProblemOptions options;
+  std::unique_ptr<ProblemBuilder> builder;
+  // The minimiser chosen for it and the structured solver's layout.
+  bool chosen = false;
+  LinearSolverChoice requested = LinearSolverChoice::kAuto;
+  MinimizerChoice choice;
+  structured::StructuredBlocks blocks;
+
+  bool Fits(const ProblemOptions& problem, const Measurements& m,
+            const Model& model) const {
+    return &m == measurements && SameDataTermAlone(problem, options) &&
+           SameSizes(model, storage);
+  }
+};
+
+KeptProblem::KeptProblem() = default;
+KeptProblem::~KeptProblem() = default;
+KeptProblem::KeptProblem(KeptProblem&&) noexcept = default;
+KeptProblem& KeptProblem::operator=(KeptProblem&&) noexcept = default;
+
+namespace {
+
+// SolveProblem() with the minimiser's choice and the structured layout kept
+// in `state` (null: none kept).
+Status SolveProblemWith(const SolverOptions& caller, ProblemBuilder* builder,
+                        RefineSummary* summary, KeptProblem::State* state);
+
+}  // namespace
+
+Status Refine(const ProblemOptions& problem, const SolverOptions& solver,
+              const Measurements& measurements, Model* model,
+              RefineSummary* summary, KeptProblem* kept) {
+  CHECK(model != nullptr);
+  CHECK(summary != nullptr);
+  CHECK(kept != nullptr);
+  const Clock::time_point start = Clock::now();
+  *summary = RefineSummary();
+  NRSFM_RETURN_IF_ERROR(solver.Check().WithContext("refine"));
+  KeptProblem::State* state = kept->state_.get();
+  const bool reuse =
+      state != nullptr && state->Fits(problem, measurements, *model);
+  if (reuse) {
+    NRSFM_RETURN_IF_ERROR(model->Validate().WithContext("refine: model"));
+    state->storage = *model;  // the same sizes: the blocks' storage stays
+    ++kept->reuses_;
+  } else {
+    kept->state_.reset();
+    auto fresh = std::make_unique<KeptProblem::State>();
+    fresh->storage = *model;
+    fresh->measurements = &measurements;
+    fresh->options = problem;
+    fresh->builder =
+        std::make_unique<ProblemBuilder>(&measurements, &fresh->storage);
+    NRSFM_RETURN_IF_ERROR(
+        fresh->builder->AddReprojectionTerms(problem).WithContext("refine"));
+    NRSFM_RETURN_IF_ERROR(
+        AddExtraTerms(problem, fresh->builder.get()).WithContext("refine"));
+    kept->state_ = std::move(fresh);
+    state = kept->state_.get();
+  }
+  const double build_seconds = SecondsSince(start);
+  NRSFM_RETURN_IF_ERROR(
+      SolveProblemWith(solver, state->builder.get(), summary, state));
+  *model = state->storage;
+  summary->build_seconds += build_seconds;
+  VLOG(1) << "refine: problem "
+          << (reuse ? "kept from the last, values set" : "built") << " in "
+          << build_seconds << " s, solved in "
+          << SecondsSince(start) - build_seconds << " s";
+  summary->seconds = SecondsSince(start);
+  return Status::OK();
+}
+
 Status Refine(const ProblemOptions& problem, const SolverOptions& solver,
               const Measurements& measurements, Model* model,
               RefineSummary* summary) {
@@ -206,6 +325,13 @@ Status Refine(const ProblemOptions& problem, const SolverOptions& solver,
 
 Status SolveProblem(const SolverOptions& caller, ProblemBuilder* builder,
                     RefineSummary* summary) {
+  return SolveProblemWith(caller, builder, summary, nullptr);
+}
+
+namespace {
+
+Status SolveProblemWith(const SolverOptions& caller, ProblemBuilder* builder,
+                        RefineSummary* summary, KeptProblem::State* state) {
   CHECK(builder != nullptr);
   CHECK(summary != nullptr);
   const Clock::time_point start = Clock::now();
@@ -236,14 +362,26 @@ Status SolveProblem(const SolverOptions& caller, ProblemBuilder* builder,
   summary->num_residual_blocks = builder->num_reprojection_terms();
   summary->initial_reprojection_rms = ReprojectionRms(measurements, *model);
 
+  // A kept problem is the same problem: its choice is kept with it (the
+  // solver options that decide it, linear_solver, are compared).
+  if (state != nullptr &&
+      !(state->chosen && state->requested == options.linear_solver)) {
+    state->choice = ChooseMinimizer(options.linear_solver, builder);
+    state->requested = options.linear_solver;
+    state->chosen = true;
+    state->blocks = structured::StructuredBlocks();
+  }
   const MinimizerChoice choice =
-      ChooseMinimizer(options.linear_solver, builder);
+      state != nullptr ? state->choice
+                       : ChooseMinimizer(options.linear_solver, builder);
   bool solved = false;
   if (choice.minimizer == Minimizer::kStructured) {
     std::string error;
     summary->linear_solver = LinearSolverName(LinearSolverChoice::kStructured);
     summary->build_seconds = SecondsSince(start);
-    solved = SolveWithStructuredSolver(options, builder, summary, &error);
+    solved =
+        SolveWithStructuredSolver(options, builder, summary, &error,
+                                  state != nullptr ? &state->blocks : nullptr);
     if (!solved && !choice.fallback) {
       return Status::Error("refine: linear solver structured: " + error);
     }
@@ -279,5 +417,7 @@ Status SolveProblem(const SolverOptions& caller, ProblemBuilder* builder,
   summary->seconds = SecondsSince(start);
   return Status::OK();
 }
+
+}  // namespace
 
 }  // namespace nrsfm

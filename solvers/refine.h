@@ -13,6 +13,7 @@
 #ifndef NRSFM_SOLVERS_REFINE_H_
 #define NRSFM_SOLVERS_REFINE_H_
 
+#include <memory>
 #include <string>
 
 #include "core/measurements.h"
@@ -59,6 +60,35 @@ struct RefineSummary {
                               // one-line report
 };
 
+// A problem that Refine() built, kept for the next Refine() of the same
+// measurements with equal options of the data term, no extra term and a
+// model of the same sizes: that one then skips the build, the choice of the
+// minimiser and the structured solver's layout, and refines its model's
+// values in the kept storage (Reconstruct() refines its two starts one
+// after the other this way when both would not fit in memory at once).
+// Holds its own copy of the model as the blocks' storage; another Refine()
+// builds (and keeps) a new problem. Not thread-safe; movable.
+class KeptProblem {
+ public:
+  KeptProblem();
+  ~KeptProblem();
+  KeptProblem(KeptProblem&&) noexcept;
+  KeptProblem& operator=(KeptProblem&&) noexcept;
+
+  // Refine() calls that reused the problem it holds (not counting the one
+  // that built it).
+  int reuses() const { return reuses_; }
+
+  struct State;  // solvers/refine.cc
+
+ private:
+  friend Status Refine(const ProblemOptions&, const SolverOptions&,
+                       const Measurements&, Model*, RefineSummary*,
+                       KeptProblem*);
+  std::unique_ptr<State> state_;
+  int reuses_ = 0;
+};
+
 // Refines `model` in place from its current values. Errors (model unchanged)
 // on invalid options, measurements or model, on sizes that differ, on an
 // extra term the data cannot take (problems/extra_terms.h), or on a linear
@@ -68,6 +98,11 @@ struct RefineSummary {
 Status Refine(const ProblemOptions& problem, const SolverOptions& solver,
               const Measurements& measurements, Model* model,
               RefineSummary* summary);
+// The same with the problem kept in `kept` (see KeptProblem), or reused from
+// it when it fits.
+Status Refine(const ProblemOptions& problem, const SolverOptions& solver,
+              const Measurements& measurements, Model* model,
+              RefineSummary* summary, KeptProblem* kept);
 
 // The solve of Refine() for a problem the caller built: `builder` holds the
 // reprojection terms (AddReprojectionTerms) plus any other term added

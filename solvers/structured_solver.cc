@@ -251,10 +251,23 @@ bool Solver::Run(StructuredSolverSummary* summary) {
 bool SolveStructured(const StructuredSolverOptions& options,
                      const StructuredLayout& layout, ceres::Problem* problem,
                      StructuredSolverSummary* summary, std::string* error) {
+  StructuredBlocks blocks;
+  return SolveStructured(options, layout, problem, summary, error, &blocks);
+}
+
+bool SolveStructured(const StructuredSolverOptions& options,
+                     const StructuredLayout& layout, ceres::Problem* problem,
+                     StructuredSolverSummary* summary, std::string* error,
+                     StructuredBlocks* kept) {
+  CHECK(kept != nullptr);
   *summary = StructuredSolverSummary();
   const Clock::time_point start = Clock::now();
-  StructuredBlocks blocks;
-  if (!structured::LayOutBlocks(layout, problem, &blocks, error)) return false;
+  StructuredBlocks& blocks = *kept;
+  if (blocks.residuals.empty() &&
+      !structured::LayOutBlocks(layout, problem, &blocks, error)) {
+    blocks = StructuredBlocks();
+    return false;
+  }
   VLOG(2) << "structured layout: " << blocks.residuals.size()
           << " residual blocks, " << blocks.grids.size()
           << " grids (terms summed at once), "

@@ -53,6 +53,10 @@
 
 namespace nrsfm {
 
+namespace structured {
+struct StructuredBlocks;  // solvers/structured_layout.h
+}  // namespace structured
+
 struct StructuredLayout {
   // The reduced side: one group of blocks per frame, in time order; blocks of
   // a group are given in the order of their columns (e.g. ω_t, T_t, l_t).
@@ -96,6 +100,14 @@ struct StructuredSolverSummary {
 bool SolveStructured(const StructuredSolverOptions& options,
                      const StructuredLayout& layout, ceres::Problem* problem,
                      StructuredSolverSummary* summary, std::string* error);
+// The same with the problem's layout kept in `kept` for the next solve of the
+// same problem: laid out into it when it holds none, read from it otherwise
+// (then `layout` is not read; the problem, its blocks' storage and their
+// constness must not have changed since).
+bool SolveStructured(const StructuredSolverOptions& options,
+                     const StructuredLayout& layout, ceres::Problem* problem,
+                     StructuredSolverSummary* summary, std::string* error,
+                     structured::StructuredBlocks* kept);
 
 }  // namespace nrsfm
 

@@ -8,11 +8,13 @@
 #include <chrono>
 #include <cmath>
 #include <random>
+#include <string>
 #include <thread>
 #include <vector>
 
 #include "core/metrics.h"
 #include "core/synthetic.h"
+#include "problems/extra_terms.h"
 
 namespace nrsfm {
 namespace {
@@ -506,6 +508,58 @@ TEST(Refine, OneThreadIsBitwiseDeterministicTwoThreadsAgreeClosely) {
     } else {
       EXPECT_LT(MaxAbsDifference(first, second), 1e-7);
     }
+  }
+}
+
+TEST(Refine, AKeptProblemGivesTheSameBitsAsAFreshOne) {
+  // Two starts of one problem refined one after the other in a KeptProblem
+  // (the second skips the build and the layout) against each refined in a
+  // problem of its own; then options with a term, another K and other
+  // observation weights, which rebuild it.
+  SyntheticSequence s = Sequence(30, 25, 3, 0.01, 0.1);
+  const Model start_a = Perturbed(s.truth, 0.05, 1);
+  const Model start_b = Perturbed(s.truth, 0.05, 2);
+  ProblemOptions with_term;
+  with_term.term_weights[kTemporalTerm] = 0.1;
+  ProblemOptions weighted;
+  weighted.observation_weights =
+      Eigen::ArrayXXd::Constant(s.measurements.NumViews(), 25, 2.0);
+  SyntheticSequence fewer = Sequence(30, 25, 2, 0.01, 0.1);
+  struct Run {
+    const ProblemOptions* options;
+    const Measurements* measurements;
+    Model start;
+    int reuses;  // after it
+  };
+  const ProblemOptions plain;
+  const std::vector<Run> runs = {
+      {&plain, &s.measurements, start_a, 0},
+      {&plain, &s.measurements, start_b, 1},
+      {&plain, &s.measurements, start_a, 2},
+      {&with_term, &s.measurements, start_b, 2},  // a term: rebuilt
+      {&with_term, &s.measurements, start_a, 2},  // a term: rebuilt
+      {&plain, &s.measurements, start_b, 2},
+      {&plain, &s.measurements, start_a, 3},
+      {&weighted, &s.measurements, start_b, 3},  // other weights: rebuilt
+      {&plain, &fewer.measurements, Perturbed(fewer.truth, 0.05, 3), 3},
+  };
+  KeptProblem kept;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    SCOPED_TRACE("run " + std::to_string(i));
+    const Run& run = runs[i];
+    Model reused = run.start, fresh = run.start;
+    RefineSummary with, without;
+    ASSERT_TRUE(Refine(*run.options, SolverOptions(), *run.measurements,
+                       &reused, &with, &kept)
+                    .ok());
+    ASSERT_TRUE(Refine(*run.options, SolverOptions(), *run.measurements, &fresh,
+                       &without)
+                    .ok());
+    EXPECT_EQ(kept.reuses(), run.reuses);
+    EXPECT_TRUE(with.usable);
+    EXPECT_EQ(with.iterations, without.iterations);
+    EXPECT_EQ(with.final_cost, without.final_cost);
+    EXPECT_EQ(MaxAbsDifference(reused, fresh), 0.0);
   }
 }
 
