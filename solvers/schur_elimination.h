@@ -9,7 +9,10 @@
 //   S = J_fᵀ J_f + μ D_f − J_fᵀ J_p C̃⁻¹ J_pᵀ J_f (the Schur complement),
 //   S δ_f = −g_f + J_fᵀ J_p C̃⁻¹ g_p,   δ_p = C̃⁻¹ (−g_p − J_pᵀ J_f δ_f).
 // S is never formed: ApplyReduced() multiplies by it with two passes over
-// the residual blocks in the order their Jacobians are stored. C̃⁻¹ is
+// the residual blocks in the order their Jacobians are stored (the
+// reprojection residuals as one panel when StructuredJacobian::uses_panel(),
+// solvers/reprojection_panel.h); ReducedRightHandSide() is the second pass
+// alone and BackSubstitute() the first. C̃⁻¹ is
 // applied by one Cholesky factor per point, or, when residuals couple
 // points, by one sparse Cholesky factor of C̃ (Eigen's SimplicialLLT with an
 // AMD ordering, its pattern analysed once): the couplings follow a sparse

@@ -21,22 +21,28 @@
 // (its JACOBI and SCHUR_JACOBI ignore the chain).
 //
 // The parts, one file each (namespace nrsfm::structured):
-//   solvers/structured_layout.h     the blocks as columns, residual blocks as
-//   rows solvers/structured_jacobian.h   evaluation, the stored Jacobian,
-//   products with it solvers/schur_elimination.h     the points' elimination,
-//   products with S solvers/band_preconditioner.h   the block-band
-//   preconditioner solvers/conjugate_gradients.h   preconditioned conjugate
-//   gradients this file's .cc                 the LM loop and the trust-region
-//   update
+//   solvers/structured_layout.h: the blocks as columns, residual blocks as
+//     rows;
+//   solvers/structured_jacobian.h: evaluation, the stored Jacobian, products
+//     with it;
+//   solvers/reprojection_panel.h: the reprojection residuals' products as
+//     matrix products over views × points;
+//   solvers/schur_elimination.h: the points' elimination, products with S;
+//   solvers/band_preconditioner.h: the block-band preconditioner;
+//   solvers/conjugate_gradients.h: preconditioned conjugate gradients;
+//   this file's .cc: the LM loop and the trust-region update.
 //
 // Products with the Jacobian read the stored Jacobian in storage order, or,
 // for cost functions that provide them (problems/jacobian_product.h), are
-// formed from the parameters; the reprojection residuals (without a robust
-// loss) keep only the 2 × 3 factor A of their basis block's Jacobian l_k · A
-// (problems/reprojection_cost_function.h), not the 2 × 3K block, and form
-// its products, J_pᵀ J_p and diag from A and the weights; a cost function
-// that also provides its Gram blocks (JacobianProduct::ProvidesGram, the
-// temporal shape term) has no stored Jacobian at all. Sums over residual
+// formed from the parameters; when at least a fifth of the views × points
+// panel is observed, the reprojection residuals' products (with S, the
+// gradient, J_pᵀ J_p, the model's decrease) are matrix products over the
+// panel (solvers/reprojection_panel.h); the reprojection residuals (without a
+// robust loss) keep only the 2 × 3 factor A of their basis block's Jacobian
+// l_k A (problems/reprojection_cost_function.h), not the 2 × 3K block, and
+// form its other products, J_pᵀ J_p and diag from A and the weights; a cost
+// function that also provides its Gram blocks (JacobianProduct::ProvidesGram,
+// the temporal shape term) has no stored Jacobian at all. Sums over residual
 // blocks are added in pieces fixed by the problem, not by the thread count
 // (core/parallel_for.h, ParallelForPieces), so results are the same bits for
 // any thread count.
