@@ -134,13 +134,11 @@ ceres::LossFunction* ProblemBuilder::LossForWeight(
   return loss.get();
 }
 
-Status ProblemBuilder::AddReprojectionTerms(const ProblemOptions& options) {
-  CHECK_EQ(num_reprojection_terms_, 0) << "AddReprojectionTerms called twice";
+Status ProblemBuilder::CheckInputs(const ProblemOptions& options,
+                                   const Measurements& m, const Model& model) {
   NRSFM_RETURN_IF_ERROR(options.Check().WithContext("problem options"));
-  NRSFM_RETURN_IF_ERROR(measurements_->Validate());
-  NRSFM_RETURN_IF_ERROR(model_->Validate());
-  const Measurements& m = *measurements_;
-  Model& model = *model_;
+  NRSFM_RETURN_IF_ERROR(m.Validate());
+  NRSFM_RETURN_IF_ERROR(model.Validate());
   if (m.num_frames != model.num_frames || m.num_cameras != model.num_cameras ||
       m.num_points != model.num_points) {
     std::ostringstream msg;
@@ -169,6 +167,15 @@ Status ProblemBuilder::AddReprojectionTerms(const ProblemOptions& options) {
       }
     }
   }
+  return Status::OK();
+}
+
+Status ProblemBuilder::AddReprojectionTerms(const ProblemOptions& options) {
+  CHECK_EQ(num_reprojection_terms_, 0) << "AddReprojectionTerms called twice";
+  NRSFM_RETURN_IF_ERROR(CheckInputs(options, *measurements_, *model_));
+  const Measurements& m = *measurements_;
+  Model& model = *model_;
+  const bool weighted = options.observation_weights.size() > 0;
 
   const int num_bases = model.num_bases;
   for (int t = 0; t < m.num_frames; ++t) {

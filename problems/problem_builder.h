@@ -60,6 +60,13 @@ class ProblemBuilder {
   ProblemBuilder(const ProblemBuilder&) = delete;
   ProblemBuilder& operator=(const ProblemBuilder&) = delete;
 
+  // The checks AddReprojectionTerms makes of the data before it adds
+  // anything: valid options, measurements and model, their sizes, camera 0's
+  // scale 1, the observation_weights' size.
+  static Status CheckInputs(const ProblemOptions& options,
+                            const Measurements& measurements,
+                            const Model& model);
+
   // Adds one residual block of 2 residuals per visible (t, c, p) with
   // w_obs > 0 and applies the constant flags to the blocks it added. Fails
   // (and adds nothing) on invalid options, measurements or model, on sizes

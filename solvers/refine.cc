@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -190,14 +191,17 @@ Status SolveWithCeres(const SolverOptions& options,
 
 namespace {
 
-// Whether the data term of `a` and `b` is built the same way and neither
-// has an extra term (AddExtraTerms then adds nothing and changes nothing).
-bool SameDataTermAlone(const ProblemOptions& a, const ProblemOptions& b) {
-  for (const ProblemOptions* o : {&a, &b}) {
-    for (const auto& term : o->term_weights) {
-      if (term.second != 0.0) return false;
-    }
+// Whether `options` has no extra term (AddExtraTerms then adds nothing and
+// changes nothing).
+bool NoExtraTerm(const ProblemOptions& options) {
+  for (const auto& term : options.term_weights) {
+    if (term.second != 0.0) return false;
   }
+  return true;
+}
+
+// Whether the data term of `a` and `b` is built the same way.
+bool SameDataTerm(const ProblemOptions& a, const ProblemOptions& b) {
   const Eigen::ArrayXXd& wa = a.observation_weights;
   const Eigen::ArrayXXd& wb = b.observation_weights;
   return a.constant_rotations == b.constant_rotations &&
@@ -209,6 +213,17 @@ bool SameDataTermAlone(const ProblemOptions& a, const ProblemOptions& b) {
          a.robust_scale == b.robust_scale && a.autodiff == b.autodiff &&
          wa.rows() == wb.rows() && wa.cols() == wb.cols() &&
          (wa.size() == 0 || (wa == wb).all());
+}
+
+// The same tracks, bit for bit.
+bool SameMeasurements(const Measurements& a, const Measurements& b) {
+  return a.num_frames == b.num_frames && a.num_cameras == b.num_cameras &&
+         a.num_points == b.num_points && a.W.rows() == b.W.rows() &&
+         a.W.cols() == b.W.cols() && a.visible.rows() == b.visible.rows() &&
+         a.visible.cols() == b.visible.cols() &&
+         std::memcmp(a.W.data(), b.W.data(), sizeof(double) * a.W.size()) ==
+             0 &&
+         (a.visible.array() == b.visible.array()).all();
 }
 
 bool SameSizes(const Model& a, const Model& b) {
@@ -227,8 +242,9 @@ bool SameSizes(const Model& a, const Model& b) {
 }  // namespace
 
 struct KeptProblem::State {
-  Model storage;  // the blocks' values (a copy of the caller's model)
-  const Measurements* measurements = nullptr;
+  // Copies of the caller's: the builder's data and the blocks' values.
+  Measurements measurements;
+  Model storage;
   ProblemOptions options;
   std::unique_ptr<ProblemBuilder> builder;
   // The minimiser chosen for it and the structured solver's layout.
@@ -239,8 +255,8 @@ struct KeptProblem::State {
 
   bool Fits(const ProblemOptions& problem, const Measurements& m,
             const Model& model) const {
-    return &m == measurements && SameDataTermAlone(problem, options) &&
-           SameSizes(model, storage);
+    return NoExtraTerm(problem) && SameDataTerm(problem, options) &&
+           SameSizes(model, storage) && SameMeasurements(m, measurements);
   }
 };
 
@@ -264,6 +280,11 @@ Status Refine(const ProblemOptions& problem, const SolverOptions& solver,
   CHECK(model != nullptr);
   CHECK(summary != nullptr);
   CHECK(kept != nullptr);
+  if (!NoExtraTerm(problem)) {
+    // Never reused (the terms' build may depend on the model): not kept.
+    kept->state_.reset();
+    return Refine(problem, solver, measurements, model, summary);
+  }
   const Clock::time_point start = Clock::now();
   *summary = RefineSummary();
   NRSFM_RETURN_IF_ERROR(solver.Check().WithContext("refine"));
@@ -271,17 +292,19 @@ Status Refine(const ProblemOptions& problem, const SolverOptions& solver,
   const bool reuse =
       state != nullptr && state->Fits(problem, measurements, *model);
   if (reuse) {
-    NRSFM_RETURN_IF_ERROR(model->Validate().WithContext("refine: model"));
+    NRSFM_RETURN_IF_ERROR(
+        ProblemBuilder::CheckInputs(problem, measurements, *model)
+            .WithContext("refine"));
     state->storage = *model;  // the same sizes: the blocks' storage stays
     ++kept->reuses_;
   } else {
-    kept->state_.reset();
+    kept->state_.reset();  // freed before the new one is built
     auto fresh = std::make_unique<KeptProblem::State>();
+    fresh->measurements = measurements;
     fresh->storage = *model;
-    fresh->measurements = &measurements;
     fresh->options = problem;
     fresh->builder =
-        std::make_unique<ProblemBuilder>(&measurements, &fresh->storage);
+        std::make_unique<ProblemBuilder>(&fresh->measurements, &fresh->storage);
     NRSFM_RETURN_IF_ERROR(
         fresh->builder->AddReprojectionTerms(problem).WithContext("refine"));
     NRSFM_RETURN_IF_ERROR(

@@ -60,14 +60,17 @@ struct RefineSummary {
                               // one-line report
 };
 
-// A problem that Refine() built, kept for the next Refine() of the same
-// measurements with equal options of the data term, no extra term and a
-// model of the same sizes: that one then skips the build, the choice of the
-// minimiser and the structured solver's layout, and refines its model's
-// values in the kept storage (Reconstruct() refines its two starts one
-// after the other this way when both would not fit in memory at once).
-// Holds its own copy of the model as the blocks' storage; another Refine()
-// builds (and keeps) a new problem. Not thread-safe; movable.
+// A problem that Refine() built without extra terms, kept for the next
+// Refine() of equal measurements (bit for bit) with equal options of the
+// data term, no extra term and a model of the same sizes: that one then
+// skips the build, the choice of the minimiser and the structured solver's
+// layout (it still checks its options and model as a build does), and
+// refines its model's values in the kept storage (Reconstruct() refines its
+// two starts one after the other this way when both would not fit in memory
+// at once). Holds its own copies of the measurements and the model (the
+// blocks' storage). A Refine() that does not fit frees it first and builds
+// (and keeps) a new one; one with an extra term keeps none. Not
+// thread-safe; movable.
 class KeptProblem {
  public:
   KeptProblem();
@@ -75,8 +78,8 @@ class KeptProblem {
   KeptProblem(KeptProblem&&) noexcept;
   KeptProblem& operator=(KeptProblem&&) noexcept;
 
-  // Refine() calls that reused the problem it holds (not counting the one
-  // that built it).
+  // Refine() calls that reused a kept problem, over the object's life (the
+  // builds not counted).
   int reuses() const { return reuses_; }
 
   struct State;  // solvers/refine.cc

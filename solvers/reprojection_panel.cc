@@ -27,7 +27,11 @@ bool ReprojectionPanel::Clear() {
   std::fill(column_of_.begin(), column_of_.end(), -1);
   views_.clear();
   points_.clear();
+  piece_begin_.clear();
   num_entries_ = 0;
+  num_bases_ = 0;
+  w_.resize(0, 0);
+  rows_.resize(0, 0);
   return false;
 }
 
@@ -115,6 +119,14 @@ bool ReprojectionPanel::Build(const StructuredBlocks& blocks) {
   }
   if (entries.empty()) return Clear();
   const int v = num_views(), p = num_points();
+  // The panel multiplies every entry, observed or not: measured per
+  // conjugate-gradient iteration (docs/performance.md), an entry costs about
+  // a fifth of a residual block, so below a fifth observed the residual
+  // blocks one by one cost less (and the panel's arrays are not allocated).
+  if (5 * static_cast<long long>(entries.size()) <
+      static_cast<long long>(v) * p) {
+    return Clear();
+  }
   w_.setZero(2 * v, p);
   rows_.setConstant(v, p, -1);
   Eigen::Matrix<char, Eigen::Dynamic, Eigen::Dynamic> seen =

@@ -18,9 +18,9 @@
 //   J_pᵀ J_p (point p) = Σ_v w_vp² (l_v l_vᵀ) ⊗ (a_vᵀ a_v),
 // so over all views and points these are products of (2V × 3K) and
 // (3K × P) matrices, masked by w or w² (every entry of the panel costs the
-// same, observed or not; solvers/structured_jacobian.cc decides when that
-// pays). The products are cut into column pieces fixed by P, so the results
-// are the same bits for any thread count.
+// same, observed or not; Build() declines a panel where that does not pay). The
+// products are cut into column pieces fixed by P, so the results are the same
+// bits for any thread count.
 //
 // Everything uses the blocks' values of the last Update(); not thread-safe
 // (the passes keep J_f v between them).
@@ -47,9 +47,11 @@ void AddKroneckerGram(const double* sums, int num_bases, Eigen::MatrixXd* c);
 class ReprojectionPanel {
  public:
   // The panel of `blocks`' reprojection residuals with a basis factor, or
-  // false (it holds none) when two of them share a view and a point, their
-  // views disagree on the blocks that go with a rotation block, or there
-  // are none. `blocks` must outlive this.
+  // false (it holds none) when there are none, when they have different K,
+  // when two of them share a view and a point, when their views disagree on
+  // the blocks that go with a rotation block, or when fewer than a fifth of
+  // the panel's entries are observed (the residual blocks one by one then
+  // cost less; the rule in the .cc). `blocks` must outlive this.
   bool Build(const StructuredBlocks& blocks);
 
   int num_views() const { return static_cast<int>(views_.size()); }

@@ -52,14 +52,6 @@ class SlotPointers {
   double** data_;
 };
 
-// Whether the panel's products (every entry of the V × P panel, observed
-// or not) cost less than the passes over its residuals one by one: measured
-// per conjugate-gradient iteration (docs/performance.md), an entry of the
-// panel costs about a fifth of a residual block.
-bool PanelCostsLess(long long entries, int views, int points) {
-  return 5 * entries >= static_cast<long long>(views) * points;
-}
-
 }  // namespace
 
 StructuredJacobian::StructuredJacobian(const StructuredBlocks& blocks,
@@ -75,9 +67,7 @@ StructuredJacobian::StructuredJacobian(const StructuredBlocks& blocks,
     const int block = r.slot_block[BasisJacobianFactor::kRotationSlot];
     if (r.basis_factor != nullptr && block >= 0) is_rotation_[block] = 1;
   }
-  if (panel_.Build(blocks_) &&
-      PanelCostsLess(panel_.num_entries(), panel_.num_views(),
-                     panel_.num_points())) {
+  if (panel_.Build(blocks_)) {
     use_panel_ = true;
     for (int i = 0; i < static_cast<int>(blocks_.residuals.size()); ++i) {
       if (panel_.Holds(i)) continue;

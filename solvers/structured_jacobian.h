@@ -83,10 +83,12 @@ class StructuredJacobian {
                             Eigen::VectorXd* out) const;
   // The two passes of a product with the Schur complement
   // (solvers/schur_elimination.h), each one pass over the residual blocks in
-  // storage order (the reprojection residuals as one panel when
-  // uses_panel()): rows = J_f reduced and projected = J_pᵀ rows; then
+  // storage order: rows = J_f reduced and projected = J_pᵀ rows; then
   // rows −= J_p eliminated and out = J_fᵀ rows (rows null: out =
-  // J_fᵀ (−J_p eliminated), without a first pass). Both leave out the
+  // J_fᵀ (−J_p eliminated), without a first pass). When uses_panel() the
+  // reprojection residuals are one panel, whose J_f reduced the first pass
+  // keeps inside the panel (their entries of `rows` are left unset): a
+  // second pass with rows must follow its first pass. Both leave out the
   // residuals of the grids (Residual::in_grid), whose part SchurElimination
   // adds.
   void MultiplyJReducedAndJtEliminated(const Eigen::VectorXd& reduced,
@@ -142,9 +144,9 @@ class StructuredJacobian {
   std::vector<RowMatrix> plus_jacobians_;
   std::vector<ProjectedRotation> rotations_;
   std::vector<char> is_rotation_;
-  // The reprojection residuals as one panel in the two passes when that
-  // costs less (solvers/reprojection_panel.h; the rule in the .cc), and the
-  // residuals the passes then take one by one.
+  // The reprojection residuals as one panel when it pays
+  // (solvers/reprojection_panel.h, Build()), and the residuals the passes
+  // then take one by one.
   ReprojectionPanel panel_;
   bool use_panel_ = false;
   std::vector<int> pass_residuals_;

@@ -514,8 +514,9 @@ TEST(Refine, OneThreadIsBitwiseDeterministicTwoThreadsAgreeClosely) {
 TEST(Refine, AKeptProblemGivesTheSameBitsAsAFreshOne) {
   // Two starts of one problem refined one after the other in a KeptProblem
   // (the second skips the build and the layout) against each refined in a
-  // problem of its own; then options with a term, another K and other
-  // observation weights, which rebuild it.
+  // problem of its own; then options with a term (nothing kept), other
+  // observation weights, another K and other tracks (rebuilt), and equal
+  // tracks in another object (reused).
   SyntheticSequence s = Sequence(30, 25, 3, 0.01, 0.1);
   const Model start_a = Perturbed(s.truth, 0.05, 1);
   const Model start_b = Perturbed(s.truth, 0.05, 2);
@@ -525,6 +526,10 @@ TEST(Refine, AKeptProblemGivesTheSameBitsAsAFreshOne) {
   weighted.observation_weights =
       Eigen::ArrayXXd::Constant(s.measurements.NumViews(), 25, 2.0);
   SyntheticSequence fewer = Sequence(30, 25, 2, 0.01, 0.1);
+  // Equal tracks in another object: reused; other tracks of the same sizes:
+  // rebuilt.
+  const Measurements copy = s.measurements;
+  SyntheticSequence other = Sequence(30, 25, 3, 0.01, 0.1, /*seed=*/9);
   struct Run {
     const ProblemOptions* options;
     const Measurements* measurements;
@@ -536,12 +541,15 @@ TEST(Refine, AKeptProblemGivesTheSameBitsAsAFreshOne) {
       {&plain, &s.measurements, start_a, 0},
       {&plain, &s.measurements, start_b, 1},
       {&plain, &s.measurements, start_a, 2},
-      {&with_term, &s.measurements, start_b, 2},  // a term: rebuilt
-      {&with_term, &s.measurements, start_a, 2},  // a term: rebuilt
+      {&with_term, &s.measurements, start_b, 2},  // a term: none kept
+      {&with_term, &s.measurements, start_a, 2},  // a term: none kept
       {&plain, &s.measurements, start_b, 2},
       {&plain, &s.measurements, start_a, 3},
       {&weighted, &s.measurements, start_b, 3},  // other weights: rebuilt
       {&plain, &fewer.measurements, Perturbed(fewer.truth, 0.05, 3), 3},
+      {&plain, &copy, start_a, 3},
+      {&plain, &s.measurements, start_b, 4},
+      {&plain, &other.measurements, Perturbed(other.truth, 0.05, 4), 4},
   };
   KeptProblem kept;
   for (std::size_t i = 0; i < runs.size(); ++i) {
