@@ -20,6 +20,28 @@ constexpr int kMaxPieces = 16;
 constexpr int kTranslationSlot = 1;
 constexpr int kScaleSlot = 4;
 
+// The columns [begin, begin + width) of the panel from the eliminated
+// vector `values`: point `points[begin + p]`'s 3K values as column p.
+void GatherColumns(const StructuredBlocks& blocks,
+                   const std::vector<int>& points, int begin, int width,
+                   int size, const Eigen::VectorXd& values,
+                   Eigen::MatrixXd* out) {
+  out->resize(size, width);
+  for (int p = 0; p < width; ++p) {
+    out->col(p) = values.segment(blocks.blocks[points[begin + p]].offset, size);
+  }
+}
+
+// The converse: adds column p of `in` to point `points[begin + p]`'s values.
+void ScatterAddColumns(const StructuredBlocks& blocks,
+                       const std::vector<int>& points, int begin,
+                       const Eigen::MatrixXd& in, Eigen::VectorXd* values) {
+  for (Eigen::Index p = 0; p < in.cols(); ++p) {
+    values->segment(blocks.blocks[points[begin + p]].offset, in.rows()) +=
+        in.col(p);
+  }
+}
+
 }  // namespace
 
 bool ReprojectionPanel::Clear() {
@@ -266,7 +288,6 @@ void ReprojectionPanel::ProjectReduced(const Eigen::VectorXd& v,
   Eigen::VectorXd translation;
   FormC(v, &c, &translation);
   jfv_.resize(2 * num_views(), num_points());
-  const int size = 3 * num_bases_;
   ParallelFor(NumPieces(), num_threads, 1, [&](int first, int last) {
     Eigen::MatrixXd masked, out;
     for (int piece = first; piece < last; ++piece) {
@@ -277,10 +298,7 @@ void ReprojectionPanel::ProjectReduced(const Eigen::VectorXd& v,
       jfv.colwise() += translation;
       masked = w_.middleCols(begin, width).array().square() * jfv.array();
       out.noalias() = n_.transpose() * masked;
-      for (int p = 0; p < width; ++p) {
-        projected->segment(blocks_->blocks[points_[begin + p]].offset, size) +=
-            out.col(p);
-      }
+      ScatterAddColumns(*blocks_, points_, begin, out, projected);
     }
   });
 }
@@ -296,11 +314,7 @@ void ReprojectionPanel::AddReduced(const Eigen::VectorXd& e, bool with_reduced,
     for (int piece = first; piece < last; ++piece) {
       const int begin = piece_begin_[piece];
       const int width = piece_begin_[piece + 1] - begin;
-      eliminated.resize(size, width);
-      for (int p = 0; p < width; ++p) {
-        eliminated.col(p) =
-            e.segment(blocks_->blocks[points_[begin + p]].offset, size);
-      }
+      GatherColumns(*blocks_, points_, begin, width, size, e, &eliminated);
       if (with_reduced) {
         g = jfv_.middleCols(begin, width);
         g.noalias() -= n_ * eliminated;
@@ -364,7 +378,7 @@ void ReprojectionPanel::AddViewGradients(const std::vector<Eigen::MatrixXd>& z,
 void ReprojectionPanel::AddGradient(const Eigen::VectorXd& residuals,
                                     int num_threads, Eigen::VectorXd* reduced,
                                     Eigen::VectorXd* eliminated) const {
-  const int size = 3 * num_bases_, views = num_views();
+  const int views = num_views();
   std::vector<Eigen::MatrixXd> z(NumPieces());
   std::vector<Eigen::VectorXd> t(NumPieces());
   ParallelFor(NumPieces(), num_threads, 1, [&](int first, int last) {
@@ -383,10 +397,7 @@ void ReprojectionPanel::AddGradient(const Eigen::VectorXd& residuals,
         }
       }
       projected.noalias() = n_.transpose() * g;
-      for (int p = 0; p < width; ++p) {
-        eliminated->segment(blocks_->blocks[points_[begin + p]].offset, size) +=
-            projected.col(p);
-      }
+      ScatterAddColumns(*blocks_, points_, begin, projected, eliminated);
       z[piece].noalias() = g * basis_.middleCols(begin, width).transpose();
       t[piece] = g.rowwise().sum();
     }
@@ -409,11 +420,7 @@ void ReprojectionPanel::AddStepProducts(const Eigen::VectorXd& reduced,
     for (int piece = first; piece < last; ++piece) {
       const int begin = piece_begin_[piece];
       const int width = piece_begin_[piece + 1] - begin;
-      step.resize(size, width);
-      for (int p = 0; p < width; ++p) {
-        step.col(p) = eliminated.segment(
-            blocks_->blocks[points_[begin + p]].offset, size);
-      }
+      GatherColumns(*blocks_, points_, begin, width, size, eliminated, &step);
       // J δ / w = C s_p + δT + N δb_p.
       y.noalias() = c * basis_.middleCols(begin, width);
       y.colwise() += translation;
