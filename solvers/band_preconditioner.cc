@@ -52,6 +52,55 @@ BandPreconditioner::BandPreconditioner(const StructuredBlocks& blocks,
       }
     }
   }
+  panel_views_.assign(blocks_.num_groups(), {});
+  const ReprojectionPanel* panel = jacobian_.panel();
+  if (panel == nullptr) return;
+  for (int v = 0; v < panel->num_views(); ++v) {
+    std::vector<int> groups;
+    for (const int block : panel->ViewBlocks(v)) {
+      groups.push_back(blocks_.blocks[block].group);
+    }
+    std::sort(groups.begin(), groups.end());
+    groups.erase(std::unique(groups.begin(), groups.end()), groups.end());
+    for (const int group : groups) {
+      if (group >= 0) {
+        panel_views_[group].push_back(v);
+      } else {
+        shared_panel_views_.push_back(v);
+      }
+    }
+  }
+}
+
+void BandPreconditioner::AddViewGram(int view, int g) {
+  const ReprojectionPanel& panel = *jacobian_.panel();
+  const std::vector<int>& view_blocks = panel.ViewBlocks(view);
+  const Eigen::MatrixXd& gram = panel.ViewGram(view);
+  const int num_group_columns = blocks_.num_group_columns;
+  for (std::size_t ia = 0, ca = 0; ia < view_blocks.size(); ++ia) {
+    const Block& a = blocks_.blocks[view_blocks[ia]];
+    for (std::size_t ib = 0, cb = 0; ib < view_blocks.size(); ++ib) {
+      const Block& b = blocks_.blocks[view_blocks[ib]];
+      const auto part = gram.block(ca, cb, a.size, b.size);
+      if (g < 0) {  // the corner: shared against shared
+        if (a.group < 0 && b.group < 0) {
+          corner_.block(a.offset - num_group_columns,
+                        b.offset - num_group_columns, a.size, b.size) += part;
+        }
+      } else if (a.group != g) {
+        // Its rows are another group's (or the corner's).
+      } else if (b.group < 0) {
+        border_.block(a.offset, b.offset - num_group_columns, a.size, b.size) +=
+            part;
+      } else if (g - b.group >= 0) {  // the band's lower triangle of blocks
+        band_[g][g - b.group].block(a.offset - blocks_.group_offset[g],
+                                    b.offset - blocks_.group_offset[b.group],
+                                    a.size, b.size) += part;
+      }
+      cb += b.size;
+    }
+    ca += a.size;
+  }
 }
 
 void BandPreconditioner::Build(double mu, const Eigen::VectorXd& d_reduced,
@@ -61,6 +110,7 @@ void BandPreconditioner::Build(double mu, const Eigen::VectorXd& d_reduced,
   const int num_shared = blocks_.num_shared();
   const int band = blocks_.band;
   const std::vector<int>& group_offset = blocks_.group_offset;
+  const ReprojectionPanel* panel = jacobian_.panel();
   band_.assign(num_groups, std::vector<Eigen::MatrixXd>(band + 1));
   border_ = Eigen::MatrixXd::Zero(num_group_columns, num_shared);
   ParallelFor(num_groups, num_threads_, kGroupGrain, [&](int begin, int end) {
@@ -70,6 +120,7 @@ void BandPreconditioner::Build(double mu, const Eigen::VectorXd& d_reduced,
                                             blocks_.GroupSize(g - d));
       }
       for (const Ref& ref : blocks_.group_refs[g]) {
+        if (panel != nullptr && panel->Holds(ref.residual)) continue;
         const Residual& r = blocks_.residuals[ref.residual];
         const Segment& a = r.reduced[ref.segment];
         if (r.gram) {
@@ -97,6 +148,7 @@ void BandPreconditioner::Build(double mu, const Eigen::VectorXd& d_reduced,
       // against each weights block b of the row in a group ≤ g (the band's
       // lower triangle of blocks; a diagonal block is filled in full, as
       // above).
+      for (const int v : panel_views_[g]) AddViewGram(v, g);
       for (const auto& [grid, q] : grid_rows_[g]) {
         const Eigen::MatrixXd& h = grid_grams[grid];
         const std::vector<BilinearGrid::Term>& row =
@@ -117,8 +169,11 @@ void BandPreconditioner::Build(double mu, const Eigen::VectorXd& d_reduced,
           mu * d_reduced.segment(group_offset[g], blocks_.GroupSize(g));
     }
   });
-  Eigen::MatrixXd corner = Eigen::MatrixXd::Zero(num_shared, num_shared);
+  corner_ = Eigen::MatrixXd::Zero(num_shared, num_shared);
+  Eigen::MatrixXd& corner = corner_;
+  for (const int v : shared_panel_views_) AddViewGram(v, -1);
   for (int i : blocks_.residuals_with_shared) {
+    if (panel != nullptr && panel->Holds(i)) continue;
     const Residual& r = blocks_.residuals[i];
     if (r.gram) {
       // The corner's column of slot k's block, or -1 when it is not shared.

@@ -8,7 +8,8 @@
 // M⁻¹ is applied through the Schur complement of A, C − Bᵀ A⁻¹ B. The
 // coupling between frames through shared points (what the elimination of
 // the points adds, solvers/schur_elimination.h) is not in M: it is left to
-// the conjugate gradients.
+// the conjugate gradients. The panel's residuals
+// (solvers/reprojection_panel.h) are added as their views' Grams.
 //
 // A diagonal block of the band that is not positive definite gets a
 // diagonal shift of 1e-10 × its largest diagonal entry (a preconditioner
@@ -49,6 +50,11 @@ class BandPreconditioner {
   // slots in segment `a` (of group g) against every reduced slot of a group
   // ≤ g (the band's lower triangle) or shared (the border).
   void AddGram(const Residual& r, const Segment& a, int g);
+  // The panel's Gram of view `view` (ReprojectionPanel::ViewGram()): its
+  // rows of group g against every group ≤ g (the band's lower triangle) and
+  // the shared blocks (the border), or for g = −1 its shared rows against
+  // the shared blocks (the corner).
+  void AddViewGram(int view, int g);
   // Solves L Lᵀ x = x in place with the band factor (x: a vector or a
   // matrix of right-hand sides).
   template <typename Matrix>
@@ -59,6 +65,11 @@ class BandPreconditioner {
   const int num_threads_;
   // Per group, the (grid, row) pairs with a weights block in it.
   std::vector<std::vector<std::pair<int, int>>> grid_rows_;
+  // Per group, the panel's views with a block in it, and those with a
+  // shared block (none without a panel).
+  std::vector<std::vector<int>> panel_views_;
+  std::vector<int> shared_panel_views_;
+  Eigen::MatrixXd corner_;                          // C, while Build() forms it
   std::vector<std::vector<Eigen::MatrixXd>> band_;  // [g][d]: block (g, g − d)
   Eigen::MatrixXd border_, border_solved_;          // B, A⁻¹ B
   Eigen::LLT<Eigen::MatrixXd> corner_llt_;          // of C − Bᵀ A⁻¹ B

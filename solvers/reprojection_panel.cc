@@ -53,7 +53,9 @@ bool ReprojectionPanel::Clear() {
   num_entries_ = 0;
   num_bases_ = 0;
   w_.resize(0, 0);
+  w2_.resize(0, 0);
   rows_.resize(0, 0);
+  view_gram_.clear();
   return false;
 }
 
@@ -160,6 +162,14 @@ bool ReprojectionPanel::Build(const StructuredBlocks& blocks) {
     w_(2 * e.view + 1, e.column) = e.w;
     rows_(e.view, e.column) = e.row;
   }
+  w2_ = w_(Eigen::seq(0, 2 * v - 1, 2), Eigen::all).array().square();
+  for (View& view : views_) {
+    view.blocks.clear();
+    for (const int block :
+         {view.rotation, view.translation, view.weights, view.scale}) {
+      if (block >= 0) view.blocks.push_back(block);
+    }
+  }
   num_entries_ = static_cast<long long>(entries.size());
   const int pieces = std::max(1, std::min(kMaxPieces, p / kPieceGrain));
   piece_begin_.resize(pieces + 1);
@@ -220,22 +230,6 @@ void ReprojectionPanel::Update(int num_threads) {
       }
     }
   }
-  gram_.resize(6 * num_pairs, num_points());
-  ParallelFor(NumPieces(), num_threads, 1, [&](int first, int last) {
-    Eigen::MatrixXd w2;
-    for (int piece = first; piece < last; ++piece) {
-      const int begin = piece_begin_[piece];
-      const int width = piece_begin_[piece + 1] - begin;
-      w2.resize(num_views, width);
-      for (int p = 0; p < width; ++p) {
-        for (int v = 0; v < num_views; ++v) {
-          const double w = w_(2 * v, begin + p);
-          w2(v, p) = w * w;
-        }
-      }
-      gram_.middleCols(begin, width).noalias() = features * w2;
-    }
-  });
   basis_.resize(3 * k, num_points());
   ParallelFor(num_points(), num_threads, kPieceGrain, [&](int begin, int end) {
     for (int p = begin; p < end; ++p) {
@@ -243,6 +237,101 @@ void ReprojectionPanel::Update(int num_threads) {
           blocks_->blocks[points_[p]].values, 3 * k);
     }
   });
+  // Per piece: the Gram sums of the points, and per view the part of
+  // M_v = Σ_p w² s̄_p s̄_pᵀ (s̄ = [s_p; 1], its lower triangle by columns).
+  const int n = 3 * k + 1, num_products = n * (n + 1) / 2;
+  gram_.resize(6 * num_pairs, num_points());
+  std::vector<Eigen::MatrixXd> moments(NumPieces());
+  ParallelFor(NumPieces(), num_threads, 1, [&](int first, int last) {
+    Eigen::MatrixXd products;
+    for (int piece = first; piece < last; ++piece) {
+      const int begin = piece_begin_[piece];
+      const int width = piece_begin_[piece + 1] - begin;
+      const auto w2 = w2_.middleCols(begin, width);
+      gram_.middleCols(begin, width).noalias() = features * w2;
+      products.resize(width, num_products);
+      for (int p = 0; p < width; ++p) {
+        const double* s_p = basis_.col(begin + p).data();
+        for (int q = 0, j = 0; j < n; ++j) {
+          const double sj = j < n - 1 ? s_p[j] : 1.0;
+          for (int i = j; i < n; ++i, ++q)
+            products(p, q) = (i < n - 1 ? s_p[i] : 1.0) * sj;
+        }
+      }
+      moments[piece].noalias() = w2 * products;
+    }
+  });
+  for (int piece = 1; piece < NumPieces(); ++piece)
+    moments[0] += moments[piece];
+  view_gram_.resize(num_views);
+  ParallelFor(num_views, num_threads, kPieceGrain, [&](int begin, int end) {
+    Eigen::MatrixXd m(n, n), phi;
+    for (int v = begin; v < end; ++v) {
+      for (int q = 0, j = 0; j < n; ++j) {
+        for (int i = j; i < n; ++i, ++q) m(i, j) = m(j, i) = moments[0](v, q);
+      }
+      const View& view = views_[v];
+      int columns = 0;
+      for (const int block : view.blocks)
+        columns += blocks_->blocks[block].size;
+      Eigen::MatrixXd& g = view_gram_[v];
+      g.setZero(columns, columns);
+      const double* l = view.weights_values;
+      for (int row = 0; row < 2; ++row) {
+        // Φ: J̃'s row `row` = Φ s̄ (one row of Φ per column of J̃).
+        phi.setZero(columns, n);
+        int c = 0;
+        for (const int block : view.blocks) {
+          const Block& b = blocks_->blocks[block];
+          if (block == view.rotation) {
+            for (int i = 0; i < 3; ++i) {
+              for (int kk = 0; kk < k; ++kk) {
+                for (int x = 0; x < 3; ++x) {
+                  const double u = l[kk] * d_[3 * v + i](row, x);
+                  for (int t = 0; t < b.size; ++t)
+                    phi(c + t, 3 * kk + x) += tangent_[v](i, t) * u;
+                }
+              }
+            }
+          } else if (block == view.translation) {
+            phi(c + row, n - 1) = 1.0;
+          } else if (block == view.weights) {
+            for (int kk = 0; kk < k; ++kk)
+              phi.block<1, 3>(c + kk, 3 * kk) = a_[v].row(row);
+          } else {  // the scale
+            for (int kk = 0; kk < k; ++kk)
+              phi.block<1, 3>(c, 3 * kk) = l[kk] * projection_[v].row(row);
+          }
+          c += b.size;
+        }
+        g.noalias() += phi * m * phi.transpose();
+      }
+    }
+  });
+}
+
+void ReprojectionPanel::AddColumnSquaredNorms(
+    Eigen::VectorXd* reduced, Eigen::VectorXd* eliminated) const {
+  for (int v = 0; v < num_views(); ++v) {
+    int c = 0;
+    for (const int block : views_[v].blocks) {
+      const Block& b = blocks_->blocks[block];
+      reduced->segment(b.offset, b.size) +=
+          view_gram_[v].diagonal().segment(c, b.size);
+      c += b.size;
+    }
+  }
+  // Column (k, i) of point p: the (i, i) entry of the pair (k, k).
+  const int k = num_bases_;
+  constexpr int kDiagonal[3] = {0, 3, 5};
+  for (int p = 0; p < num_points(); ++p) {
+    double* out = eliminated->data() + blocks_->blocks[points_[p]].offset;
+    for (int kk = 0; kk < k; ++kk) {
+      const int q = kk * k - kk * (kk - 1) / 2;
+      for (int i = 0; i < 3; ++i)
+        out[3 * kk + i] += gram_(6 * q + kDiagonal[i], p);
+    }
+  }
 }
 
 void ReprojectionPanel::AddGram(int block, Eigen::MatrixXd* c) const {

@@ -3,8 +3,9 @@
 // Jacobian that the structured solver forms in every step and conjugate-
 // gradient iteration (the two passes of a product with the Schur complement,
 // solvers/schur_elimination.h; the gradient; the Gram blocks J_pᵀ J_p; the
-// linear model's decrease) as matrix products instead of one small product
-// per residual block.
+// views' J_fᵀ J_f for the preconditioner; diag(JᵀJ); the linear model's
+// decrease) as matrix products instead of one small product per residual
+// block, so that these residuals' Jacobians are never stored.
 //
 // A residual of the panel is a reprojection residual with a basis factor
 // (problems/reprojection_cost_function.h: no robust loss, its basis block
@@ -82,6 +83,22 @@ class ReprojectionPanel {
   // index) to `c` as AddKroneckerGram does, at the values of the last
   // Update(); nothing for a block the panel does not hold.
   void AddGram(int block, Eigen::MatrixXd* c) const;
+  // The free reduced blocks of view `view` (Block indices: its rotation,
+  // translation, weights and scale blocks that are free, in that order), and
+  // its residuals' J_fᵀ J_f over their columns in that order, at the last
+  // Update():
+  //   Σ_p w_vp² J̃_vpᵀ J̃_vp,  J̃_vp = [d_vi X_vp, I₂, a_v b_pk, Π R X_vp],
+  // X_vp = Σ_k l_vk b_pk (the rotation's columns mapped to its tangent
+  // space), formed from M_v = Σ_p w_vp² [s_p; 1] [s_p; 1]ᵀ: one product of
+  // the V × P matrix of w² with the points' (3K + 1)(3K + 2)/2 products.
+  const std::vector<int>& ViewBlocks(int view) const {
+    return views_[view].blocks;
+  }
+  const Eigen::MatrixXd& ViewGram(int view) const { return view_gram_[view]; }
+  // Adds diag(JᵀJ) of the panel's residuals: the reduced columns from the
+  // views' Grams, the eliminated ones from the Gram sums of AddGram().
+  void AddColumnSquaredNorms(Eigen::VectorXd* reduced,
+                             Eigen::VectorXd* eliminated) const;
 
   // The first pass: keeps J_f v (v: reduced columns) and adds J_pᵀ J_f v to
   // `projected` (eliminated columns).
@@ -96,6 +113,7 @@ class ReprojectionPanel {
  private:
   struct View {
     int rotation = -1, translation = -1, weights = -1, scale = -1;  // Block
+    std::vector<int> blocks;  // the free ones of the four, in that order
     const double* rotation_values = nullptr;
     const double* weights_values = nullptr;
     const double* scale_value = nullptr;  // null: s = 1
@@ -123,6 +141,7 @@ class ReprojectionPanel {
   std::vector<int> column_of_;    // column per Block, −1 = none
   std::vector<int> piece_begin_;  // fixed by the number of points
   Eigen::MatrixXd w_;             // 2V × P: w for both rows of a view
+  Eigen::MatrixXd w2_;            // V × P: w²
   Eigen::MatrixXi rows_;          // V × P: first row of r, −1 = none
   // At the last Update(): a_v, d_vi (ambient), Π R, the tangent map of ω
   // (3 × size, identity without a manifold), l_v per view; s_p per column.
@@ -132,7 +151,8 @@ class ReprojectionPanel {
   Eigen::MatrixXd n_;  // 2V × 3K: N_v
   // The sums of AddKroneckerGram per column (6 K(K+1)/2 × P).
   Eigen::MatrixXd gram_;
-  Eigen::MatrixXd basis_;        // 3K × P: s_p
+  std::vector<Eigen::MatrixXd> view_gram_;  // per view, ViewGram()
+  Eigen::MatrixXd basis_;                   // 3K × P: s_p
   mutable Eigen::MatrixXd jfv_;  // 2V × P: J_f v / w, from ProjectReduced()
 };
 

@@ -7,9 +7,11 @@
 // ½ Σ ρ(||r_i||²) of the uncorrected residuals. J is in tangent space (the
 // ambient Jacobian times the manifold's PlusJacobian). Not stored: the
 // columns of a reprojection residual's basis block (only its 2 × 3 factor
-// A, Residual::basis_factor) and every column of a residual that provides
-// its Gram blocks (Residual::gram). Products with a residual that provides
-// them (Residual::product) are formed from its parameters, so products and
+// A, Residual::basis_factor), every column of a residual that provides
+// its Gram blocks (Residual::gram) and every column of a residual that the
+// panel holds (uses_panel(): the panel forms its products and Gram blocks
+// from the blocks' values). Products with a residual that provides them
+// (Residual::product) are formed from its parameters, so products and
 // sums read the blocks' values: these must be those of the last
 // Evaluate(true).
 //
@@ -43,8 +45,11 @@ constexpr int kReductionPieces = 16;
 
 class StructuredJacobian {
  public:
-  // `blocks` must outlive this.
-  StructuredJacobian(const StructuredBlocks& blocks, int num_threads);
+  // `blocks` must outlive this. With allow_panel the reprojection residuals
+  // are one panel when it pays (ReprojectionPanel::Build()); without, every
+  // residual block is taken one by one (a reference for tests).
+  StructuredJacobian(const StructuredBlocks& blocks, int num_threads,
+                     bool allow_panel = true);
 
   // r (and J when with_jacobian) at the blocks' current values; *cost =
   // ½ Σ ρ(||r_i||²). False when a cost function fails or the cost is not
@@ -53,7 +58,8 @@ class StructuredJacobian {
   const Eigen::VectorXd& residuals() const { return r_; }
 
   // y (r.m values) += J_r x for the reduced and eliminated parts given
-  // (null = zero), and the transposed products into the parts wanted.
+  // (null = zero), and the transposed products into the parts wanted; `r`
+  // not held by the panel.
   void AddResidualJx(const Residual& r, const double* reduced,
                      const double* eliminated, double* y) const;
   void AddResidualJty(const Residual& r, const double* y, double* reduced,
@@ -64,7 +70,8 @@ class StructuredJacobian {
   template <typename Body>
   void SumOverResiduals(int size, const Body& body, Eigen::VectorXd* out,
                         const std::vector<int>* only = nullptr) const;
-  // rows = J [reduced; eliminated] (null = zero).
+  // rows = J [reduced; eliminated] (null = zero), residual by residual: not
+  // on a Jacobian that uses_panel() (a programmer error).
   void MultiplyJ(const Eigen::VectorXd* reduced,
                  const Eigen::VectorXd* eliminated,
                  Eigen::VectorXd* rows) const;
@@ -76,7 +83,7 @@ class StructuredJacobian {
   void StepProducts(const Eigen::VectorXd& reduced,
                     const Eigen::VectorXd& eliminated, double* dot,
                     double* squared) const;
-  // out = J_fᵀ rows, J_pᵀ rows (residual by residual).
+  // out = J_fᵀ rows, J_pᵀ rows (residual by residual, as MultiplyJ()).
   void MultiplyJtReduced(const Eigen::VectorXd& rows,
                          Eigen::VectorXd* out) const;
   void MultiplyJtEliminated(const Eigen::VectorXd& rows,
@@ -109,18 +116,24 @@ class StructuredJacobian {
   void ColumnSquaredNorms(Eigen::VectorXd* reduced,
                           Eigen::VectorXd* eliminated) const;
 
-  // The stored Jacobian of `r`, and its columns [jcol, jcol + width).
-  const double* J(const Residual& r) const { return jacobian_.data() + r.jac; }
+  // The stored Jacobian of `r` (not for a residual the panel holds or one
+  // with Residual::gram), and its columns [jcol, jcol + width).
+  const double* J(const Residual& r) const {
+    return jacobian_.data() + stored_[&r - blocks_.residuals.data()];
+  }
   ConstRowMap Cols(const Residual& r, int jcol, int width) const {
     return ConstRowMap(J(r) + jcol, r.m, width, Eigen::OuterStride<>(r.width));
   }
-  // The 2 × 3 factor A (row-major) of a residual with a basis_factor.
+  // The 2 × 3 factor A (row-major) of a residual with a basis_factor that
+  // the panel does not hold, stored after its Jacobian.
   const double* Factor(const Residual& r) const {
-    return factors_.data() + r.factor;
+    return J(r) + static_cast<std::size_t>(r.m) * r.width;
   }
 
  private:
-  double* MutableJ(const Residual& r) { return jacobian_.data() + r.jac; }
+  double* MutableJ(const Residual& r) {
+    return jacobian_.data() + stored_[&r - blocks_.residuals.data()];
+  }
   // rotations_ (and plus_jacobians_ when with_jacobian) at the blocks'
   // current values.
   void FormSharedDerivatives(bool with_jacobian);
@@ -133,9 +146,11 @@ class StructuredJacobian {
 
   const StructuredBlocks& blocks_;
   const int num_threads_;
+  // The stored Jacobians (each followed by its factor A when it has one),
+  // residual i's from stored_[i]; nothing for a residual with Residual::gram
+  // or one the panel holds.
   std::vector<double> jacobian_;
-  std::vector<double>
-      factors_;  // A of the residuals with a basis_factor, 6 each
+  std::vector<std::size_t> stored_;
   Eigen::VectorXd r_;
   // Formed once per Evaluate() for every residual block that shares them,
   // indexed by Block: the PlusJacobian of each block with a manifold, and the

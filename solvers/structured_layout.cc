@@ -155,7 +155,6 @@ bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
   std::vector<ceres::ResidualBlockId> ids;
   problem->GetResidualBlocks(&ids);
   s->residuals.reserve(ids.size());
-  std::size_t jac = 0, factor = 0;
   for (ceres::ResidualBlockId id : ids) {
     Residual r;
     r.cost = problem->GetCostFunctionForResidualBlock(id);
@@ -215,8 +214,6 @@ bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
           r.basis_factor = basis_factor;
           r.num_bases = basis_factor->num_bases();
           r.weights = r.parameters[BasisJacobianFactor::kWeightsSlot];
-          r.factor = factor;
-          factor += 6;
           r.slot_jcol.back() = -1;
           continue;
         }
@@ -234,8 +231,6 @@ bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
       }
       r.width += b.size;
     }
-    r.jac = jac;
-    jac += static_cast<std::size_t>(r.m) * r.width;
     int lo = num_groups, hi = -1;
     for (const Segment& segment : r.reduced) {
       if (segment.group < 0) continue;
@@ -253,12 +248,9 @@ bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
     if (r.product != nullptr && r.product->ProvidesGram() &&
         r.coupled.empty()) {
       r.gram = true;
-      jac -= static_cast<std::size_t>(r.m) * r.width;  // nothing stored
     }
     s->residuals.push_back(std::move(r));
   }
-  s->jacobian_size = jac;
-  s->factors_size = factor;
   FindGrids(s);
 
   s->group_refs.assign(num_groups, {});

@@ -66,10 +66,9 @@ struct Coupled {
 struct Residual {
   const ceres::CostFunction* cost = nullptr;
   const ceres::LossFunction* loss = nullptr;
-  int m = 0;            // residuals
-  int row = 0;          // first row in r
-  int width = 0;        // columns of the stored Jacobian
-  std::size_t jac = 0;  // start in the Jacobian buffer
+  int m = 0;      // residuals
+  int row = 0;    // first row in r
+  int width = 0;  // columns of the stored Jacobian
   std::vector<double*> parameters;
   std::vector<int> slot_block;   // Block index per parameter, -1 = constant
   std::vector<int> slot_jcol;    // column of the slot in the stored Jacobian
@@ -88,10 +87,9 @@ struct Residual {
   const JacobianProduct* product = nullptr;
   // A reprojection residual without a robust loss whose eliminated block is
   // its basis block: that block's Jacobian l_k · A is not stored, only A
-  // (2 × 3 at `factor` of the factor buffer), and l is read from the weights
+  // (2 × 3, after its stored Jacobian), and l is read from the weights
   // block (problems/reprojection_cost_function.h, BasisJacobianFactor).
   const BasisJacobianFactor* basis_factor = nullptr;
-  std::size_t factor = 0;
   const double* weights = nullptr;
   int num_bases = 0;
   // The product also provides its Gram blocks (JacobianProduct::ProvidesGram):
@@ -161,9 +159,7 @@ struct StructuredBlocks {
   std::vector<int> residuals_with_shared;  // residuals that hold a shared block
   std::vector<int> coupling_residuals;     // residuals with `coupled` blocks
   std::vector<BilinearGrid> grids;         // the terms whose residuals form one
-  std::vector<int> not_in_grid;   // the other residuals (when there are grids)
-  std::size_t jacobian_size = 0;  // values of the stored Jacobian
-  std::size_t factors_size = 0;   // values of the basis factors A, 6 each
+  std::vector<int> not_in_grid;  // the other residuals (when there are grids)
 
   int num_groups() const { return static_cast<int>(group_refs.size()); }
   int num_shared() const { return num_reduced - num_group_columns; }

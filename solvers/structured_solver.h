@@ -36,14 +36,16 @@
 // for cost functions that provide them (problems/jacobian_product.h), are
 // formed from the parameters; when at least a fifth of the views × points
 // panel is observed, the reprojection residuals' products (with S, the
-// gradient, J_pᵀ J_p, the model's decrease) are matrix products over the
-// panel (solvers/reprojection_panel.h); the reprojection residuals (without a
-// robust loss) keep only the 2 × 3 factor A of their basis block's Jacobian
-// l_k A (problems/reprojection_cost_function.h), not the 2 × 3K block, and
-// form its other products, J_pᵀ J_p and diag from A and the weights; a cost
-// function that also provides its Gram blocks (JacobianProduct::ProvidesGram,
-// the temporal shape term) has no stored Jacobian at all. Sums over residual
-// blocks are added in pieces fixed by the problem, not by the thread count
+// gradient, J_pᵀ J_p, the views' J_fᵀ J_f for the preconditioner, diag(JᵀJ),
+// the model's decrease) are matrix products over the panel
+// (solvers/reprojection_panel.h) and their Jacobians are not stored;
+// otherwise the reprojection residuals (without a robust loss) keep only
+// the 2 × 3 factor A of their basis block's Jacobian l_k A
+// (problems/reprojection_cost_function.h), not the 2 × 3K block, and form its
+// other products, J_pᵀ J_p and diag from A and the weights; a cost function
+// that also provides its Gram blocks (JacobianProduct::ProvidesGram, the
+// temporal shape term) has no stored Jacobian at all. Sums over residual blocks
+// are added in pieces fixed by the problem, not by the thread count
 // (core/parallel_for.h, ParallelForPieces), so results are the same bits for
 // any thread count.
 #ifndef NRSFM_SOLVERS_STRUCTURED_SOLVER_H_

@@ -13,6 +13,7 @@
 #include "core/synthetic.h"
 #include "problems/extra_terms.h"
 #include "problems/problem_builder.h"
+#include "solvers/band_preconditioner.h"
 #include "solvers/schur_elimination.h"
 #include "solvers/structured_jacobian.h"
 #include "solvers/structured_layout.h"
@@ -80,8 +81,13 @@ TEST(ReprojectionPanel, PassesEqualTheProductsResidualByResidual) {
     for (const int threads : {1, 2}) {
       structured::StructuredJacobian jacobian(blocks, threads);
       ASSERT_TRUE(jacobian.uses_panel());
-      double cost = 0.0;
+      structured::StructuredJacobian reference(blocks, threads,
+                                               /*allow_panel=*/false);
+      ASSERT_FALSE(reference.uses_panel());
+      double cost = 0.0, reference_cost = 0.0;
       ASSERT_TRUE(jacobian.Evaluate(true, &cost));
+      ASSERT_TRUE(reference.Evaluate(true, &reference_cost));
+      EXPECT_EQ(cost, reference_cost);
       Eigen::VectorXd v(blocks.num_reduced), e(blocks.num_eliminated);
       for (Eigen::Index i = 0; i < v.size(); ++i) v[i] = normal(rng);
       for (Eigen::Index i = 0; i < e.size(); ++i) e[i] = normal(rng);
@@ -89,34 +95,34 @@ TEST(ReprojectionPanel, PassesEqualTheProductsResidualByResidual) {
       // First pass: J_pᵀ J_f v.
       Eigen::VectorXd rows, projected, jv, expected;
       jacobian.MultiplyJReducedAndJtEliminated(v, &rows, &projected);
-      jacobian.MultiplyJ(&v, nullptr, &jv);
-      jacobian.MultiplyJtEliminated(jv, &expected);
+      reference.MultiplyJ(&v, nullptr, &jv);
+      reference.MultiplyJtEliminated(jv, &expected);
       EXPECT_LT(RelativeDifference(projected, expected), 1e-12);
       // Second pass: J_fᵀ (J_f v − J_p e).
       Eigen::VectorXd out, both, expected_out;
       jacobian.SubtractJEliminatedAndMultiplyJtReduced(e, &rows, &out);
       const Eigen::VectorXd minus_e = -e;
-      jacobian.MultiplyJ(&v, &minus_e, &both);
-      jacobian.MultiplyJtReduced(both, &expected_out);
+      reference.MultiplyJ(&v, &minus_e, &both);
+      reference.MultiplyJtReduced(both, &expected_out);
       EXPECT_LT(RelativeDifference(out, expected_out), 1e-12);
       // The second pass alone: J_fᵀ (−J_p e).
       Eigen::VectorXd alone, je, expected_alone;
       jacobian.SubtractJEliminatedAndMultiplyJtReduced(e, nullptr, &alone);
-      jacobian.MultiplyJ(nullptr, &minus_e, &je);
-      jacobian.MultiplyJtReduced(je, &expected_alone);
+      reference.MultiplyJ(nullptr, &minus_e, &je);
+      reference.MultiplyJtReduced(je, &expected_alone);
       EXPECT_LT(RelativeDifference(alone, expected_alone), 1e-12);
       // The gradient Jᵀ r.
       Eigen::VectorXd g_reduced, g_eliminated, r_reduced, r_eliminated;
       jacobian.Gradient(&g_reduced, &g_eliminated);
-      jacobian.MultiplyJtReduced(jacobian.residuals(), &r_reduced);
-      jacobian.MultiplyJtEliminated(jacobian.residuals(), &r_eliminated);
+      reference.MultiplyJtReduced(reference.residuals(), &r_reduced);
+      reference.MultiplyJtEliminated(reference.residuals(), &r_eliminated);
       EXPECT_LT(RelativeDifference(g_reduced, r_reduced), 1e-12);
       EXPECT_LT(RelativeDifference(g_eliminated, r_eliminated), 1e-12);
       // The linear model's terms (J δ)·r and ||J δ||².
       double dot = 0.0, squared = 0.0;
       jacobian.StepProducts(v, e, &dot, &squared);
       Eigen::VectorXd j_step;
-      jacobian.MultiplyJ(&v, &e, &j_step);
+      reference.MultiplyJ(&v, &e, &j_step);
       EXPECT_NEAR(dot, j_step.dot(jacobian.residuals()),
                   1e-12 * j_step.norm() * jacobian.residuals().norm());
       EXPECT_NEAR(squared, j_step.squaredNorm(), 1e-12 * j_step.squaredNorm());
@@ -126,10 +132,32 @@ TEST(ReprojectionPanel, PassesEqualTheProductsResidualByResidual) {
       schur.ComputeGram();
       schur.Factor(1.0, Eigen::VectorXd::Ones(blocks.num_eliminated));
       Eigen::VectorXd jpe, gram_e, solved;
-      jacobian.MultiplyJ(nullptr, &e, &jpe);
-      jacobian.MultiplyJtEliminated(jpe, &gram_e);
+      reference.MultiplyJ(nullptr, &e, &jpe);
+      reference.MultiplyJtEliminated(jpe, &gram_e);
       schur.SolveEliminated(gram_e + e, &solved);
       EXPECT_LT(RelativeDifference(solved, e), 1e-12);
+      // diag(JᵀJ), the panel's part from its views' Grams and Gram sums.
+      Eigen::VectorXd d_reduced, d_eliminated, expected_reduced,
+          expected_eliminated;
+      jacobian.ColumnSquaredNorms(&d_reduced, &d_eliminated);
+      reference.ColumnSquaredNorms(&expected_reduced, &expected_eliminated);
+      EXPECT_LT(RelativeDifference(d_reduced, expected_reduced), 1e-12);
+      EXPECT_LT(RelativeDifference(d_eliminated, expected_eliminated), 1e-12);
+      // The preconditioner with the panel's part from its views' Grams
+      // against the one built residual by residual: M⁻¹ v (μ D = I keeps M
+      // well conditioned).
+      structured::SchurElimination reference_schur(blocks, reference, threads);
+      reference_schur.ComputeGram();
+      const Eigen::VectorXd ones = Eigen::VectorXd::Ones(blocks.num_reduced);
+      structured::BandPreconditioner preconditioner(blocks, jacobian, threads);
+      structured::BandPreconditioner expected_preconditioner(blocks, reference,
+                                                             threads);
+      preconditioner.Build(1.0, ones, schur.grid_grams());
+      expected_preconditioner.Build(1.0, ones, reference_schur.grid_grams());
+      Eigen::VectorXd applied, expected_applied;
+      preconditioner.Apply(v, &applied);
+      expected_preconditioner.Apply(v, &expected_applied);
+      EXPECT_LT(RelativeDifference(applied, expected_applied), 1e-12);
     }
   }
 }
