@@ -4,6 +4,7 @@
 #include <limits>
 #include <sstream>
 #include <tuple>
+#include <vector>
 
 namespace nrsfm {
 
@@ -20,21 +21,37 @@ Eigen::VectorXi Measurements::VisiblePerPoint() const {
 }
 
 double Measurements::ImageSpreadRms() const {
+  // The sums run view by view, point by point; W and `visible` are read
+  // point by point (column by column: a view's entries are 2·F·M values
+  // apart), the squared distances kept and then added in that order.
+  const int views = NumViews();
+  Eigen::Matrix2Xd centroid = Eigen::Matrix2Xd::Zero(2, views);
+  std::vector<int> n(views, 0);
+  for (int p = 0; p < num_points; ++p) {
+    for (int view = 0; view < views; ++view) {
+      if (!visible(view, p)) continue;
+      centroid.col(view) += W.block<2, 1>(2 * view, p);
+      ++n[view];
+    }
+  }
+  for (int view = 0; view < views; ++view) {
+    if (n[view] > 0) centroid.col(view) /= n[view];
+  }
+  Eigen::MatrixXd squared(num_points, views);  // column: a view
+  for (int p = 0; p < num_points; ++p) {
+    for (int view = 0; view < views; ++view) {
+      if (visible(view, p)) {
+        squared(p, view) =
+            (W.block<2, 1>(2 * view, p) - centroid.col(view)).squaredNorm();
+      }
+    }
+  }
   double sum = 0.0;
   int count = 0;
-  for (int view = 0; view < NumViews(); ++view) {
-    Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
-    int n = 0;
+  for (int view = 0; view < views; ++view) {
     for (int p = 0; p < num_points; ++p) {
       if (!visible(view, p)) continue;
-      centroid += W.block<2, 1>(2 * view, p);
-      ++n;
-    }
-    if (n == 0) continue;
-    centroid /= n;
-    for (int p = 0; p < num_points; ++p) {
-      if (!visible(view, p)) continue;
-      sum += (W.block<2, 1>(2 * view, p) - centroid).squaredNorm();
+      sum += squared(p, view);
       ++count;
     }
   }

@@ -98,12 +98,32 @@ double SumSquaredDistances(const Measurements& measurements,
   return sum_squared;
 }
 
+// The errors of ComputeE3D, ComputeError3DPercent and ComputeZErrorPercent
+// from the aligned residuals (AlignedResiduals) and, for the last two,
+// ShapeSize(truth): EvaluateShapes aligns and measures the truth once for
+// the three.
+double E3DFromResiduals(const std::vector<Eigen::Matrix3Xd>& residuals,
+                        const std::vector<Eigen::Matrix3Xd>& truth) {
+  return MeanPointDistance(residuals) / E3DScale(Centred(truth));
+}
+
+double Error3DPercentFromResiduals(
+    const std::vector<Eigen::Matrix3Xd>& residuals, double shape_size) {
+  return 100.0 * MeanPointDistance(residuals) / shape_size;
+}
+
+double ZErrorPercentFromResiduals(
+    const std::vector<Eigen::Matrix3Xd>& residuals, double shape_size) {
+  double sum = 0.0;
+  for (const Eigen::Matrix3Xd& r : residuals) sum += r.row(2).cwiseAbs().mean();
+  return 100.0 * sum / static_cast<double>(residuals.size()) / shape_size;
+}
+
 }  // namespace
 
 double ComputeE3D(const std::vector<Eigen::Matrix3Xd>& truth,
                   const std::vector<Eigen::Matrix3Xd>& estimate) {
-  return MeanPointDistance(AlignedResiduals(truth, estimate)) /
-         E3DScale(Centred(truth));
+  return E3DFromResiduals(AlignedResiduals(truth, estimate), truth);
 }
 
 double ComputeRankFloorE3D(const std::vector<Eigen::Matrix3Xd>& truth,
@@ -224,17 +244,14 @@ double ShapeSize(const std::vector<Eigen::Matrix3Xd>& truth) {
 
 double ComputeError3DPercent(const std::vector<Eigen::Matrix3Xd>& truth,
                              const std::vector<Eigen::Matrix3Xd>& estimate) {
-  return 100.0 * MeanPointDistance(AlignedResiduals(truth, estimate)) /
-         ShapeSize(truth);
+  return Error3DPercentFromResiduals(AlignedResiduals(truth, estimate),
+                                     ShapeSize(truth));
 }
 
 double ComputeZErrorPercent(const std::vector<Eigen::Matrix3Xd>& truth,
                             const std::vector<Eigen::Matrix3Xd>& estimate) {
-  const std::vector<Eigen::Matrix3Xd> residuals =
-      AlignedResiduals(truth, estimate);
-  double sum = 0.0;
-  for (const Eigen::Matrix3Xd& r : residuals) sum += r.row(2).cwiseAbs().mean();
-  return 100.0 * sum / static_cast<double>(residuals.size()) / ShapeSize(truth);
+  return ZErrorPercentFromResiduals(AlignedResiduals(truth, estimate),
+                                    ShapeSize(truth));
 }
 
 namespace {
@@ -415,10 +432,15 @@ Status EvaluateShapes(const GroundTruth& truth, const GroundTruth& estimate,
       CheckShapes(truth.points_in_camera, estimate.points_in_camera, ""));
   const std::vector<Eigen::Matrix3Xd>& x = truth.points_in_camera;
   const std::vector<Eigen::Matrix3Xd>& x_hat = estimate.points_in_camera;
-  errors->e3d_camera = ComputeE3D(x, x_hat);
+  {
+    // One alignment and one ShapeSize for the three errors that read them.
+    const std::vector<Eigen::Matrix3Xd> residuals = AlignedResiduals(x, x_hat);
+    const double shape_size = ShapeSize(x);
+    errors->e3d_camera = E3DFromResiduals(residuals, x);
+    errors->error3d_pct = Error3DPercentFromResiduals(residuals, shape_size);
+    errors->zerror_pct = ZErrorPercentFromResiduals(residuals, shape_size);
+  }
   errors->frob_zsign = ComputeFrobeniusZSign(x, x_hat);
-  errors->error3d_pct = ComputeError3DPercent(x, x_hat);
-  errors->zerror_pct = ComputeZErrorPercent(x, x_hat);
   errors->num_frames = static_cast<int>(x.size());
   errors->num_points = static_cast<int>(x[0].cols());
   errors->e3d = errors->e3d_camera;

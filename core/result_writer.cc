@@ -9,6 +9,7 @@
 #include <random>
 #include <system_error>
 
+#include "core/parallel_for.h"
 #include "core/text_io.h"
 
 namespace nrsfm {
@@ -208,8 +209,15 @@ Status WriteJson(const fs::path& dir, const Measurements& measurements,
 Status WriteAll(const fs::path& dir, const Measurements& measurements,
                 const Model& model, const ReconstructionReport& report,
                 const WriteOptions& options) {
-  NRSFM_RETURN_IF_ERROR(WritePointsCamera(dir, model));
-  NRSFM_RETURN_IF_ERROR(WritePointsObject(dir, model));
+  // The points files are most of the bytes: one per thread.
+  Status points[2];
+  ParallelFor(2, options.num_threads, 1, [&](int begin, int end) {
+    for (int i = begin; i < end; ++i) {
+      points[i] = i == 0 ? WritePointsCamera(dir, model)
+                         : WritePointsObject(dir, model);
+    }
+  });
+  for (const Status& status : points) NRSFM_RETURN_IF_ERROR(status);
   NRSFM_RETURN_IF_ERROR(WriteViews(dir, model));
   NRSFM_RETURN_IF_ERROR(WriteWeightsAndBasis(dir, model));
   if (options.write_ply) NRSFM_RETURN_IF_ERROR(WritePly(dir, model));

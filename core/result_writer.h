@@ -84,6 +84,9 @@ struct WriteOptions {
   // Replace an existing non-empty DIR. Only a directory that holds a
   // result.json (an earlier result) is replaced, never another directory.
   bool overwrite = true;
+  // With 2 or more, the two points files are written side by side (the
+  // same bytes as with 1).
+  int num_threads = 1;
 };
 
 // The text of result.json (indented JSON, NaN → null) for a model of

@@ -132,18 +132,29 @@ void NormalizeGauge(Eigen::MatrixXd* a, Eigen::VectorXd* t,
 double ResidualRms(const Eigen::MatrixXd& w, const VisibleIndex& index,
                    const Eigen::MatrixXd& a, const Eigen::VectorXd& t,
                    const Eigen::MatrixXd& b) {
-  double sum = 0.0;
-  long count = 0;
-  for (size_t v = 0; v < index.points_of_view.size(); ++v) {
-    for (int p : index.points_of_view[v]) {
+  // The squares are summed view by view, point by point; they are formed
+  // point by point (W's columns, b's column shared by the views) and kept
+  // at their place in that order.
+  const int views = static_cast<int>(index.points_of_view.size());
+  std::vector<std::size_t> next(views);  // per view: its next entry
+  std::size_t count = 0;
+  for (int v = 0; v < views; ++v) {
+    next[v] = count;
+    count += index.points_of_view[v].size();
+  }
+  std::vector<double> squares(2 * count);
+  for (std::size_t p = 0; p < index.views_of_point.size(); ++p) {
+    for (const int v : index.views_of_point[p]) {
+      double* out = squares.data() + 2 * next[v]++;
       for (int row = 0; row < 2; ++row) {
-        const int i = 2 * static_cast<int>(v) + row;
+        const int i = 2 * v + row;
         const double e = w(i, p) - a.row(i).dot(b.col(p)) - t(i);
-        sum += e * e;
+        out[row] = e * e;
       }
-      ++count;
     }
   }
+  double sum = 0.0;
+  for (const double square : squares) sum += square;
   return count > 0 ? std::sqrt(sum / static_cast<double>(count)) : 0.0;
 }
 

@@ -23,6 +23,61 @@ double Median(std::vector<double> values) {
   return values[mid];
 }
 
+// The tracks view by view (a view's rows of W and of `visible` contiguous;
+// in the measurements its entries are 2·F·M values apart), copied once for
+// the steps of every lag, and the image spread.
+struct ViewMajorTracks {
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> w;
+  Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> visible;
+  double spread = 0.0;
+};
+
+ViewMajorTracks MakeViewMajor(const Measurements& measurements) {
+  ViewMajorTracks tracks;
+  tracks.spread = measurements.ImageSpreadRms();
+  const int rows = static_cast<int>(measurements.W.rows());
+  const int views = measurements.NumViews(), points = measurements.num_points;
+  tracks.w.resize(rows, points);
+  tracks.visible.resize(views, points);
+  // In tiles of 64 points, so that both sides are read and written in
+  // cache lines.
+  constexpr int kTile = 64;
+  for (int begin = 0; begin < points; begin += kTile) {
+    const int width = std::min(kTile, points - begin);
+    tracks.w.middleCols(begin, width) = measurements.W.middleCols(begin, width);
+    tracks.visible.middleCols(begin, width) =
+        measurements.visible.middleCols(begin, width);
+  }
+  return tracks;
+}
+
+double MedianTrackStep(const Measurements& measurements,
+                       const ViewMajorTracks& tracks, int lag) {
+  if (!(tracks.spread > 0.0) || lag < 1) return -1.0;
+  std::vector<double> steps;
+  for (int t = lag; t < measurements.num_frames; ++t) {
+    double sum = 0.0;
+    int count = 0;
+    for (int c = 0; c < measurements.num_cameras; ++c) {
+      const int view = measurements.View(t, c);
+      const int previous = measurements.View(t - lag, c);
+      const double* u = tracks.w.row(2 * view).data();
+      const double* v = tracks.w.row(2 * view + 1).data();
+      const double* u0 = tracks.w.row(2 * previous).data();
+      const double* v0 = tracks.w.row(2 * previous + 1).data();
+      const bool* seen = tracks.visible.row(view).data();
+      const bool* seen0 = tracks.visible.row(previous).data();
+      for (int p = 0; p < measurements.num_points; ++p) {
+        if (!seen[p] || !seen0[p]) continue;
+        sum += Eigen::Vector2d(u[p] - u0[p], v[p] - v0[p]).squaredNorm();
+        ++count;
+      }
+    }
+    if (count > 0) steps.push_back(std::sqrt(sum / count) / tracks.spread);
+  }
+  return Median(std::move(steps));
+}
+
 }  // namespace
 
 Status PriorRuleOptions::Check() const {
@@ -50,36 +105,17 @@ Status PriorRuleOptions::Check() const {
 }
 
 double MedianTrackStep(const Measurements& measurements, int lag) {
-  const double spread = measurements.ImageSpreadRms();
-  if (!(spread > 0.0) || lag < 1) return -1.0;
-  std::vector<double> steps;
-  for (int t = lag; t < measurements.num_frames; ++t) {
-    double sum = 0.0;
-    int count = 0;
-    for (int c = 0; c < measurements.num_cameras; ++c) {
-      const int view = measurements.View(t, c);
-      const int previous = measurements.View(t - lag, c);
-      for (int p = 0; p < measurements.num_points; ++p) {
-        if (!measurements.visible(view, p) ||
-            !measurements.visible(previous, p))
-          continue;
-        sum += (measurements.W.block<2, 1>(2 * view, p) -
-                measurements.W.block<2, 1>(2 * previous, p))
-                   .squaredNorm();
-        ++count;
-      }
-    }
-    if (count > 0) steps.push_back(std::sqrt(sum / count) / spread);
-  }
-  return Median(std::move(steps));
+  if (lag < 1) return -1.0;
+  return MedianTrackStep(measurements, MakeViewMajor(measurements), lag);
 }
 
 double TrackOrder(const Measurements& measurements) {
-  const double step = MedianTrackStep(measurements, 1);
+  const ViewMajorTracks tracks = MakeViewMajor(measurements);
+  const double step = MedianTrackStep(measurements, tracks, 1);
   if (measurements.num_frames < 8 || !(step > 0.0)) return -1.0;
   double order = -1.0;
   for (int lag = 2; lag <= measurements.num_frames / 2; lag *= 2) {
-    order = std::max(order, MedianTrackStep(measurements, lag) / step);
+    order = std::max(order, MedianTrackStep(measurements, tracks, lag) / step);
   }
   return order;
 }

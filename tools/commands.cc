@@ -167,6 +167,7 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
   WriteOptions write_options;
   write_options.write_ply = flags.ply;
   write_options.overwrite = flags.overwrite;
+  write_options.num_threads = flags.threads;
   NRSFM_RETURN_IF_ERROR(WriteReconstruction(
       flags.output, measurements, result.model, report, write_options));
 

@@ -187,6 +187,30 @@ TEST(ResultWriter, WritesEveryFileWithExactValues) {
   EXPECT_EQ(entries, 1);
 }
 
+TEST(ResultWriter, TwoThreadsWriteTheSameBytes) {
+  Model model;
+  Measurements measurements;
+  MakeSmallProblem(&model, &measurements);
+  const std::string parent = MakeTempDir("result_writer_threads");
+  WriteOptions options;
+  ASSERT_TRUE(WriteReconstruction(parent + "/one", measurements, model,
+                                  SmallReport(), options)
+                  .ok());
+  options.num_threads = 2;
+  ASSERT_TRUE(WriteReconstruction(parent + "/two", measurements, model,
+                                  SmallReport(), options)
+                  .ok());
+  for (const char* name :
+       {"/points_camera.csv", "/points_object.csv", "/rotations.csv",
+        "/translations.csv", "/weights.csv", "/basis.csv", "/result.json"}) {
+    const std::string one =
+        testing_util::ReadFileToString(parent + "/one" + name);
+    EXPECT_FALSE(one.empty()) << name;
+    EXPECT_EQ(one, testing_util::ReadFileToString(parent + "/two" + name))
+        << name;
+  }
+}
+
 TEST(ResultWriter, PointsCameraCsvReadsBackAsGroundTruth) {
   Model model;
   Measurements measurements;
