@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/parallel_for.h"
 #include "core/procrustes.h"
 #include "core/svd.h"
 
@@ -71,26 +72,43 @@ double MeanPointDistance(const std::vector<Eigen::Matrix3Xd>& residuals) {
 
 // Σ_{visible (t,c,p)} ||w_tcp − projected(t, c)[:, p]||², summed in the order
 // t, c, p; with `frame_sums` / `frame_counts` also each frame's part of the
-// sum and its number of visible entries (F each).
+// sum and its number of visible entries (F each). The views' squares are
+// formed on up to `num_threads` threads and added in that order on one, so
+// the sums are the same bits for any thread count.
 template <typename Projection>
 double SumSquaredDistances(const Measurements& measurements,
                            const Projection& projected,
                            Eigen::VectorXd* frame_sums,
-                           Eigen::VectorXi* frame_counts) {
+                           Eigen::VectorXi* frame_counts, int num_threads = 1) {
+  const int num_points = measurements.num_points;
+  const int num_cameras = measurements.num_cameras;
+  // Column (t·M + c): the squares of view (t, c); hidden entries unset.
+  Eigen::MatrixXd squares(num_points, measurements.num_frames * num_cameras);
+  ParallelFor(static_cast<int>(squares.cols()), num_threads, 1,
+              [&](int begin, int end) {
+                for (int i = begin; i < end; ++i) {
+                  const int t = i / num_cameras, c = i % num_cameras;
+                  const Eigen::Matrix2Xd projection = projected(t, c);
+                  const int view = measurements.View(t, c);
+                  for (int p = 0; p < num_points; ++p) {
+                    if (!measurements.visible(view, p)) continue;
+                    squares(p, i) =
+                        (measurements.Observation(t, c, p) - projection.col(p))
+                            .squaredNorm();
+                  }
+                }
+              });
   if (frame_sums != nullptr) frame_sums->setZero(measurements.num_frames);
   if (frame_counts != nullptr) frame_counts->setZero(measurements.num_frames);
   double sum_squared = 0.0;
   for (int t = 0; t < measurements.num_frames; ++t) {
-    for (int c = 0; c < measurements.num_cameras; ++c) {
-      const Eigen::Matrix2Xd projection = projected(t, c);
+    for (int c = 0; c < num_cameras; ++c) {
       const int view = measurements.View(t, c);
-      for (int p = 0; p < measurements.num_points; ++p) {
+      const double* column = squares.col(t * num_cameras + c).data();
+      for (int p = 0; p < num_points; ++p) {
         if (!measurements.visible(view, p)) continue;
-        const double squared =
-            (measurements.Observation(t, c, p) - projection.col(p))
-                .squaredNorm();
-        sum_squared += squared;
-        if (frame_sums != nullptr) (*frame_sums)(t) += squared;
+        sum_squared += column[p];
+        if (frame_sums != nullptr) (*frame_sums)(t) += column[p];
         if (frame_counts != nullptr) ++(*frame_counts)(t);
       }
     }
@@ -498,21 +516,23 @@ GroundTruth ShapesOfModel(const Model& model, int camera) {
   return shapes;
 }
 
-double ReprojectionRms(const Measurements& measurements, const Model& model) {
-  const double sum_squared = ReprojectionSquaredError(measurements, model);
+double ReprojectionRms(const Measurements& measurements, const Model& model,
+                       int num_threads) {
+  const double sum_squared =
+      ReprojectionSquaredError(measurements, model, num_threads);
   const int count = measurements.NumVisible();
   if (count == 0) return std::numeric_limits<double>::quiet_NaN();
   return std::sqrt(sum_squared / count);
 }
 
 double ReprojectionSquaredError(const Measurements& measurements,
-                                const Model& model) {
+                                const Model& model, int num_threads) {
   CHECK_EQ(measurements.num_frames, model.num_frames);
   CHECK_EQ(measurements.num_cameras, model.num_cameras);
   CHECK_EQ(measurements.num_points, model.num_points);
   return SumSquaredDistances(
       measurements, [&](int t, int c) { return model.Project(t, c); }, nullptr,
-      nullptr);
+      nullptr, num_threads);
 }
 
 FrameReprojectionRms ComputeFrameReprojectionRms(

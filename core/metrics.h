@@ -169,14 +169,16 @@ GroundTruth ShapesOfModel(const Model& model, int camera = 0);
 // 2D point distance,
 //   sqrt( (1 / N) Σ_{visible (t,c,p)} ||w_tcp − model.Project(t, c)[:, p]||² ),
 // N the number of visible observations. NaN when nothing is visible. CHECKs
-// that F, M and P of the two agree.
-double ReprojectionRms(const Measurements& measurements, const Model& model);
+// that F, M and P of the two agree. The views are projected on up to
+// `num_threads` threads; the result is the same bits for any count.
+double ReprojectionRms(const Measurements& measurements, const Model& model,
+                       int num_threads = 1);
 
 // The sum under the root of ReprojectionRms,
 //   Σ_{visible (t,c,p)} ||w_tcp − model.Project(t, c)[:, p]||²,
-// in squared units of W (0 when nothing is visible). Same CHECKs.
+// in squared units of W (0 when nothing is visible). Same CHECKs and threads.
 double ReprojectionSquaredError(const Measurements& measurements,
-                                const Model& model);
+                                const Model& model, int num_threads = 1);
 
 // ReprojectionRms of reprojections given as a matrix in the layout of
 // Measurements::W ((2FM) × P, e.g. read back from a result directory), per

@@ -157,7 +157,7 @@ void AlternateFromRigid(const Measurements& centered, int num_bases,
     }
   }
   model->SetBasisShape(0, rigid_shape);
-  double cost = ReprojectionSquaredError(centered, *model);
+  double cost = ReprojectionSquaredError(centered, *model, num_threads);
   summary->rigid_rms = std::sqrt(cost / centered.NumVisible());
 
   // Step 2: the alternation.
@@ -171,7 +171,7 @@ void AlternateFromRigid(const Measurements& centered, int num_bases,
     if (update_rotations) RefineRotations(centered, num_threads, model);
     ++rounds;
     const double previous = cost;
-    cost = ReprojectionSquaredError(centered, *model);
+    cost = ReprojectionSquaredError(centered, *model, num_threads);
     VLOG(2) << "alternation round " << round + 1 << ": RMS "
             << std::sqrt(cost / centered.NumVisible());
     if (!(previous - cost > kStopRelativeDecrease * previous)) break;

@@ -1,5 +1,7 @@
 #include "solvers/band_preconditioner.h"
 
+#include <glog/logging.h>
+
 #include <algorithm>
 #include <cstddef>
 
@@ -93,6 +95,7 @@ void BandPreconditioner::AddViewGram(int view, int g) {
         border_.block(a.offset, b.offset - num_group_columns, a.size, b.size) +=
             part;
       } else if (g - b.group >= 0) {  // the band's lower triangle of blocks
+        DCHECK_LE(g - b.group, blocks_.band);
         band_[g][g - b.group].block(a.offset - blocks_.group_offset[g],
                                     b.offset - blocks_.group_offset[b.group],
                                     a.size, b.size) += part;

@@ -333,7 +333,8 @@ Status Initialize(const StartOptions& options, const Measurements& measurements,
   NRSFM_RETURN_IF_ERROR(result.Validate().WithContext("initialize"));
 
   summary->method = options.method;
-  summary->reprojection_rms = ReprojectionRms(measurements, result);
+  summary->reprojection_rms =
+      ReprojectionRms(measurements, result, std::max(1, num_threads));
   summary->subblock_rank1_defect = start.subblock_rank1_defect;
   summary->rigid_rms = start.rigid_rms;
   summary->triple_sign_segments = start.sign_segments;

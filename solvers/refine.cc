@@ -383,7 +383,8 @@ Status SolveProblemWith(const SolverOptions& caller, ProblemBuilder* builder,
   Model* model = builder->model();
   const Model input = *model;
   summary->num_residual_blocks = builder->num_reprojection_terms();
-  summary->initial_reprojection_rms = ReprojectionRms(measurements, *model);
+  summary->initial_reprojection_rms =
+      ReprojectionRms(measurements, *model, options.num_threads);
 
   // A kept problem is the same problem: its choice is kept with it (the
   // solver options that decide it, linear_solver, are compared).
@@ -422,9 +423,10 @@ Status SolveProblemWith(const SolverOptions& caller, ProblemBuilder* builder,
   }
   // Ceres calls a solve usable when its cost overflowed to Inf (residuals of
   // ~1e155 or more); such a model fits nothing.
-  if (summary->usable &&
-      !(std::isfinite(summary->final_cost) &&
-        std::isfinite(ReprojectionRms(measurements, *model)))) {
+  summary->reprojection_rms =
+      ReprojectionRms(measurements, *model, options.num_threads);
+  if (summary->usable && !(std::isfinite(summary->final_cost) &&
+                           std::isfinite(summary->reprojection_rms))) {
     summary->usable = false;
     summary->message =
         "the cost or the reprojection error is not finite "
@@ -434,8 +436,8 @@ Status SolveProblemWith(const SolverOptions& caller, ProblemBuilder* builder,
   if (!summary->usable) {
     *model = input;
     summary->final_cost = summary->initial_cost;
+    summary->reprojection_rms = summary->initial_reprojection_rms;
   }
-  summary->reprojection_rms = ReprojectionRms(measurements, *model);
   summary->callback_seconds = callback_seconds;
   summary->seconds = SecondsSince(start);
   return Status::OK();

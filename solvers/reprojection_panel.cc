@@ -53,7 +53,6 @@ bool ReprojectionPanel::Clear() {
   num_entries_ = 0;
   num_bases_ = 0;
   w_.resize(0, 0);
-  w2_.resize(0, 0);
   rows_.resize(0, 0);
   view_gram_.clear();
   return false;
@@ -141,6 +140,23 @@ bool ReprojectionPanel::Build(const StructuredBlocks& blocks) {
     entries.push_back({view, column, r.row, r.basis_factor->sqrt_weight()});
     (*members)[i] = 1;
   }
+  for (View& view : views_) {
+    view.blocks.clear();
+    for (const int block :
+         {view.rotation, view.translation, view.weights, view.scale}) {
+      if (block >= 0) view.blocks.push_back(block);
+    }
+    // The products take translation, weights and scale in their ambient
+    // coordinates.
+    const auto plain = [&](int block, int size) {
+      return block < 0 || (blocks.blocks[block].manifold == nullptr &&
+                           blocks.blocks[block].size == size);
+    };
+    if (!plain(view.translation, 2) || !plain(view.weights, num_bases_) ||
+        !plain(view.scale, 1)) {
+      return Clear();
+    }
+  }
   if (entries.empty()) return Clear();
   const int v = num_views(), p = num_points();
   // The panel multiplies every entry, observed or not: measured per
@@ -161,14 +177,6 @@ bool ReprojectionPanel::Build(const StructuredBlocks& blocks) {
     w_(2 * e.view, e.column) = e.w;
     w_(2 * e.view + 1, e.column) = e.w;
     rows_(e.view, e.column) = e.row;
-  }
-  w2_ = w_(Eigen::seq(0, 2 * v - 1, 2), Eigen::all).array().square();
-  for (View& view : views_) {
-    view.blocks.clear();
-    for (const int block :
-         {view.rotation, view.translation, view.weights, view.scale}) {
-      if (block >= 0) view.blocks.push_back(block);
-    }
   }
   num_entries_ = static_cast<long long>(entries.size());
   const int pieces = std::max(1, std::min(kMaxPieces, p / kPieceGrain));
@@ -237,25 +245,37 @@ void ReprojectionPanel::Update(int num_threads) {
           blocks_->blocks[points_[p]].values, 3 * k);
     }
   });
+  // The points' mean c: the moments below are of s_p − c, so that points
+  // far from the origin lose no precision to cancellation.
+  Eigen::VectorXd mean = Eigen::VectorXd::Zero(3 * k);
+  for (int p = 0; p < num_points(); ++p) mean += basis_.col(p);
+  mean /= num_points();
   // Per piece: the Gram sums of the points, and per view the part of
-  // M_v = Σ_p w² s̄_p s̄_pᵀ (s̄ = [s_p; 1], its lower triangle by columns).
+  // M_v = Σ_p w² s̄_p s̄_pᵀ (s̄ = [s_p − c; 1], its lower triangle by
+  // columns).
   const int n = 3 * k + 1, num_products = n * (n + 1) / 2;
   gram_.resize(6 * num_pairs, num_points());
   std::vector<Eigen::MatrixXd> moments(NumPieces());
   ParallelFor(NumPieces(), num_threads, 1, [&](int first, int last) {
-    Eigen::MatrixXd products;
+    Eigen::MatrixXd w2, products;
+    Eigen::VectorXd s_bar(n);
     for (int piece = first; piece < last; ++piece) {
       const int begin = piece_begin_[piece];
       const int width = piece_begin_[piece + 1] - begin;
-      const auto w2 = w2_.middleCols(begin, width);
+      w2.resize(num_views, width);
+      for (int p = 0; p < width; ++p) {
+        for (int v = 0; v < num_views; ++v) {
+          const double w = w_(2 * v, begin + p);
+          w2(v, p) = w * w;
+        }
+      }
       gram_.middleCols(begin, width).noalias() = features * w2;
       products.resize(width, num_products);
+      s_bar[n - 1] = 1.0;
       for (int p = 0; p < width; ++p) {
-        const double* s_p = basis_.col(begin + p).data();
+        s_bar.head(n - 1) = basis_.col(begin + p) - mean;
         for (int q = 0, j = 0; j < n; ++j) {
-          const double sj = j < n - 1 ? s_p[j] : 1.0;
-          for (int i = j; i < n; ++i, ++q)
-            products(p, q) = (i < n - 1 ? s_p[i] : 1.0) * sj;
+          for (int i = j; i < n; ++i, ++q) products(p, q) = s_bar[i] * s_bar[j];
         }
       }
       moments[piece].noalias() = w2 * products;
@@ -304,6 +324,8 @@ void ReprojectionPanel::Update(int num_threads) {
           }
           c += b.size;
         }
+        // Φ [s_p; 1] = Φ' [s_p − c; 1]: the constant column takes Φ_s c.
+        phi.col(n - 1) += phi.leftCols(n - 1) * mean;
         g.noalias() += phi * m * phi.transpose();
       }
     }

@@ -49,6 +49,7 @@ class ReprojectionPanel {
  public:
   // The panel of `blocks`' reprojection residuals with a basis factor, or
   // false (it holds none) when there are none, when they have different K,
+  // when a translation, weights or scale block has a manifold,
   // when two of them share a view and a point, when their views disagree on
   // the blocks that go with a rotation block, or when fewer than a fifth of
   // the panel's entries are observed (the residual blocks one by one then
@@ -89,8 +90,9 @@ class ReprojectionPanel {
   // Update():
   //   Σ_p w_vp² J̃_vpᵀ J̃_vp,  J̃_vp = [d_vi X_vp, I₂, a_v b_pk, Π R X_vp],
   // X_vp = Σ_k l_vk b_pk (the rotation's columns mapped to its tangent
-  // space), formed from M_v = Σ_p w_vp² [s_p; 1] [s_p; 1]ᵀ: one product of
-  // the V × P matrix of w² with the points' (3K + 1)(3K + 2)/2 products.
+  // space), formed from M_v = Σ_p w_vp² [s_p − c; 1] [s_p − c; 1]ᵀ (c the
+  // points' mean): one product of the V × P matrix of w² with the points'
+  // (3K + 1)(3K + 2)/2 products, per Update().
   const std::vector<int>& ViewBlocks(int view) const {
     return views_[view].blocks;
   }
@@ -141,7 +143,6 @@ class ReprojectionPanel {
   std::vector<int> column_of_;    // column per Block, −1 = none
   std::vector<int> piece_begin_;  // fixed by the number of points
   Eigen::MatrixXd w_;             // 2V × P: w for both rows of a view
-  Eigen::MatrixXd w2_;            // V × P: w²
   Eigen::MatrixXi rows_;          // V × P: first row of r, −1 = none
   // At the last Update(): a_v, d_vi (ambient), Π R, the tangent map of ω
   // (3 × size, identity without a manifold), l_v per view; s_p per column.
