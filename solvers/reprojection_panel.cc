@@ -245,6 +245,7 @@ void ReprojectionPanel::Update(int num_threads) {
           blocks_->blocks[points_[p]].values, 3 * k);
     }
   });
+  const bool from_moments = ViewGramsFromMoments(num_points(), k);
   // The points' mean c: the moments below are of s_p − c, so that points
   // far from the origin lose no precision to cancellation.
   Eigen::VectorXd mean = Eigen::VectorXd::Zero(3 * k);
@@ -270,6 +271,7 @@ void ReprojectionPanel::Update(int num_threads) {
         }
       }
       gram_.middleCols(begin, width).noalias() = features * w2;
+      if (!from_moments) continue;
       products.resize(width, num_products);
       s_bar[n - 1] = 1.0;
       for (int p = 0; p < width; ++p) {
@@ -281,9 +283,13 @@ void ReprojectionPanel::Update(int num_threads) {
       moments[piece].noalias() = w2 * products;
     }
   });
+  view_gram_.resize(num_views);
+  if (!from_moments) {
+    ViewGramsDirect(num_threads);
+    return;
+  }
   for (int piece = 1; piece < NumPieces(); ++piece)
     moments[0] += moments[piece];
-  view_gram_.resize(num_views);
   ParallelFor(num_views, num_threads, kPieceGrain, [&](int begin, int end) {
     Eigen::MatrixXd m(n, n), phi;
     for (int v = begin; v < end; ++v) {
@@ -328,6 +334,66 @@ void ReprojectionPanel::Update(int num_threads) {
         phi.col(n - 1) += phi.leftCols(n - 1) * mean;
         g.noalias() += phi * m * phi.transpose();
       }
+    }
+  });
+}
+
+bool ReprojectionPanel::ViewGramsFromMoments(int num_points, int num_bases) {
+  // Multiply-adds per view (n = K + 6 columns at most): the moments' product
+  // and Φ M Φᵀ, against J̃ formed and its Gram updated point by point.
+  const double k = num_bases, n = k + 6.0, s = 3.0 * k + 1.0;
+  const double moments =
+      num_points * s * (s + 1.0) / 2.0 + 2.0 * (n * s * s + n * n * s);
+  const double direct =
+      num_points * (3.0 * k + 2.0 * (3.0 * k + n + n * (n + 1.0) / 2.0 + 21.0));
+  return moments < direct;
+}
+
+void ReprojectionPanel::ViewGramsDirect(int num_threads) {
+  const int k = num_bases_, num_points = this->num_points();
+  ParallelFor(num_views(), num_threads, 1, [&](int begin, int end) {
+    Eigen::Matrix3Xd x(3, num_points), ambient(3, num_points);
+    Eigen::MatrixXd jt;
+    for (int v = begin; v < end; ++v) {
+      const View& view = views_[v];
+      const double* l = view.weights_values;
+      int columns = 0;
+      for (const int block : view.blocks)
+        columns += blocks_->blocks[block].size;
+      // X_p = Σ_k l_k b_pk of every point.
+      x = l[0] * basis_.topRows<3>();
+      for (int kk = 1; kk < k; ++kk) x += l[kk] * basis_.middleRows<3>(3 * kk);
+      Eigen::MatrixXd& g = view_gram_[v];
+      g.setZero(columns, columns);
+      jt.resize(columns, num_points);
+      for (int row = 0; row < 2; ++row) {
+        // J̃ᵀ's row `row` of every point, as columns, times w.
+        int c = 0;
+        for (const int block : view.blocks) {
+          const Block& b = blocks_->blocks[block];
+          if (block == view.rotation) {
+            Eigen::Matrix3d d;
+            for (int i = 0; i < 3; ++i) d.row(i) = d_[3 * v + i].row(row);
+            ambient.noalias() = d * x;
+            jt.middleRows(c, b.size).noalias() =
+                tangent_[v].transpose() * ambient;
+          } else if (block == view.translation) {
+            jt.row(c + row).setOnes();
+            jt.row(c + 1 - row).setZero();
+          } else if (block == view.weights) {
+            for (int kk = 0; kk < k; ++kk) {
+              jt.row(c + kk).noalias() =
+                  a_[v].row(row) * basis_.middleRows<3>(3 * kk);
+            }
+          } else {  // the scale
+            jt.row(c).noalias() = projection_[v].row(row) * x;
+          }
+          c += b.size;
+        }
+        jt.array().rowwise() *= w_.row(2 * v).array();
+        g.selfadjointView<Eigen::Lower>().rankUpdate(jt);
+      }
+      g.triangularView<Eigen::StrictlyUpper>() = g.transpose();
     }
   });
 }

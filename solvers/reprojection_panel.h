@@ -90,9 +90,12 @@ class ReprojectionPanel {
   // Update():
   //   Σ_p w_vp² J̃_vpᵀ J̃_vp,  J̃_vp = [d_vi X_vp, I₂, a_v b_pk, Π R X_vp],
   // X_vp = Σ_k l_vk b_pk (the rotation's columns mapped to its tangent
-  // space), formed from M_v = Σ_p w_vp² [s_p − c; 1] [s_p − c; 1]ᵀ (c the
-  // points' mean): one product of the V × P matrix of w² with the points'
-  // (3K + 1)(3K + 2)/2 products, per Update().
+  // space). Formed in Update() the cheaper way for P and K
+  // (ViewGramsFromMoments()): from M_v = Σ_p w_vp² [s_p − c; 1] [s_p − c; 1]ᵀ
+  // (c the points' mean), one product of the V × P matrix of w² with the
+  // points' (3K + 1)(3K + 2)/2 products, then Φ_v M_v Φ_vᵀ per view (J̃ = Φ_v
+  // [s_p − c; 1]); or per view from J̃ formed for every point.
+  static bool ViewGramsFromMoments(int num_points, int num_bases);
   const std::vector<int>& ViewBlocks(int view) const {
     return views_[view].blocks;
   }
@@ -127,6 +130,8 @@ class ReprojectionPanel {
                         Eigen::VectorXd* out) const;
   // Holds nothing; returns false (Build's failure).
   bool Clear();
+  // ViewGram() of every view from J̃ formed for every point.
+  void ViewGramsDirect(int num_threads);
   // Column pieces [piece_begin(i), piece_begin(i + 1)).
   int NumPieces() const { return static_cast<int>(piece_begin_.size()) - 1; }
   // C (2V × 3K) and δT (2V, zero for a constant translation) for the

@@ -52,6 +52,9 @@ TEST(ReprojectionPanel, PassesEqualTheProductsResidualByResidual) {
   const Measurements& m = sequence.measurements;
   ASSERT_EQ(m.num_cameras, 2);
   ASSERT_LT(m.NumVisible(), m.NumViews() * m.num_points);  // some hidden
+  // The views' Grams from J̃ point by point.
+  ASSERT_FALSE(structured::ReprojectionPanel::ViewGramsFromMoments(
+      m.num_points, sequence.truth.num_bases));
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> uniform(0.5, 2.0);
   std::normal_distribution<double> normal(0.0, 1.0);
@@ -144,12 +147,11 @@ TEST(ReprojectionPanel, PassesEqualTheProductsResidualByResidual) {
       EXPECT_LT(RelativeDifference(d_reduced, expected_reduced), 1e-12);
       EXPECT_LT(RelativeDifference(d_eliminated, expected_eliminated), 1e-12);
       // The preconditioner with the panel's part from its views' Grams
-      // against the one built residual by residual: M⁻¹ v (μ D = I keeps M
-      // well conditioned).
+      // against the one built residual by residual: M⁻¹ v for
+      // M = JᵀJ + diag(JᵀJ), whose solves are as accurate as the columns'
+      // scales allow, whatever they are.
       structured::SchurElimination reference_schur(blocks, reference, threads);
       reference_schur.ComputeGram();
-      // M = JᵀJ + diag(JᵀJ): its solves are as accurate as the columns'
-      // scales allow, whatever they are.
       structured::BandPreconditioner preconditioner(blocks, jacobian, threads);
       structured::BandPreconditioner expected_preconditioner(blocks, reference,
                                                              threads);
@@ -167,16 +169,22 @@ TEST(ReprojectionPanel, PassesEqualTheProductsResidualByResidual) {
 // The views' Grams (in the preconditioner) and diag(JᵀJ) against a
 // Jacobian without the panel, for constant blocks of each kind, shared
 // (global) blocks in the border and the corner, blocks of one view in
-// neighbouring groups and points far from the origin; with two column pieces,
-// the same bits for 1, 2 and 5 threads.
-TEST(ReprojectionPanel, ViewGramsForEveryLayout) {
+// neighbouring groups and points far from the origin; the Grams from the
+// moments (P 150, two column pieces) and from J̃ point by point (P 40); the
+// same bits for 1, 2 and 5 threads.
+class ViewGrams : public testing::TestWithParam<int> {};
+
+TEST_P(ViewGrams, ForEveryLayout) {
   ShoeOptions shoe;
   shoe.num_frames = 20;
-  shoe.num_points = 150;
+  shoe.num_points = GetParam();
   shoe.noise_stddev = 0.01;
   SyntheticSequence sequence;
   ASSERT_TRUE(GenerateShoe(shoe, &sequence).ok());
   const Measurements& m = sequence.measurements;
+  EXPECT_EQ(structured::ReprojectionPanel::ViewGramsFromMoments(
+                m.num_points, sequence.truth.num_bases),
+            m.num_points == 150);
   std::mt19937 rng(5);
   std::normal_distribution<double> normal(0.0, 1.0);
   std::uniform_real_distribution<double> uniform(0.5, 2.0);
@@ -295,6 +303,9 @@ TEST(ReprojectionPanel, ViewGramsForEveryLayout) {
     }
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(ReprojectionPanel, ViewGrams,
+                         testing::Values(150, 40));
 
 TEST(ReprojectionPanel, NotBuiltForRobustResiduals) {
   // A robust loss corrects each residual's Jacobian by its own residual:
