@@ -155,6 +155,17 @@ bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
   std::vector<ceres::ResidualBlockId> ids;
   problem->GetResidualBlocks(&ids);
   s->residuals.reserve(ids.size());
+  // Each residual's lists are formed here, then appended to the pools; the
+  // spans are set once the pools have stopped growing.
+  std::vector<double*> parameters;
+  std::vector<int> slot_block, slot_jcol;
+  std::vector<Segment> reduced;
+  std::vector<Coupled> coupled;
+  struct Starts {
+    std::size_t parameters, slots, reduced, coupled;
+  };
+  std::vector<Starts> starts;
+  starts.reserve(ids.size());
   for (ceres::ResidualBlockId id : ids) {
     Residual r;
     r.cost = problem->GetCostFunctionForResidualBlock(id);
@@ -165,13 +176,15 @@ bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
     r.m = r.cost->num_residuals();
     r.row = s->num_rows;
     s->num_rows += r.m;
-    problem->GetParameterBlocksForResidualBlock(id, &r.parameters);
-    r.slot_block.reserve(r.parameters.size());
-    r.slot_jcol.reserve(r.parameters.size());
-    if (last.size() < r.parameters.size())
-      last.resize(r.parameters.size(), {nullptr, -1});
-    for (std::size_t k = 0; k < r.parameters.size(); ++k) {
-      double* values = r.parameters[k];
+    problem->GetParameterBlocksForResidualBlock(id, &parameters);
+    slot_block.clear();
+    slot_jcol.clear();
+    reduced.clear();
+    coupled.clear();
+    if (last.size() < parameters.size())
+      last.resize(parameters.size(), {nullptr, -1});
+    for (std::size_t k = 0; k < parameters.size(); ++k) {
+      double* values = parameters[k];
       // Consecutive residual blocks often share a block in the same slot.
       if (last[k].first != values) {
         const auto it = index.find(values);
@@ -186,12 +199,12 @@ bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
         }
       }
       const int block = last[k].second;
-      r.slot_block.push_back(block);
-      r.slot_jcol.push_back(r.width);
+      slot_block.push_back(block);
+      slot_jcol.push_back(r.width);
       if (block < 0) continue;
       const Block& b = s->blocks[block];
       if (b.eliminated) {
-        if (r.eliminated >= 0 || !r.coupled.empty()) {
+        if (r.eliminated >= 0 || !coupled.empty()) {
           // A second eliminated block: both become `coupled`.
           if (r.basis_factor != nullptr) {
             *error =
@@ -199,40 +212,40 @@ bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
             return false;
           }
           if (r.eliminated >= 0) {
-            r.coupled.push_back({r.eliminated, r.eliminated_jcol});
+            coupled.push_back({r.eliminated, r.eliminated_jcol});
             r.eliminated = -1;
           }
-          r.coupled.push_back({block, r.width});
+          coupled.push_back({block, r.width});
           r.width += b.size;
           continue;
         }
         r.eliminated = block;
         r.eliminated_jcol = r.width;
         if (basis_factor != nullptr && b.manifold == nullptr &&
-            r.slot_block.size() == BasisJacobianFactor::kBasisSlot + 1) {
+            slot_block.size() == BasisJacobianFactor::kBasisSlot + 1) {
           // The basis block's columns are formed from A and l, not stored.
           r.basis_factor = basis_factor;
           r.num_bases = basis_factor->num_bases();
-          r.weights = r.parameters[BasisJacobianFactor::kWeightsSlot];
-          r.slot_jcol.back() = -1;
+          r.weights = parameters[BasisJacobianFactor::kWeightsSlot];
+          slot_jcol.back() = -1;
           continue;
         }
       } else {
         // Merge with the previous segment when the columns continue it
         // within the same group.
-        if (!r.reduced.empty() && b.group >= 0 &&
-            r.reduced.back().group == b.group &&
-            r.reduced.back().col + r.reduced.back().width == b.offset &&
-            r.reduced.back().jcol + r.reduced.back().width == r.width) {
-          r.reduced.back().width += b.size;
+        if (!reduced.empty() && b.group >= 0 &&
+            reduced.back().group == b.group &&
+            reduced.back().col + reduced.back().width == b.offset &&
+            reduced.back().jcol + reduced.back().width == r.width) {
+          reduced.back().width += b.size;
         } else {
-          r.reduced.push_back({b.offset, b.size, r.width, b.group});
+          reduced.push_back({b.offset, b.size, r.width, b.group});
         }
       }
       r.width += b.size;
     }
     int lo = num_groups, hi = -1;
-    for (const Segment& segment : r.reduced) {
+    for (const Segment& segment : reduced) {
       if (segment.group < 0) continue;
       lo = std::min(lo, segment.group);
       hi = std::max(hi, segment.group);
@@ -240,16 +253,46 @@ bool LayOutBlocks(const StructuredLayout& layout, ceres::Problem* problem,
     if (hi >= 0) s->band = std::max(s->band, hi - lo);
     if (r.loss == nullptr) {
       r.product = dynamic_cast<const JacobianProduct*>(r.cost);
-      for (int block : r.slot_block) {
+      for (int block : slot_block) {
         if (block >= 0 && s->blocks[block].manifold != nullptr)
           r.product = nullptr;
       }
     }
-    if (r.product != nullptr && r.product->ProvidesGram() &&
-        r.coupled.empty()) {
+    if (r.product != nullptr && r.product->ProvidesGram() && coupled.empty()) {
       r.gram = true;
     }
-    s->residuals.push_back(std::move(r));
+    starts.push_back({s->parameter_pool.size(), s->slot_pool.size(),
+                      s->segment_pool.size(), s->coupled_pool.size()});
+    s->parameter_pool.insert(s->parameter_pool.end(), parameters.begin(),
+                             parameters.end());
+    s->slot_pool.insert(s->slot_pool.end(), slot_block.begin(),
+                        slot_block.end());
+    s->slot_pool.insert(s->slot_pool.end(), slot_jcol.begin(), slot_jcol.end());
+    s->segment_pool.insert(s->segment_pool.end(), reduced.begin(),
+                           reduced.end());
+    s->coupled_pool.insert(s->coupled_pool.end(), coupled.begin(),
+                           coupled.end());
+    s->residuals.push_back(r);
+  }
+  for (std::size_t i = 0; i < s->residuals.size(); ++i) {
+    Residual& r = s->residuals[i];
+    const Starts& at = starts[i];
+    const std::size_t n = (i + 1 < starts.size() ? starts[i + 1].parameters
+                                                 : s->parameter_pool.size()) -
+                          at.parameters;
+    r.parameters = Span<double*>(s->parameter_pool.data() + at.parameters, n);
+    r.slot_block = Span<int>(s->slot_pool.data() + at.slots, n);
+    r.slot_jcol = Span<int>(s->slot_pool.data() + at.slots + n, n);
+    const std::size_t num_reduced =
+        (i + 1 < starts.size() ? starts[i + 1].reduced
+                               : s->segment_pool.size()) -
+        at.reduced;
+    r.reduced = Span<Segment>(s->segment_pool.data() + at.reduced, num_reduced);
+    const std::size_t num_coupled =
+        (i + 1 < starts.size() ? starts[i + 1].coupled
+                               : s->coupled_pool.size()) -
+        at.coupled;
+    r.coupled = Span<Coupled>(s->coupled_pool.data() + at.coupled, num_coupled);
   }
   FindGrids(s);
 

@@ -38,6 +38,26 @@ namespace structured {
 using RowMatrix =
     Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
+// n contiguous items of one of StructuredBlocks' pools (a residual's lists:
+// one allocation for all residuals instead of several per residual).
+template <typename T>
+class Span {
+ public:
+  Span() = default;
+  Span(T* data, std::size_t size) : data_(data), size_(size) {}
+  std::size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  T* data() const { return data_; }
+  T* begin() const { return data_; }
+  T* end() const { return data_ + size_; }
+  T& operator[](std::size_t i) const { return data_[i]; }
+  T& back() const { return data_[size_ - 1]; }
+
+ private:
+  T* data_ = nullptr;
+  std::size_t size_ = 0;
+};
+
 struct Block {
   double* values = nullptr;
   int ambient = 0;  // values in memory
@@ -69,18 +89,18 @@ struct Residual {
   int m = 0;      // residuals
   int row = 0;    // first row in r
   int width = 0;  // columns of the stored Jacobian
-  std::vector<double*> parameters;
-  std::vector<int> slot_block;   // Block index per parameter, -1 = constant
-  std::vector<int> slot_jcol;    // column of the slot in the stored Jacobian
-  std::vector<Segment> reduced;  // merged per group
-  int eliminated = -1;           // Block index, -1 = none
+  Span<double*> parameters;
+  Span<int> slot_block;   // Block index per parameter, -1 = constant
+  Span<int> slot_jcol;    // column of the slot in the stored Jacobian
+  Span<Segment> reduced;  // merged per group
+  int eliminated = -1;    // Block index, -1 = none
   int eliminated_jcol = 0;
   // A residual block that holds two or more eliminated blocks (a term that
   // couples points, e.g. the Delaunay smoothness of the shapes): those
   // blocks and their columns in its stored Jacobian, in parameter order;
   // `eliminated` is then -1. Its J_pᵀJ_p couples the blocks
   // (solvers/schur_elimination.h).
-  std::vector<Coupled> coupled;
+  Span<Coupled> coupled;
   // Products with its Jacobian from its parameters
   // (problems/jacobian_product.h), used in the conjugate gradients instead of
   // the stored Jacobian.
@@ -144,7 +164,14 @@ struct Ref {
   int segment;  // index into Residual::reduced, or -1 for the eliminated part
 };
 
+// Move-only: the residuals' spans point into its pools.
 struct StructuredBlocks {
+  StructuredBlocks() = default;
+  StructuredBlocks(StructuredBlocks&&) = default;
+  StructuredBlocks& operator=(StructuredBlocks&&) = default;
+  StructuredBlocks(const StructuredBlocks&) = delete;
+  StructuredBlocks& operator=(const StructuredBlocks&) = delete;
+
   std::vector<Block> blocks;
   std::vector<int>
       group_offset;  // columns of group g: [g_off[g], g_off[g + 1])
@@ -160,6 +187,12 @@ struct StructuredBlocks {
   std::vector<int> coupling_residuals;     // residuals with `coupled` blocks
   std::vector<BilinearGrid> grids;         // the terms whose residuals form one
   std::vector<int> not_in_grid;  // the other residuals (when there are grids)
+  // The residuals' lists (Residual::parameters, …), residual after residual:
+  // slot_pool holds a residual's slot_block then its slot_jcol.
+  std::vector<double*> parameter_pool;
+  std::vector<int> slot_pool;
+  std::vector<Segment> segment_pool;
+  std::vector<Coupled> coupled_pool;
 
   int num_groups() const { return static_cast<int>(group_refs.size()); }
   int num_shared() const { return num_reduced - num_group_columns; }
