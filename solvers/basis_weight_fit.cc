@@ -49,10 +49,11 @@ void FitBasisGivenMotion(const Measurements& centered, double damping,
   Eigen::MatrixXd all_frames = Eigen::MatrixXd::Zero(3 * k, 3 * k);
   all_frames.selfadjointView<Eigen::Lower>().rankUpdate(q.transpose());
   all_frames.triangularView<Eigen::StrictlyUpper>() = all_frames.transpose();
-  // Right-hand sides of every point at once: Qᵀ (w̃ − δT) over visible entries.
+  // Right-hand sides of every point at once: Qᵀ (w̃ − δT) over visible entries
+  // (W and `visible` read column by column).
   Eigen::MatrixXd observed(2 * f, num_points);
-  for (int t = 0; t < f; ++t) {
-    for (int p = 0; p < num_points; ++p) {
+  for (int p = 0; p < num_points; ++p) {
+    for (int t = 0; t < f; ++t) {
       observed.block<2, 1>(2 * t, p) =
           centered.visible(t, p)
               ? Eigen::Vector2d(centered.Observation(t, 0, p) -
