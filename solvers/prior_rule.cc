@@ -78,6 +78,17 @@ double MedianTrackStep(const Measurements& measurements,
   return Median(std::move(steps));
 }
 
+double TrackOrder(const Measurements& measurements,
+                  const ViewMajorTracks& tracks) {
+  const double step = MedianTrackStep(measurements, tracks, 1);
+  if (measurements.num_frames < 8 || !(step > 0.0)) return -1.0;
+  double order = -1.0;
+  for (int lag = 2; lag <= measurements.num_frames / 2; lag *= 2) {
+    order = std::max(order, MedianTrackStep(measurements, tracks, lag) / step);
+  }
+  return order;
+}
+
 }  // namespace
 
 Status PriorRuleOptions::Check() const {
@@ -110,14 +121,7 @@ double MedianTrackStep(const Measurements& measurements, int lag) {
 }
 
 double TrackOrder(const Measurements& measurements) {
-  const ViewMajorTracks tracks = MakeViewMajor(measurements);
-  const double step = MedianTrackStep(measurements, tracks, 1);
-  if (measurements.num_frames < 8 || !(step > 0.0)) return -1.0;
-  double order = -1.0;
-  for (int lag = 2; lag <= measurements.num_frames / 2; lag *= 2) {
-    order = std::max(order, MedianTrackStep(measurements, tracks, lag) / step);
-  }
-  return order;
+  return TrackOrder(measurements, MakeViewMajor(measurements));
 }
 
 double MedianPathAccelerationDeg(const Model& model, int lag) {
@@ -223,8 +227,8 @@ Status AnalyseTrackRank(const PriorRuleOptions& options,
     sigma = ComputeThinSvd(centred, SingularVectors::kNone).singular_values;
     spread2 = centred.squaredNorm() / centred.size();
   } else {
-    spread2 =
-        measurements.ImageSpreadRms() * measurements.ImageSpreadRms() / 2.0;
+    const double spread = measurements.ImageSpreadRms();
+    spread2 = spread * spread / 2.0;
   }
   const double n_total = complete ? static_cast<double>(rows) * points
                                   : 2.0 * measurements.NumVisible();
@@ -294,8 +298,9 @@ Status DecidePriors(const PriorRuleOptions& options,
                     const Measurements& measurements, int num_bases,
                     PriorDecision* decision,
                     LowRankCompletionMemo* completions) {
-  decision->track_step = MedianTrackStep(measurements);
-  decision->track_order = TrackOrder(measurements);
+  const ViewMajorTracks tracks = MakeViewMajor(measurements);
+  decision->track_step = MedianTrackStep(measurements, tracks, 1);
+  decision->track_order = TrackOrder(measurements, tracks);
   decision->video = decision->track_order >= options.min_track_order;
   NRSFM_RETURN_IF_ERROR(AnalyseTrackRank(options, measurements, num_bases,
                                          decision->video, decision,

@@ -245,17 +245,51 @@ void ReprojectionPanel::Update(int num_threads) {
           blocks_->blocks[points_[p]].values, 3 * k);
     }
   });
-  const bool from_moments = ViewGramsFromMoments(num_points(), k);
+  gram_.resize(6 * num_pairs, num_points());
+  ParallelFor(NumPieces(), num_threads, 1, [&](int first, int last) {
+    Eigen::MatrixXd w2;
+    for (int piece = first; piece < last; ++piece) {
+      const int begin = piece_begin_[piece];
+      const int width = piece_begin_[piece + 1] - begin;
+      SquaredWeights(begin, width, &w2);
+      gram_.middleCols(begin, width).noalias() = features * w2;
+    }
+  });
+  view_gram_.resize(num_views);
+  if (ViewGramsFromMoments(num_points(), k)) {
+    ViewGramsByMoments(num_threads);
+  } else {
+    ViewGramsDirect(num_threads);
+  }
+}
+
+void ReprojectionPanel::SquaredWeights(int begin, int width,
+                                       Eigen::MatrixXd* w2) const {
+  w2->resize(num_views(), width);
+  for (int p = 0; p < width; ++p) {
+    for (int v = 0; v < num_views(); ++v) {
+      const double w = w_(2 * v, begin + p);
+      (*w2)(v, p) = w * w;
+    }
+  }
+}
+
+int ReprojectionPanel::ViewColumns(const View& view) const {
+  int columns = 0;
+  for (const int block : view.blocks) columns += blocks_->blocks[block].size;
+  return columns;
+}
+
+void ReprojectionPanel::ViewGramsByMoments(int num_threads) {
+  const int k = num_bases_, num_views = this->num_views();
   // The points' mean c: the moments below are of s_p − c, so that points
   // far from the origin lose no precision to cancellation.
   Eigen::VectorXd mean = Eigen::VectorXd::Zero(3 * k);
   for (int p = 0; p < num_points(); ++p) mean += basis_.col(p);
   mean /= num_points();
-  // Per piece: the Gram sums of the points, and per view the part of
-  // M_v = Σ_p w² s̄_p s̄_pᵀ (s̄ = [s_p − c; 1], its lower triangle by
-  // columns).
+  // Per piece, per view the part of M_v = Σ_p w² s̄_p s̄_pᵀ (s̄ = [s_p − c; 1],
+  // its lower triangle by columns).
   const int n = 3 * k + 1, num_products = n * (n + 1) / 2;
-  gram_.resize(6 * num_pairs, num_points());
   std::vector<Eigen::MatrixXd> moments(NumPieces());
   ParallelFor(NumPieces(), num_threads, 1, [&](int first, int last) {
     Eigen::MatrixXd w2, products;
@@ -263,15 +297,7 @@ void ReprojectionPanel::Update(int num_threads) {
     for (int piece = first; piece < last; ++piece) {
       const int begin = piece_begin_[piece];
       const int width = piece_begin_[piece + 1] - begin;
-      w2.resize(num_views, width);
-      for (int p = 0; p < width; ++p) {
-        for (int v = 0; v < num_views; ++v) {
-          const double w = w_(2 * v, begin + p);
-          w2(v, p) = w * w;
-        }
-      }
-      gram_.middleCols(begin, width).noalias() = features * w2;
-      if (!from_moments) continue;
+      SquaredWeights(begin, width, &w2);
       products.resize(width, num_products);
       s_bar[n - 1] = 1.0;
       for (int p = 0; p < width; ++p) {
@@ -283,11 +309,6 @@ void ReprojectionPanel::Update(int num_threads) {
       moments[piece].noalias() = w2 * products;
     }
   });
-  view_gram_.resize(num_views);
-  if (!from_moments) {
-    ViewGramsDirect(num_threads);
-    return;
-  }
   for (int piece = 1; piece < NumPieces(); ++piece)
     moments[0] += moments[piece];
   ParallelFor(num_views, num_threads, kPieceGrain, [&](int begin, int end) {
@@ -297,9 +318,7 @@ void ReprojectionPanel::Update(int num_threads) {
         for (int i = j; i < n; ++i, ++q) m(i, j) = m(j, i) = moments[0](v, q);
       }
       const View& view = views_[v];
-      int columns = 0;
-      for (const int block : view.blocks)
-        columns += blocks_->blocks[block].size;
+      const int columns = ViewColumns(view);
       Eigen::MatrixXd& g = view_gram_[v];
       g.setZero(columns, columns);
       const double* l = view.weights_values;
@@ -357,9 +376,7 @@ void ReprojectionPanel::ViewGramsDirect(int num_threads) {
     for (int v = begin; v < end; ++v) {
       const View& view = views_[v];
       const double* l = view.weights_values;
-      int columns = 0;
-      for (const int block : view.blocks)
-        columns += blocks_->blocks[block].size;
+      const int columns = ViewColumns(view);
       // X_p = Σ_k l_k b_pk of every point.
       x = l[0] * basis_.topRows<3>();
       for (int kk = 1; kk < k; ++kk) x += l[kk] * basis_.middleRows<3>(3 * kk);

@@ -130,8 +130,14 @@ class ReprojectionPanel {
                         Eigen::VectorXd* out) const;
   // Holds nothing; returns false (Build's failure).
   bool Clear();
-  // ViewGram() of every view from J̃ formed for every point.
+  // ViewGram() of every view from the moments M_v, or from J̃ formed for
+  // every point.
+  void ViewGramsByMoments(int num_threads);
   void ViewGramsDirect(int num_threads);
+  // w² of column piece [begin, begin + width) (V × width).
+  void SquaredWeights(int begin, int width, Eigen::MatrixXd* w2) const;
+  // The number of columns of a view's Gram (its free blocks' sizes).
+  int ViewColumns(const View& view) const;
   // Column pieces [piece_begin(i), piece_begin(i + 1)).
   int NumPieces() const { return static_cast<int>(piece_begin_.size()) - 1; }
   // C (2V × 3K) and δT (2V, zero for a constant translation) for the

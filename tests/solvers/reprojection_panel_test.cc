@@ -42,6 +42,43 @@ double RelativeDifference(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
   return (a - b).norm() / b.norm();
 }
 
+// diag(JᵀJ) of `jacobian` (which uses the panel: its views' Grams and Gram
+// sums) against `reference` (residual by residual), each column to 1e-12 of
+// its own value, and the preconditioners of both: M⁻¹ v for
+// M = JᵀJ + diag(JᵀJ), whose solves are as accurate as the columns' scales
+// allow, whatever they are. Both evaluated at the same values; returns the
+// panel's diag (reduced columns) and M⁻¹ v.
+void ExpectSameDiagonalAndPreconditioner(
+    const structured::StructuredBlocks& blocks,
+    const structured::StructuredJacobian& jacobian,
+    const structured::StructuredJacobian& reference, int threads,
+    const Eigen::VectorXd& v, Eigen::VectorXd* d_reduced,
+    Eigen::VectorXd* applied) {
+  Eigen::VectorXd d_eliminated, expected_reduced, expected_eliminated;
+  jacobian.ColumnSquaredNorms(d_reduced, &d_eliminated);
+  reference.ColumnSquaredNorms(&expected_reduced, &expected_eliminated);
+  EXPECT_LT((*d_reduced - expected_reduced)
+                .cwiseQuotient(expected_reduced)
+                .cwiseAbs()
+                .maxCoeff(),
+            1e-12);
+  EXPECT_LT(RelativeDifference(d_eliminated, expected_eliminated), 1e-12);
+  structured::SchurElimination schur(blocks, jacobian, threads);
+  schur.ComputeGram();
+  structured::SchurElimination reference_schur(blocks, reference, threads);
+  reference_schur.ComputeGram();
+  structured::BandPreconditioner preconditioner(blocks, jacobian, threads);
+  structured::BandPreconditioner expected_preconditioner(blocks, reference,
+                                                         threads);
+  preconditioner.Build(1.0, expected_reduced, schur.grid_grams());
+  expected_preconditioner.Build(1.0, expected_reduced,
+                                reference_schur.grid_grams());
+  Eigen::VectorXd expected_applied;
+  preconditioner.Apply(v, applied);
+  expected_preconditioner.Apply(v, &expected_applied);
+  EXPECT_LT(RelativeDifference(*applied, expected_applied), 1e-12);
+}
+
 TEST(ReprojectionPanel, PassesEqualTheProductsResidualByResidual) {
   ShoeOptions shoe;
   shoe.num_frames = 12;
@@ -139,29 +176,11 @@ TEST(ReprojectionPanel, PassesEqualTheProductsResidualByResidual) {
       reference.MultiplyJtEliminated(jpe, &gram_e);
       schur.SolveEliminated(gram_e + e, &solved);
       EXPECT_LT(RelativeDifference(solved, e), 1e-12);
-      // diag(JᵀJ), the panel's part from its views' Grams and Gram sums.
-      Eigen::VectorXd d_reduced, d_eliminated, expected_reduced,
-          expected_eliminated;
-      jacobian.ColumnSquaredNorms(&d_reduced, &d_eliminated);
-      reference.ColumnSquaredNorms(&expected_reduced, &expected_eliminated);
-      EXPECT_LT(RelativeDifference(d_reduced, expected_reduced), 1e-12);
-      EXPECT_LT(RelativeDifference(d_eliminated, expected_eliminated), 1e-12);
-      // The preconditioner with the panel's part from its views' Grams
-      // against the one built residual by residual: M⁻¹ v for
-      // M = JᵀJ + diag(JᵀJ), whose solves are as accurate as the columns'
-      // scales allow, whatever they are.
-      structured::SchurElimination reference_schur(blocks, reference, threads);
-      reference_schur.ComputeGram();
-      structured::BandPreconditioner preconditioner(blocks, jacobian, threads);
-      structured::BandPreconditioner expected_preconditioner(blocks, reference,
-                                                             threads);
-      preconditioner.Build(1.0, expected_reduced, schur.grid_grams());
-      expected_preconditioner.Build(1.0, expected_reduced,
-                                    reference_schur.grid_grams());
-      Eigen::VectorXd applied, expected_applied;
-      preconditioner.Apply(v, &applied);
-      expected_preconditioner.Apply(v, &expected_applied);
-      EXPECT_LT(RelativeDifference(applied, expected_applied), 1e-12);
+      // diag(JᵀJ) and the preconditioner, the panel's part from its views'
+      // Grams.
+      Eigen::VectorXd d_reduced, applied;
+      ExpectSameDiagonalAndPreconditioner(blocks, jacobian, reference, threads,
+                                          v, &d_reduced, &applied);
     }
   }
 }
@@ -266,33 +285,9 @@ TEST_P(ViewGrams, ForEveryLayout) {
       double cost = 0.0, reference_cost = 0.0;
       ASSERT_TRUE(jacobian.Evaluate(true, &cost));
       ASSERT_TRUE(reference.Evaluate(true, &reference_cost));
-      Eigen::VectorXd d_reduced, d_eliminated, expected_reduced,
-          expected_eliminated;
-      jacobian.ColumnSquaredNorms(&d_reduced, &d_eliminated);
-      reference.ColumnSquaredNorms(&expected_reduced, &expected_eliminated);
-      // Column by column, relative to each column's own norm.
-      EXPECT_LT((d_reduced - expected_reduced)
-                    .cwiseQuotient(expected_reduced)
-                    .cwiseAbs()
-                    .maxCoeff(),
-                1e-12);
-      EXPECT_LT(RelativeDifference(d_eliminated, expected_eliminated), 1e-12);
-      structured::SchurElimination schur(blocks, jacobian, threads);
-      schur.ComputeGram();
-      structured::SchurElimination reference_schur(blocks, reference, threads);
-      reference_schur.ComputeGram();
-      // M = JᵀJ + diag(JᵀJ): its solves are as accurate as the columns'
-      // scales allow, whatever they are.
-      structured::BandPreconditioner preconditioner(blocks, jacobian, threads);
-      structured::BandPreconditioner expected_preconditioner(blocks, reference,
-                                                             threads);
-      preconditioner.Build(1.0, expected_reduced, schur.grid_grams());
-      expected_preconditioner.Build(1.0, expected_reduced,
-                                    reference_schur.grid_grams());
-      Eigen::VectorXd applied, expected_applied;
-      preconditioner.Apply(v, &applied);
-      expected_preconditioner.Apply(v, &expected_applied);
-      EXPECT_LT(RelativeDifference(applied, expected_applied), 1e-12);
+      Eigen::VectorXd d_reduced, applied;
+      ExpectSameDiagonalAndPreconditioner(blocks, jacobian, reference, threads,
+                                          v, &d_reduced, &applied);
       if (threads == 1) {
         first_applied = applied;
         first_diagonal = d_reduced;
