@@ -2,10 +2,11 @@
 
 #include <glog/logging.h>
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
-#include <map>
+#include <set>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -158,8 +159,8 @@ Status ComputeDelaunayEdges(const Measurements& measurements,
                          std::to_string(frame) + ": " + triangulated.message());
   }
 
-  // Edges of the triangulation, with their lengths.
-  std::map<std::pair<int, int>, double> lengths;
+  // Edges of the triangulation.
+  std::set<std::pair<int, int>> pairs;
   std::vector<bool> is_vertex(m.num_points, false);
   for (const std::array<int, 3>& triangle : triangles) {
     for (int e = 0; e < 3; ++e) {
@@ -167,14 +168,10 @@ Status ComputeDelaunayEdges(const Measurements& measurements,
       const int b = triangle[(e + 1) % 3];
       const int i = std::min(visible_points[a], visible_points[b]);
       const int j = std::max(visible_points[a], visible_points[b]);
-      lengths[{i, j}] = (positions.col(a) - positions.col(b)).norm();
+      pairs.insert({i, j});
       is_vertex[i] = is_vertex[j] = true;
     }
   }
-  double mean_length = 0.0;
-  for (const auto& [pair, length] : lengths) mean_length += length;
-  mean_length /= static_cast<double>(lengths.size());
-
   // Non-vertex points: mean distance to every vertex over the shared views.
   std::vector<int> vertices;
   std::vector<int> others;
@@ -213,14 +210,81 @@ Status ComputeDelaunayEdges(const Measurements& measurements,
       for (std::size_t k = 0; k < keep; ++k) {
         const int i = std::min(others[o], candidates[k].second);
         const int j = std::max(others[o], candidates[k].second);
-        lengths[{i, j}] = candidates[k].first;
+        pairs.insert({i, j});
       }
     }
   }
 
-  for (const auto& [pair, length] : lengths) {
-    edges->push_back({pair.first, pair.second,
-                      mean_length / std::max(length, 1e-3 * mean_length)});
+  for (const auto& [i, j] : pairs) edges->push_back({i, j});
+  return Status::OK();
+}
+
+Status ComputeSmoothnessStencils(const Measurements& measurements,
+                                 const DelaunayEdgesOptions& options,
+                                 std::vector<SmoothnessStencil>* stencils,
+                                 int* reference_frame_used) {
+  CHECK(stencils != nullptr);
+  stencils->clear();
+  std::vector<NeighbourEdge> edges;
+  int frame = -1;
+  NRSFM_RETURN_IF_ERROR(
+      ComputeDelaunayEdges(measurements, options, &edges, &frame));
+  if (reference_frame_used != nullptr) *reference_frame_used = frame;
+  const Measurements& m = measurements;
+  std::vector<std::vector<int>> neighbours(m.num_points);
+  for (const NeighbourEdge& e : edges) {
+    neighbours[e.i].push_back(e.j);
+    neighbours[e.j].push_back(e.i);
+  }
+  constexpr double kEpsilon = 1e-6;
+  const int reference_view = m.View(frame, 0);
+  for (int i = 0; i < m.num_points; ++i) {
+    std::vector<int>& n = neighbours[i];
+    if (n.empty()) continue;
+    std::sort(n.begin(), n.end());
+    // The view that sees i and the most of its neighbours.
+    auto seen = [&](int view) {
+      if (!m.visible(view, i)) return -1;
+      int count = 0;
+      for (int j : n) count += m.visible(view, j) ? 1 : 0;
+      return count;
+    };
+    int best_view = reference_view;
+    int best = seen(reference_view);
+    for (int view = 0; view < m.NumViews() && best < static_cast<int>(n.size());
+         ++view) {
+      const int count = seen(view);
+      if (count > best) {
+        best = count;
+        best_view = view;
+      }
+    }
+    SmoothnessStencil stencil;
+    stencil.point = i;
+    if (best <= 0) {  // no view sees i with a neighbour: equal weights
+      stencil.neighbours = n;
+      stencil.weights.assign(n.size(), 1.0 / static_cast<double>(n.size()));
+      stencils->push_back(std::move(stencil));
+      continue;
+    }
+    const int t = best_view / m.num_cameras, c = best_view % m.num_cameras;
+    const Eigen::Vector2d x_i = m.Observation(t, c, i);
+    for (int j : n) {
+      if (m.visible(best_view, j)) stencil.neighbours.push_back(j);
+    }
+    const int count = static_cast<int>(stencil.neighbours.size());
+    Eigen::Matrix2Xd d(2, count);
+    for (int q = 0; q < count; ++q) {
+      d.col(q) = m.Observation(t, c, stencil.neighbours[q]) - x_i;
+    }
+    const double rho = std::sqrt(d.squaredNorm() / count);
+    if (rho > 0.0) d /= rho;
+    const Eigen::MatrixXd gram =
+        Eigen::MatrixXd::Identity(count, count) + d.transpose() * d / kEpsilon;
+    const Eigen::VectorXd w = gram.ldlt().solve(Eigen::VectorXd::Ones(count));
+    const double sum = w.sum();
+    for (int q = 0; q < count; ++q) stencil.weights.push_back(w(q) / sum);
+    stencils->push_back(std::move(stencil));
   }
   return Status::OK();
 }

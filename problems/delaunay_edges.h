@@ -1,6 +1,6 @@
-// Neighbour edges for the basis smoothness term (docs/problem.md):
-// a 2D Delaunay triangulation (Qhull, libqhull_r) of the points seen in one
-// reference view.
+// Neighbours for the smoothness term (docs/problem.md,
+// problems/smoothness_error.h): a 2D Delaunay triangulation (Qhull,
+// libqhull_r) of the points seen in one reference view.
 //
 // Reference view: the (frame, camera 0) with the most visible points unless
 // the options name a frame. Its visible points are triangulated at their 2D
@@ -11,12 +11,6 @@
 // between two points is the mean of |x_i − x_j| over the views that see both
 // (the reference view included). A point that shares no view with any
 // vertex gets no edge.
-//
-// Edge weights: α_ij = d̄ / max(d_ij, 1e-3 d̄), d_ij = the edge's length
-// (input units) and d̄ = the mean length of the triangulation's edges, so
-// α ∝ 1/|x_i − x_j| (Torresani et al. 2001: "inversely proportional to the
-// distance"), dimensionless, ~1 for a typical edge; the clamp bounds α for
-// coincident points.
 #ifndef NRSFM_PROBLEMS_DELAUNAY_EDGES_H_
 #define NRSFM_PROBLEMS_DELAUNAY_EDGES_H_
 
@@ -30,9 +24,8 @@
 namespace nrsfm {
 
 struct NeighbourEdge {
-  int i = 0;           // point index, i < j
-  int j = 0;           // point index
-  double alpha = 0.0;  // α_ij > 0, dimensionless (see above)
+  int i = 0;  // point index, i < j
+  int j = 0;  // point index
 };
 
 struct DelaunayEdgesOptions {
@@ -61,6 +54,33 @@ Status ComputeDelaunayEdges(const Measurements& measurements,
                             const DelaunayEdgesOptions& options,
                             std::vector<NeighbourEdge>* edges,
                             int* reference_frame_used = nullptr);
+
+// A point and its neighbours with the weights of the smoothness term
+// (problems/smoothness_error.h): S_i is compared with Σ_j w_ij S_j.
+struct SmoothnessStencil {
+  int point = 0;                // i
+  std::vector<int> neighbours;  // j, ascending
+  std::vector<double> weights;  // w_ij, summing to 1
+};
+
+// One stencil per point that has a neighbour edge, in point order. The
+// weights come from the image positions in one view: the view that sees i
+// and the most of its neighbours (the reference view of
+// ComputeDelaunayEdges when it sees as many); neighbours that view does not
+// see are left out. With d_j = (x_j − x_i) / ρ (ρ the neighbours' RMS
+// distance, so the weights do not depend on the units)
+//   w = argmin ||w||² + (1/ε) ||Σ_j w_j d_j||²  subject to  Σ_j w_j = 1,
+//   w = M⁻¹ 1 / (1ᵀ M⁻¹ 1),  M = I + DᵀD / ε,  ε = 1e-6:
+// the smallest weights whose affine combination of the neighbours'
+// positions is x_i (exact up to ε when some affine combination is, the
+// nearest otherwise), so a shape that is an affine function of the image
+// gives a zero residual. One neighbour: w = 1 (the difference S_i − S_j);
+// no view sees i with a neighbour: equal weights. Errors as
+// ComputeDelaunayEdges.
+Status ComputeSmoothnessStencils(const Measurements& measurements,
+                                 const DelaunayEdgesOptions& options,
+                                 std::vector<SmoothnessStencil>* stencils,
+                                 int* reference_frame_used = nullptr);
 
 }  // namespace nrsfm
 

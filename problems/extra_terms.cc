@@ -19,18 +19,24 @@ namespace {
 
 Status AddSmoothness(double weight, const ProblemOptions& options,
                      ProblemBuilder* builder, int* num_blocks) {
-  std::vector<NeighbourEdge> edges;
-  NRSFM_RETURN_IF_ERROR(ComputeDelaunayEdges(builder->measurements(),
-                                             options.smoothness_edges, &edges));
+  std::vector<SmoothnessStencil> stencils;
+  NRSFM_RETURN_IF_ERROR(ComputeSmoothnessStencils(
+      builder->measurements(), options.smoothness_edges, &stencils));
   const Model& model = *builder->model();
   // λ / F: the frames' sum is an average (problems/smoothness_error.h).
-  const double sqrt_weight = std::sqrt(weight / model.num_frames);
-  for (const NeighbourEdge& edge : edges) {
+  const double scale = std::sqrt(weight / model.num_frames);
+  for (const SmoothnessStencil& stencil : stencils) {
+    std::vector<double> coefficients = {1.0};
+    std::vector<double*> blocks = {nullptr, builder->BasisBlock(stencil.point)};
+    for (std::size_t q = 0; q < stencil.neighbours.size(); ++q) {
+      coefficients.push_back(-stencil.weights[q]);
+      blocks.push_back(builder->BasisBlock(stencil.neighbours[q]));
+    }
     for (int t = 0; t < model.num_frames; ++t) {
+      blocks[0] = builder->WeightsBlock(t);
       builder->problem()->AddResidualBlock(
-          SmoothnessError::Create(model.num_bases, sqrt_weight, edge.alpha),
-          nullptr, builder->WeightsBlock(t), builder->BasisBlock(edge.i),
-          builder->BasisBlock(edge.j));
+          new SmoothnessError(model.num_bases, scale, coefficients), nullptr,
+          blocks);
       ++*num_blocks;
     }
   }
@@ -146,9 +152,12 @@ const std::vector<ExtraTerm>& ExtraTerms() {
   // name, units of λ, λ in (input units)², meaning, min_cameras, add.
   static const std::vector<ExtraTerm> terms = {
       {kSmoothnessTerm, "dimensionless", false,
-       "Delaunay-neighbour smoothness of every frame's shape, alpha_ij "
-       "(S_t[:,i] - S_t[:,j]) per frame and edge, averaged over the frames: "
-       "points seen in few frames (problems/smoothness_error.h)",
+       "Delaunay-neighbour smoothness of every frame's shape, "
+       "S_t[:,i] - sum_j w_ij S_t[:,j] per frame and point (w_ij: the "
+       "neighbours' affine combination that gives point i's image "
+       "position), averaged over the frames: bends the surface, not its "
+       "size or slant; points seen in few frames "
+       "(problems/smoothness_error.h)",
        1, AddSmoothness},
       {kRigidityTerm, "(input units / rad)^2", true,
        "multi-camera rigidity, log(R_tc R_t0^T R_rig,c^T) and s_tc - s_rig,c: "

@@ -20,11 +20,10 @@ namespace nrsfm {
 // mask of K values, all 1 unless `mask` says otherwise) and
 // D = Σ_i τ_i B_i (3 × K) over its basis blocks b_i (3K values each, read as
 // 3 × K: column k is the point's column of basis shape k, Model::basis), s a
-// scale. The Delaunay smoothness of a frame's shape (l_t; b_i − b_j), the
-// temporal shape prior (l_t − l_(t−1); b_p) and the deformation prior
-// (m ⊙ l_t with m = (0, 1, …, 1); b_p) have it. A solver can then sum
-// such blocks of one term over all frames at once
-// (solvers/structured_layout.h, BilinearGrid).
+// scale. The Delaunay smoothness of a frame's shape (l_t; b_i − Σ_j w_ij b_j),
+// the temporal shape prior (l_t − l_(t−1); b_p) and the deformation prior (m ⊙
+// l_t with m = (0, 1, …, 1); b_p) have it. A solver can then sum such blocks of
+// one term over all frames at once (solvers/structured_layout.h, BilinearGrid).
 struct BilinearForm {
   double scale = 0.0;            // s
   int num_bases = 0;             // K

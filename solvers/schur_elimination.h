@@ -16,8 +16,8 @@
 // applied by one Cholesky factor per point, or, when residuals couple
 // points, by one sparse Cholesky factor of C̃ (Eigen's SimplicialLLT with an
 // AMD ordering, its pattern analysed once): the couplings follow a sparse
-// graph (Delaunay edges), so the factor stays sparse and a solve costs about
-// what the per-point solves cost (docs/performance.md).
+// graph (the smoothness stencils join each point to its Delaunay
+// neighbours' neighbours), so the factor stays sparse (docs/performance.md).
 //
 // Assumes the StructuredJacobian holds the Jacobian of the current values;
 // ComputeGram() after every Evaluate(true), Factor() for every μ. The same

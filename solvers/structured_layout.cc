@@ -13,8 +13,8 @@ namespace structured {
 namespace {
 
 // Sets s->grids and the residuals' in_grid: the residual blocks with a
-// bilinear form are grouped by the pattern of their form (K, the mask, and
-// which slot is a weights or a basis block with which sign: one term), and
+// bilinear form are grouped by the pattern of their rows (K, the mask, and
+// the signs of the weights blocks: one term), and
 // each group whose blocks are every row in every column, each once, with
 // its weights blocks free and in frame groups, its basis blocks eliminated
 // and one scale per column, becomes a grid. Other groups are handled block
@@ -38,12 +38,13 @@ void FindGrids(StructuredBlocks* s) {
           static_cast<int>(form.mask.size()) == form.num_bases);
     std::vector<double> mask = form.mask;
     if (mask.empty()) mask.assign(form.num_bases, 1.0);
-    std::vector<double> pattern = {static_cast<double>(form.num_bases),
-                                   static_cast<double>(form.signs.size())};
+    // The columns keep their own points and signs (a smoothness stencil's
+    // count and weights vary from point to point), so only the rows' form
+    // is the pattern.
+    std::vector<double> pattern = {static_cast<double>(form.num_bases)};
     pattern.insert(pattern.end(), mask.begin(), mask.end());
     for (std::size_t k = 0; k < form.signs.size(); ++k) {
-      pattern.push_back(form.is_weights[k] ? 1.0 : 0.0);
-      pattern.push_back(form.signs[k]);
+      if (form.is_weights[k]) pattern.push_back(form.signs[k]);
     }
     Candidate& c = candidates[pattern];
     if (!c.valid) continue;

@@ -137,7 +137,8 @@ struct Residual {
 //                            frame groups; m the term's mask),
 //   D_e = Σ_i τ_i B_i   (a column: signed basis blocks, eliminated),
 // and the scale s_e of its column. The Delaunay smoothness is one (rows l_t,
-// columns b_i − b_j: the edges), the temporal shape prior another (rows
+// columns b_i − Σ_j w_ij b_j: the stencils, each with its own points and
+// signs), the temporal shape prior another (rows
 // l_t − l_(t−1), columns b_p), the deformation prior a third (rows l_t with
 // m = (0, 1, …, 1), columns b_p). Their part of a product with the Schur
 // complement, of C̃ and of the preconditioner then needs O((E + Q) K²)

@@ -107,7 +107,7 @@ Measurements SquareMeasurements() {
   return m;
 }
 
-TEST(ComputeDelaunayEdges, HandComputedEdgesAndWeights) {
+TEST(ComputeDelaunayEdges, HandComputedEdges) {
   const Measurements m = SquareMeasurements();
   DelaunayEdgesOptions options;
   options.num_hidden_neighbours = 2;
@@ -115,26 +115,44 @@ TEST(ComputeDelaunayEdges, HandComputedEdgesAndWeights) {
   int frame = -1;
   ASSERT_TRUE(ComputeDelaunayEdges(m, options, &edges, &frame).ok());
   EXPECT_EQ(frame, 0);
-  // 4 sides (length 1), 4 spokes (√0.5), mean d̄ = (4 + 4√0.5) / 8; point 5
-  // joins its two nearest vertices in frame 1: 2 (0.1) and 1 (√1.01).
-  const double mean = (4.0 + 4.0 * std::sqrt(0.5)) / 8.0;
-  const std::vector<std::pair<std::pair<int, int>, double>> expected = {
-      {{0, 1}, mean},
-      {{0, 3}, mean},
-      {{0, 4}, mean / std::sqrt(0.5)},
-      {{1, 2}, mean},
-      {{1, 4}, mean / std::sqrt(0.5)},
-      {{1, 5}, mean / std::sqrt(1.01)},
-      {{2, 3}, mean},
-      {{2, 4}, mean / std::sqrt(0.5)},
-      {{2, 5}, mean / 0.1},
-      {{3, 4}, mean / std::sqrt(0.5)}};
+  // 4 sides, 4 spokes; point 5 joins its two nearest vertices in frame 1:
+  // 2 (distance 0.1) and 1 (√1.01).
+  const std::vector<std::pair<int, int>> expected = {
+      {0, 1}, {0, 3}, {0, 4}, {1, 2}, {1, 4},
+      {1, 5}, {2, 3}, {2, 4}, {2, 5}, {3, 4}};
   ASSERT_EQ(edges.size(), expected.size());
   for (std::size_t e = 0; e < edges.size(); ++e) {
-    EXPECT_EQ(edges[e].i, expected[e].first.first) << e;
-    EXPECT_EQ(edges[e].j, expected[e].first.second) << e;
-    EXPECT_NEAR(edges[e].alpha, expected[e].second, 1e-12) << e;
+    EXPECT_EQ(edges[e].i, expected[e].first) << e;
+    EXPECT_EQ(edges[e].j, expected[e].second) << e;
   }
+}
+
+TEST(ComputeSmoothnessStencils, HandComputedWeights) {
+  const Measurements m = SquareMeasurements();
+  DelaunayEdgesOptions options;
+  options.num_hidden_neighbours = 2;
+  std::vector<SmoothnessStencil> stencils;
+  ASSERT_TRUE(ComputeSmoothnessStencils(m, options, &stencils).ok());
+  ASSERT_EQ(stencils.size(), 6u);
+  // Point 0 = (0, 0) from 1 = (1, 0), 3 = (0, 1), 4 = (0.5, 0.5): they lie
+  // on one line, so no affine combination gives (0, 0); the nearest is
+  // (0.5, 0.5), and its smallest weights are 1/3 each.
+  EXPECT_EQ(stencils[0].neighbours, (std::vector<int>{1, 3, 4}));
+  for (double w : stencils[0].weights) EXPECT_NEAR(w, 1.0 / 3.0, 1e-5);
+  // Point 1: frame 0 sees 0, 2, 4 of its neighbours, frame 1 sees 0, 2, 5:
+  // as many, so the reference view, again a line (1/3 each); 5 left out.
+  EXPECT_EQ(stencils[1].neighbours, (std::vector<int>{0, 2, 4}));
+  for (double w : stencils[1].weights) EXPECT_NEAR(w, 1.0 / 3.0, 1e-5);
+  // The centre: the four corners, 1/4 each (exact).
+  EXPECT_EQ(stencils[4].point, 4);
+  EXPECT_EQ(stencils[4].neighbours, (std::vector<int>{0, 1, 2, 3}));
+  for (double w : stencils[4].weights) EXPECT_NEAR(w, 0.25, 1e-9);
+  // Point 5 = (1.1, 1), seen in frame 1 only, with 1 = (1, 0) and
+  // 2 = (1, 1): the combinations are (1, w_2); the nearest to (1.1, 1) is
+  // point 2 alone.
+  EXPECT_EQ(stencils[5].neighbours, (std::vector<int>{1, 2}));
+  EXPECT_NEAR(stencils[5].weights[0], 0.0, 1e-5);
+  EXPECT_NEAR(stencils[5].weights[1], 1.0, 1e-5);
 }
 
 TEST(ComputeDelaunayEdges, ExplicitReferenceFrameAndErrors) {
@@ -150,7 +168,6 @@ TEST(ComputeDelaunayEdges, ExplicitReferenceFrameAndErrors) {
   int edges_of_4 = 0;
   for (const NeighbourEdge& e : edges) {
     EXPECT_LT(e.i, e.j);
-    EXPECT_GT(e.alpha, 0.0);
     edges_of_3 += (e.i == 3 || e.j == 3);
     edges_of_4 += (e.i == 4 || e.j == 4);
   }
