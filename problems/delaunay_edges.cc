@@ -259,14 +259,11 @@ Status ComputeSmoothnessStencils(const Measurements& measurements,
         best_view = view;
       }
     }
+    // A vertex is seen with its triangles' vertices in the reference view;
+    // another point is joined only to vertices it shares a view with.
+    CHECK_GT(best, 0) << "point " << i << " shares no view with a neighbour";
     SmoothnessStencil stencil;
     stencil.point = i;
-    if (best <= 0) {  // no view sees i with a neighbour: equal weights
-      stencil.neighbours = n;
-      stencil.weights.assign(n.size(), 1.0 / static_cast<double>(n.size()));
-      stencils->push_back(std::move(stencil));
-      continue;
-    }
     const int t = best_view / m.num_cameras, c = best_view % m.num_cameras;
     const Eigen::Vector2d x_i = m.Observation(t, c, i);
     for (int j : n) {

@@ -74,9 +74,8 @@ struct SmoothnessStencil {
 // the smallest weights whose affine combination of the neighbours'
 // positions is x_i (exact up to ε when some affine combination is, the
 // nearest otherwise), so a shape that is an affine function of the image
-// gives a zero residual. One neighbour: w = 1 (the difference S_i − S_j);
-// no view sees i with a neighbour: equal weights. Errors as
-// ComputeDelaunayEdges.
+// gives a zero residual. One neighbour: w = 1 (the difference S_i − S_j).
+// Errors as ComputeDelaunayEdges.
 Status ComputeSmoothnessStencils(const Measurements& measurements,
                                  const DelaunayEdgesOptions& options,
                                  std::vector<SmoothnessStencil>* stencils,

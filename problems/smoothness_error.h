@@ -10,12 +10,16 @@
 // (i, j_1, …, j_n), l_t the frame's K weights, b_m = [S_1[:,m]; …; S_K[:,m]]
 // the basis column of point m (Model::basis, input units), s = sqrt(λ / F)
 // (dimensionless; F the number of frames, λ ≥ 0 the term's weight). The
-// weights w_ij sum to 1 and reproduce the point's image position from its
-// neighbours' (an affine combination), so the residual is the point's
-// departure from the affine interpolation of its neighbours: zero on any
-// shape that is an affine function of the reference image (a plane, seen
-// at any depth and slant), so the term penalises the surface's bending, not
-// its size or slant. λ = 1 weighs a departure of one input unit, averaged
+// weights w_ij sum to 1 and give
+// the point's image position as an affine combination of its neighbours'
+// when one does (problems/delaunay_edges.h), so the residual is the point's
+// departure from the affine interpolation of its neighbours: zero on a shape
+// that is an affine function of the image (a plane, seen at any depth and
+// slant) wherever the point has three neighbours not on one line, so the
+// term penalises the surface's bending, not its size or slant (a point on
+// the outline with two neighbours, or one, is pulled towards them as well;
+// a point outside its neighbours' hull extrapolates from them, with weights
+// that can exceed 1). λ = 1 weighs a departure of one input unit, averaged
 // over the frames, like a reprojection error of one input unit. A point
 // that the images leave ambiguous (few observations) is pulled to the
 // surface its neighbours span.

@@ -168,7 +168,8 @@ double StencilResidualSum(const std::vector<SmoothnessStencil>& stencils,
 
 TEST(SmoothnessStencils, ZeroOnAPlaneAtAnySlantNotOnACurvedSurface) {
   // 40 points of a slanted plane seen in 3 orthographic views (point 5 not
-  // in the reference view): every frame's shape is an affine function of
+  // in frame 0, so frame 1 is the reference): every frame's shape is an
+  // affine function of
   // the image, so every stencil reproduces every point (to ε); the same
   // points on a sphere of radius 2 do not.
   std::mt19937 rng(11);
