@@ -116,8 +116,8 @@ class StructuredJacobian {
   void ColumnSquaredNorms(Eigen::VectorXd* reduced,
                           Eigen::VectorXd* eliminated) const;
 
-  // The stored Jacobian of `r` (not for a residual the panel holds or one
-  // with Residual::gram), and its columns [jcol, jcol + width).
+  // The stored Jacobian of `r` (not for a residual the panel holds, one in
+  // a grid or one with Residual::gram), and its columns [jcol, jcol + width).
   const double* J(const Residual& r) const {
     return jacobian_.data() + stored_[&r - blocks_.residuals.data()];
   }
@@ -131,6 +131,11 @@ class StructuredJacobian {
   }
 
  private:
+  // Whether residual i's Jacobian is stored (see jacobian_).
+  bool Stores(int i) const;
+  // The grids' residuals' part of ColumnSquaredNorms, from their sums.
+  void AddGridColumnSquaredNorms(Eigen::VectorXd* reduced,
+                                 Eigen::VectorXd* eliminated) const;
   double* MutableJ(const Residual& r) {
     return jacobian_.data() + stored_[&r - blocks_.residuals.data()];
   }
@@ -147,8 +152,8 @@ class StructuredJacobian {
   const StructuredBlocks& blocks_;
   const int num_threads_;
   // The stored Jacobians (each followed by its factor A when it has one),
-  // residual i's from stored_[i]; nothing for a residual with Residual::gram
-  // or one the panel holds.
+  // residual i's from stored_[i]; nothing for a residual with Residual::gram,
+  // one in a grid (Residual::in_grid) or one the panel holds.
   std::vector<double> jacobian_;
   std::vector<std::size_t> stored_;
   Eigen::VectorXd r_;

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -14,6 +15,7 @@
 #include "problems/extra_terms.h"
 #include "problems/problem_builder.h"
 #include "solvers/refine.h"
+#include "solvers/structured_jacobian.h"
 #include "solvers/structured_layout.h"
 
 namespace nrsfm {
@@ -158,18 +160,24 @@ StructuredLayout Layout(ProblemBuilder* builder) {
   return layout;
 }
 
-TEST(StructuredSolver, SumsTheTermsOfBilinearFormAsGrids) {
-  // Three terms have the bilinear form r = s D λ: the smoothness one row per
-  // frame (l_t) and one column per stencil (b_i − Σ_j w_ij b_j, columns of
-  // different lengths and signs), the temporal shape
-  // prior one row per pair of frames (l_t − l_(t−1)) and one column per
-  // point (b_p), the deformation prior one row per frame (l_t masked) and
-  // one column per point. The layout recognises each as a full grid, and
-  // leaves every other residual block to the block-by-block passes.
-  const Case c = MakeCase(0.2);
+// Terms() and the two other terms of bilinear form.
+ProblemOptions GridTerms() {
   ProblemOptions terms = Terms();
   terms.term_weights[kSmoothnessTerm] = 0.05;
   terms.term_weights[kDeformationTerm] = 0.3;
+  return terms;
+}
+
+TEST(StructuredSolver, SumsTheTermsOfBilinearFormAsGrids) {
+  // Three terms have the bilinear form r = s D λ: the smoothness one row per
+  // frame (l_t) and one column per stencil (b_i − Σ_j w_ij b_j, columns of
+  // different lengths and signs), the temporal shape prior one row per pair
+  // of frames (l_t − l_(t−1)) and one column per point (b_p), the
+  // deformation prior one row per frame (l_t masked) and one column per
+  // point. The layout recognises each as a full grid, and leaves every other
+  // residual block to the block-by-block passes.
+  const Case c = MakeCase(0.2);
+  const ProblemOptions terms = GridTerms();
   Model model = c.start;
   const int f = model.num_frames, p = model.num_points;
   for (const bool constant_weights : {false, true}) {
@@ -230,6 +238,61 @@ TEST(StructuredSolver, SumsTheTermsOfBilinearFormAsGrids) {
     EXPECT_EQ(found, 111);
     EXPECT_EQ(in_grid, num_stencils * f + (f - 1) * p + f * p);
     EXPECT_EQ(blocks.not_in_grid.size(), blocks.residuals.size() - in_grid);
+  }
+}
+
+// diag(JᵀJ) with the grids' residuals' part from the grids' sums (their
+// Jacobians are not stored) against the column norms of Ceres' own Jacobian
+// of the same problem: the smoothness, temporal shape and deformation terms
+// as grids, with and without the reprojection panel.
+TEST(StructuredSolver, ColumnNormsOfTheGridsAreThoseOfTheJacobian) {
+  const Case c = MakeCase(0.2);
+  const ProblemOptions terms = GridTerms();
+  Model model = c.start;
+  ProblemBuilder builder(&c.sequence.measurements, &model);
+  ASSERT_TRUE(builder.AddReprojectionTerms(terms).ok());
+  ASSERT_TRUE(AddExtraTerms(terms, &builder).ok());
+  structured::StructuredBlocks blocks;
+  std::string error;
+  ASSERT_TRUE(structured::LayOutBlocks(Layout(&builder), builder.problem(),
+                                       &blocks, &error))
+      << error;
+  ASSERT_EQ(blocks.grids.size(), 3u);
+  // Ceres' Jacobian with the columns in the layout's order: the reduced
+  // blocks, then the eliminated ones, each by its offset.
+  std::vector<std::pair<int, int>> order;  // (eliminated, offset), block
+  for (std::size_t i = 0; i < blocks.blocks.size(); ++i) {
+    const structured::Block& b = blocks.blocks[i];
+    order.push_back({(b.eliminated ? blocks.num_reduced : 0) + b.offset,
+                     static_cast<int>(i)});
+  }
+  std::sort(order.begin(), order.end());
+  ceres::Problem::EvaluateOptions evaluate;
+  for (const auto& [column, i] : order) {
+    evaluate.parameter_blocks.push_back(blocks.blocks[i].values);
+  }
+  double cost = 0.0;
+  ceres::CRSMatrix crs;
+  ASSERT_TRUE(
+      builder.problem()->Evaluate(evaluate, &cost, nullptr, nullptr, &crs));
+  ASSERT_EQ(crs.num_cols, blocks.num_reduced + blocks.num_eliminated);
+  Eigen::VectorXd expected = Eigen::VectorXd::Zero(crs.num_cols);
+  for (std::size_t k = 0; k < crs.values.size(); ++k) {
+    expected[crs.cols[k]] += crs.values[k] * crs.values[k];
+  }
+  for (const bool panel : {true, false}) {
+    structured::StructuredJacobian jacobian(blocks, 2, panel);
+    EXPECT_EQ(jacobian.uses_panel(), panel);
+    double structured_cost = 0.0;
+    ASSERT_TRUE(jacobian.Evaluate(true, &structured_cost));
+    EXPECT_NEAR(structured_cost, cost, 1e-12 * cost);
+    Eigen::VectorXd reduced, eliminated;
+    jacobian.ColumnSquaredNorms(&reduced, &eliminated);
+    Eigen::VectorXd got(crs.num_cols);
+    got << reduced, eliminated;
+    EXPECT_LT((got - expected).cwiseAbs().maxCoeff(),
+              1e-10 * expected.cwiseAbs().maxCoeff())
+        << (panel ? "panel" : "residual by residual");
   }
 }
 
