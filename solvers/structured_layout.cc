@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <map>
+#include <typeindex>
+#include <typeinfo>
 #include <unordered_map>
 #include <utility>
 
@@ -13,8 +15,9 @@ namespace structured {
 namespace {
 
 // Sets s->grids and the residuals' in_grid: the residual blocks with a
-// bilinear form are grouped by the pattern of their rows (K, the mask, and
-// the signs of the weights blocks: one term), and
+// bilinear form are grouped by their cost function's class and the pattern
+// of their rows (K, the mask, and the signs of the weights blocks): one
+// term, and
 // each group whose blocks are every row in every column, each once, with
 // its weights blocks free and in frame groups, its basis blocks eliminated
 // and one scale per column, becomes a grid. Other groups are handled block
@@ -27,7 +30,10 @@ void FindGrids(StructuredBlocks* s) {
     std::vector<std::pair<int, int>> cells;  // (row, column)
     bool valid = true;
   };
-  std::map<std::vector<double>, Candidate> candidates;
+  // Keyed by the cost function's class too: two terms whose rows have the
+  // same form are never summed as one grid.
+  std::map<std::pair<std::type_index, std::vector<double>>, Candidate>
+      candidates;
   for (std::size_t i = 0; i < s->residuals.size(); ++i) {
     const Residual& r = s->residuals[i];
     BilinearForm form;
@@ -46,7 +52,7 @@ void FindGrids(StructuredBlocks* s) {
     for (std::size_t k = 0; k < form.signs.size(); ++k) {
       if (form.is_weights[k]) pattern.push_back(form.signs[k]);
     }
-    Candidate& c = candidates[pattern];
+    Candidate& c = candidates[{std::type_index(typeid(*r.cost)), pattern}];
     if (!c.valid) continue;
     if (c.members.empty()) {
       c.grid.num_bases = form.num_bases;
