@@ -91,6 +91,7 @@ void SchurElimination::BuildCoupledPattern() {
     }
   }
   sparse_.makeCompressed();
+  sparse_llt_.cholmod().print = 0;  // the library prints nothing
   sparse_llt_.analyzePattern(sparse_);
 }
 
