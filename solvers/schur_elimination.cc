@@ -2,6 +2,7 @@
 
 #include <glog/logging.h>
 
+#include <Eigen/CholmodSupport>
 #include <algorithm>
 
 #include "core/parallel_for.h"
@@ -15,6 +16,13 @@ namespace {
 constexpr int kEliminatedGrain = 1;
 
 }  // namespace
+
+class SchurElimination::CoupledFactor {
+ public:
+  Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> llt;
+};
+
+SchurElimination::~SchurElimination() = default;
 
 SchurElimination::SchurElimination(const StructuredBlocks& blocks,
                                    const StructuredJacobian& jacobian,
@@ -91,8 +99,9 @@ void SchurElimination::BuildCoupledPattern() {
     }
   }
   sparse_.makeCompressed();
-  sparse_llt_.cholmod().print = 0;  // the library prints nothing
-  sparse_llt_.analyzePattern(sparse_);
+  sparse_llt_ = std::make_unique<CoupledFactor>();
+  sparse_llt_->llt.cholmod().print = 0;  // the library prints nothing
+  sparse_llt_->llt.analyzePattern(sparse_);
 }
 
 void SchurElimination::AddCouplingGram() {
@@ -302,7 +311,7 @@ void SchurElimination::Factor(double mu, const Eigen::VectorXd& d_eliminated) {
       }
     }
     CHECK_EQ(value - sparse_.valuePtr(), sparse_.nonZeros());
-    sparse_llt_.factorize(sparse_);
+    sparse_llt_->llt.factorize(sparse_);
     return;
   }
   llt_.resize(blocks_.eliminated_blocks.size());
@@ -320,7 +329,7 @@ void SchurElimination::Factor(double mu, const Eigen::VectorXd& d_eliminated) {
 void SchurElimination::SolveEliminated(const Eigen::VectorXd& in,
                                        Eigen::VectorXd* out) const {
   if (!coupled_.empty()) {
-    *out = sparse_llt_.solve(in);
+    *out = sparse_llt_->llt.solve(in);
     return;
   }
   out->resize(blocks_.num_eliminated);

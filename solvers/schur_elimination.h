@@ -33,9 +33,8 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/OrderingMethods>
-#include <Eigen/CholmodSupport>
-#include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
+#include <memory>
 #include <vector>
 
 #include "solvers/structured_jacobian.h"
@@ -49,6 +48,7 @@ class SchurElimination {
   // `blocks` and `jacobian` must outlive this.
   SchurElimination(const StructuredBlocks& blocks,
                    const StructuredJacobian& jacobian, int num_threads);
+  ~SchurElimination();
 
   // J_pᵀ J_p per eliminated block (and per coupled pair), from the current
   // Jacobian.
@@ -129,7 +129,10 @@ class SchurElimination {
   std::vector<Eigen::MatrixXd> grid_lambdas_;
   std::vector<Eigen::MatrixXd> grid_gram_;
   SparseMatrix sparse_;  // lower triangle of C̃
-  Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> sparse_llt_;
+  // Its Cholesky factor (CHOLMOD's, defined in the .cc so that only it
+  // includes SuiteSparse's headers).
+  class CoupledFactor;
+  std::unique_ptr<CoupledFactor> sparse_llt_;
 };
 
 }  // namespace structured
