@@ -99,9 +99,9 @@ void SchurElimination::BuildCoupledPattern() {
     }
   }
   sparse_.makeCompressed();
-  sparse_llt_ = std::make_unique<CoupledFactor>();
-  sparse_llt_->llt.cholmod().print = 0;  // the library prints nothing
-  sparse_llt_->llt.analyzePattern(sparse_);
+  coupled_factor_ = std::make_unique<CoupledFactor>();
+  coupled_factor_->llt.cholmod().print = 0;  // the library prints nothing
+  coupled_factor_->llt.analyzePattern(sparse_);
 }
 
 void SchurElimination::AddCouplingGram() {
@@ -183,6 +183,32 @@ void SchurElimination::AddGridGram(int g) {
     h.noalias() += s2 * d.transpose() * d;
   }
   h = grid.mask.asDiagonal() * h * grid.mask.asDiagonal();  // M H M
+}
+
+void SchurElimination::AddGridColumnSquaredNorms(
+    Eigen::VectorXd* reduced, Eigen::VectorXd* eliminated) const {
+  for (std::size_t g = 0; g < blocks_.grids.size(); ++g) {
+    const BilinearGrid& grid = blocks_.grids[g];
+    const int k = grid.num_bases;
+    const Eigen::VectorXd h = grid_gram_[g].diagonal();
+    const Eigen::VectorXd lambda2 = grid_lambdas_[g].rowwise().squaredNorm();
+    for (const std::vector<BilinearGrid::Term>& row : grid.rows) {
+      for (const BilinearGrid::Term& term : row) {
+        reduced->segment(blocks_.blocks[term.block].offset, k) +=
+            term.sign * term.sign * h;
+      }
+    }
+    for (const BilinearGrid::Column& column : grid.columns) {
+      const double s2 = column.scale * column.scale;
+      for (const BilinearGrid::Term& term : column.points) {
+        double* out = eliminated->data() + blocks_.blocks[term.block].offset;
+        const double f = s2 * term.sign * term.sign;
+        for (int a = 0; a < k; ++a) {
+          for (int c = 0; c < 3; ++c) out[3 * a + c] += f * lambda2(a);
+        }
+      }
+    }
+  }
 }
 
 void SchurElimination::RowCombination(
@@ -311,7 +337,7 @@ void SchurElimination::Factor(double mu, const Eigen::VectorXd& d_eliminated) {
       }
     }
     CHECK_EQ(value - sparse_.valuePtr(), sparse_.nonZeros());
-    sparse_llt_->llt.factorize(sparse_);
+    coupled_factor_->llt.factorize(sparse_);
     return;
   }
   llt_.resize(blocks_.eliminated_blocks.size());
@@ -329,7 +355,7 @@ void SchurElimination::Factor(double mu, const Eigen::VectorXd& d_eliminated) {
 void SchurElimination::SolveEliminated(const Eigen::VectorXd& in,
                                        Eigen::VectorXd* out) const {
   if (!coupled_.empty()) {
-    *out = sparse_llt_->llt.solve(in);
+    *out = coupled_factor_->llt.solve(in);
     return;
   }
   out->resize(blocks_.num_eliminated);

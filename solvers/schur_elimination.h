@@ -62,6 +62,13 @@ class SchurElimination {
   // σ_a σ_b H_g between the row's weights blocks a and b, from the last
   // ComputeGram().
   const std::vector<Eigen::MatrixXd>& grid_grams() const { return grid_gram_; }
+  // Adds the grids' residuals' part of diag(JᵀJ), which
+  // StructuredJacobian::ColumnSquaredNorms leaves out, from the last
+  // ComputeGram()'s sums: residual (q, e) is s_e D_e λ_q, so a weights block
+  // of row q with sign σ gets σ² diag(H_g) and a basis block of column e
+  // with sign τ gets s_e² τ² Σ_q λ_qk² in its 3 columns of basis shape k.
+  void AddGridColumnSquaredNorms(Eigen::VectorXd* reduced,
+                                 Eigen::VectorXd* eliminated) const;
   // out = C̃⁻¹ in (eliminated columns).
   void SolveEliminated(const Eigen::VectorXd& in, Eigen::VectorXd* out) const;
   // out = S v (reduced columns), D_f = diag(d_reduced).
@@ -132,7 +139,7 @@ class SchurElimination {
   // Its Cholesky factor (CHOLMOD's, defined in the .cc so that only it
   // includes SuiteSparse's headers).
   class CoupledFactor;
-  std::unique_ptr<CoupledFactor> sparse_llt_;
+  std::unique_ptr<CoupledFactor> coupled_factor_;
 };
 
 }  // namespace structured

@@ -467,7 +467,7 @@ void StructuredJacobian::ColumnSquaredNorms(Eigen::VectorXd* reduced,
       [&](int i, double* sum) {
         const Residual& r = blocks_.residuals[i];
         double* const e_sum = sum + num_reduced;
-        if (r.in_grid) return;  // added below from the grids' sums
+        if (r.in_grid) return;  // SchurElimination adds the grids' part
         if (r.gram) {
           for (std::size_t k = 0; k < r.parameters.size(); ++k) {
             if (r.slot_block[k] < 0) continue;
@@ -510,50 +510,6 @@ void StructuredJacobian::ColumnSquaredNorms(Eigen::VectorXd* reduced,
   *reduced = both.head(num_reduced);
   *eliminated = both.tail(blocks_.num_eliminated);
   if (use_panel_) panel_.AddColumnSquaredNorms(reduced, eliminated);
-  AddGridColumnSquaredNorms(reduced, eliminated);
-}
-
-void StructuredJacobian::AddGridColumnSquaredNorms(
-    Eigen::VectorXd* reduced, Eigen::VectorXd* eliminated) const {
-  // Residual (q, e) of a grid is s_e D_e λ_q (λ_q masked): its Jacobian in
-  // a weights block a of row q is s_e σ_a D_e diag(m), in a basis block i
-  // of column e s_e τ_i (λ_qᵀ ⊗ I₃). So the weights block's column norms
-  // are σ_a² m² ⊙ diag(Σ_e s_e² D_eᵀ D_e) and the basis block's
-  // s_e² τ_i² Σ_q λ_qk² for each of its 3 columns of basis shape k.
-  for (const BilinearGrid& grid : blocks_.grids) {
-    const int k = grid.num_bases;
-    Eigen::VectorXd h = Eigen::VectorXd::Zero(k);
-    Eigen::Matrix3Xd d(3, k);
-    for (const BilinearGrid::Column& column : grid.columns) {
-      d.setZero();
-      for (const BilinearGrid::Term& term : column.points) {
-        d += term.sign * Eigen::Map<const Eigen::Matrix3Xd>(
-                             blocks_.blocks[term.block].values, 3, k);
-      }
-      h += column.scale * column.scale * d.colwise().squaredNorm().transpose();
-    }
-    h = h.cwiseProduct(grid.mask.cwiseAbs2());
-    Eigen::VectorXd g = Eigen::VectorXd::Zero(k), lambda(k);
-    for (const std::vector<BilinearGrid::Term>& row : grid.rows) {
-      lambda.setZero();
-      for (const BilinearGrid::Term& term : row) {
-        const Block& b = blocks_.blocks[term.block];
-        lambda += term.sign * Eigen::Map<const Eigen::VectorXd>(b.values, k);
-        reduced->segment(b.offset, k) += term.sign * term.sign * h;
-      }
-      g += lambda.cwiseProduct(grid.mask).cwiseAbs2();
-    }
-    for (const BilinearGrid::Column& column : grid.columns) {
-      const double s2 = column.scale * column.scale;
-      for (const BilinearGrid::Term& term : column.points) {
-        double* out = eliminated->data() + blocks_.blocks[term.block].offset;
-        const double f = s2 * term.sign * term.sign;
-        for (int a = 0; a < k; ++a) {
-          for (int c = 0; c < 3; ++c) out[3 * a + c] += f * g(a);
-        }
-      }
-    }
-  }
 }
 
 }  // namespace structured

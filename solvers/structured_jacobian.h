@@ -112,7 +112,8 @@ class StructuredJacobian {
     return use_panel_ ? &panel_ : nullptr;
   }
 
-  // diag(JᵀJ), the columns' sums of squares, unclamped.
+  // diag(JᵀJ), the columns' sums of squares, unclamped, without the grids'
+  // residuals (SchurElimination::AddGridColumnSquaredNorms adds their part).
   void ColumnSquaredNorms(Eigen::VectorXd* reduced,
                           Eigen::VectorXd* eliminated) const;
 
@@ -133,9 +134,6 @@ class StructuredJacobian {
  private:
   // Whether residual i's Jacobian is stored (see jacobian_).
   bool Stores(int i) const;
-  // The grids' residuals' part of ColumnSquaredNorms, from their sums.
-  void AddGridColumnSquaredNorms(Eigen::VectorXd* reduced,
-                                 Eigen::VectorXd* eliminated) const;
   double* MutableJ(const Residual& r) {
     return jacobian_.data() + stored_[&r - blocks_.residuals.data()];
   }

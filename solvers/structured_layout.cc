@@ -17,8 +17,7 @@ namespace {
 // Sets s->grids and the residuals' in_grid: the residual blocks with a
 // bilinear form are grouped by their cost function's class and the pattern
 // of their rows (K, the mask, and the signs of the weights blocks): one
-// term, and
-// each group whose blocks are every row in every column, each once, with
+// term. Each group whose blocks are every row in every column, each once, with
 // its weights blocks free and in frame groups, its basis blocks eliminated
 // and one scale per column, becomes a grid. Other groups are handled block
 // by block.

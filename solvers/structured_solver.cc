@@ -73,6 +73,7 @@ void Solver::ComputeGradientAndScaling() {
   schur_.ComputeGram();
   jacobian_.Gradient(&gradient_reduced_, &gradient_eliminated_);
   jacobian_.ColumnSquaredNorms(&d_reduced_, &d_eliminated_);
+  schur_.AddGridColumnSquaredNorms(&d_reduced_, &d_eliminated_);
   d_reduced_ = d_reduced_.cwiseMax(1e-6).cwiseMin(1e32);
   d_eliminated_ = d_eliminated_.cwiseMax(1e-6).cwiseMin(1e32);
 }

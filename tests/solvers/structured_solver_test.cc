@@ -15,6 +15,7 @@
 #include "problems/extra_terms.h"
 #include "problems/problem_builder.h"
 #include "solvers/refine.h"
+#include "solvers/schur_elimination.h"
 #include "solvers/structured_jacobian.h"
 #include "solvers/structured_layout.h"
 
@@ -241,7 +242,8 @@ TEST(StructuredSolver, SumsTheTermsOfBilinearFormAsGrids) {
   }
 }
 
-// diag(JᵀJ) with the grids' residuals' part from the grids' sums (their
+// diag(JᵀJ) with the grids' residuals' part from the grids' sums
+// (SchurElimination::AddGridColumnSquaredNorms; their
 // Jacobians are not stored) against the column norms of Ceres' own Jacobian
 // of the same problem: the smoothness, temporal shape and deformation terms
 // as grids, with and without the reprojection panel.
@@ -288,6 +290,9 @@ TEST(StructuredSolver, ColumnNormsOfTheGridsAreThoseOfTheJacobian) {
     EXPECT_NEAR(structured_cost, cost, 1e-12 * cost);
     Eigen::VectorXd reduced, eliminated;
     jacobian.ColumnSquaredNorms(&reduced, &eliminated);
+    structured::SchurElimination schur(blocks, jacobian, 2);
+    schur.ComputeGram();
+    schur.AddGridColumnSquaredNorms(&reduced, &eliminated);
     Eigen::VectorXd got(crs.num_cols);
     got << reduced, eliminated;
     EXPECT_LT((got - expected).cwiseAbs().maxCoeff(),
