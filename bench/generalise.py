@@ -22,7 +22,9 @@ Parts (--parts, comma list; default all):
 
 Usage: PYTHONPATH=build/python /usr/bin/python3 bench/generalise.py
            [--shared ../shared] [--parts ksweep,frgc] [--threads 2]
-           [--json generalise.json]
+           [--json generalise.json] [--set name=value ...]
+--set passes a keyword of nrsfm.reconstruct to every run (a number, or a
+string), to compare an option with its default on the same data.
 Prints one line per run (as it goes) and a summary per part; --json writes
 every row. Needs numpy and the nrsfm module (build/python).
 """
@@ -106,13 +108,14 @@ def akhter(path):
 
 
 ROWS = []
+OPTIONS = {}  # --set: extra keywords of every nrsfm.reconstruct call
 
 
 def run(part, name, k, w, mask, truth=None, truth_path=None, threads=2, **extra):
     """One default reconstruction, scored; prints and records the row."""
     start = time.time()
     try:
-        r = nrsfm.reconstruct(w, k, mask=mask, threads=threads)
+        r = nrsfm.reconstruct(w, k, mask=mask, threads=threads, **OPTIONS)
     except ValueError as error:
         print('%-9s %-28s K %2d  FAILED: %s' % (part, name, k, error), flush=True)
         ROWS.append(dict(part=part, name=name, K=k, error=str(error)))
@@ -220,7 +223,14 @@ def main():
     parser.add_argument('--parts', default=','.join(PARTS))
     parser.add_argument('--threads', type=int, default=2)
     parser.add_argument('--json', default='')
+    parser.add_argument('--set', action='append', default=[], metavar='NAME=VALUE')
     args = parser.parse_args()
+    for setting in args.set:
+        name, _, value = setting.partition('=')
+        try:
+            OPTIONS[name] = float(value) if '.' in value or 'e' in value else int(value)
+        except ValueError:
+            OPTIONS[name] = value
     if not os.path.isdir(os.path.join(args.shared, 'datasets')):
         print('generalise: no %s/datasets (set --shared or NRSFM_SHARED_DIR)' % args.shared,
               file=sys.stderr)
