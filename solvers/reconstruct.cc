@@ -330,9 +330,13 @@ Status ReconstructInUnits(const ReconstructOptions& options,
           " start failed: " + other.message());
     }
   }
-  // The shape stage: the camera stage's shapes reduced to K bases
-  // (ReduceNumBases), refined with its rotations held.
-  if (two_stages) {
+  // The shape stage when the camera stage had more bases: its shapes reduced
+  // to K bases (ReduceNumBases), refined with its rotations held. With
+  // K_cam = K the camera stage's result is the answer: a shape stage would
+  // re-solve the same problem with the rotations held from its end, and only
+  // polish it (measured in docs/performance.md: no gain in e3D over the
+  // generalisation protocol, up to 12× the LM steps on noisy tracks).
+  if (two_stages && result->model.num_bases > num_bases) {
     NRSFM_RETURN_IF_ERROR(RefineWithCameraHeld(options, measurements, result));
   }
   const bool at_limit =
