@@ -8,6 +8,7 @@
 #include <iomanip>
 #include <sstream>
 #include <string>
+#include <thread>
 
 #include "core/enum_names.h"
 #include "core/option_checker.h"
@@ -64,28 +65,47 @@ Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
   }
   StartOptions start = options.start;
   start.method = method;
-  NRSFM_RETURN_IF_ERROR(Initialize(start, measurements, &result->model,
-                                   &result->start, options.solver.num_threads,
-                                   cache));
+  // With priors = auto the path is measured on a start with at most
+  // CameraBasesCap bases: with more, the start's rotations are not reliable
+  // enough to tell. That start (the reference) is computed beside the
+  // start itself when there are threads for both (each start is the same
+  // for any thread count; inputs above kMaxObservationsForTwoAtOnce compute
+  // them one after the other, as the two refinements).
+  const int cap = CameraBasesCap(options.prior_rule, measurements);
+  const bool with_reference =
+      options.priors == PriorMode::kAuto &&
+      decision.term_weights.count(kTemporalShapeTerm) > 0 &&
+      start.num_bases > cap;
+  StartOptions fewer = start;
+  fewer.num_bases = cap;
+  Model reference;
+  StartSummary reference_summary;
+  Status reference_status = Status::Error("not computed");
+  const int threads = options.solver.num_threads;
+  if (with_reference && threads >= 2 &&
+      measurements.NumVisible() <= kMaxObservationsForTwoAtOnce) {
+    const int beside = threads / 2;
+    std::thread other([&] {
+      reference_status = Initialize(fewer, measurements, &reference,
+                                    &reference_summary, beside, cache);
+    });
+    const Status status = Initialize(start, measurements, &result->model,
+                                     &result->start, threads - beside, cache);
+    other.join();
+    NRSFM_RETURN_IF_ERROR(status);
+  } else {
+    NRSFM_RETURN_IF_ERROR(Initialize(start, measurements, &result->model,
+                                     &result->start, threads, cache));
+    if (with_reference) {
+      reference_status = Initialize(fewer, measurements, &reference,
+                                    &reference_summary, threads, cache);
+    }
+  }
   ProblemOptions problem = options.problem;
   result->priors = decision;
   if (options.priors == PriorMode::kAuto) {
-    // The path is measured on a start with at most CameraBasesCap bases:
-    // with more, the start's rotations are not reliable enough to tell.
-    Model reference;
-    const Model* path = &result->model;
-    const int cap = CameraBasesCap(options.prior_rule, measurements);
-    if (result->priors.term_weights.count(kTemporalShapeTerm) > 0 &&
-        start.num_bases > cap) {
-      StartOptions fewer = start;
-      fewer.num_bases = cap;
-      StartSummary unused;
-      if (Initialize(fewer, measurements, &reference, &unused,
-                     options.solver.num_threads, cache)
-              .ok()) {
-        path = &reference;
-      }
-    }
+    const Model* path =
+        with_reference && reference_status.ok() ? &reference : &result->model;
     DecidePathPrior(options.prior_rule, *path, &result->priors);
     problem.term_weights = result->priors.term_weights;
   } else {

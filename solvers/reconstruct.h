@@ -108,7 +108,12 @@ inline constexpr int kMaxObservationsForTwoAtOnce = 1000000;
 //      factorisation, the ones the temporal terms then hold in place; the
 //      factorisation and rigid starts' rotations are further off on motion
 //      capture, and the refinement does not leave their basin (measured in
-//      docs/priors.md).
+//      docs/priors.md). The path prior (solvers/prior_rule.h
+//      DecidePathPrior) is decided on the start, or, when K_cam is above
+//      CameraBasesCap, on a second start with that many bases, computed
+//      beside the first on half the threads (num_threads ≥ 2 and at most
+//      kMaxObservationsForTwoAtOnce observations; the same starts for any
+//      thread count).
 //    - otherwise both the factorization and the rigid starts are refined and
 //      the lower refined cost is kept (a usable solution before an unusable
 //      one). A start's own reprojection error does not tell which basin it

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -203,8 +204,8 @@ void OrbitVideo(const std::vector<Eigen::Matrix3Xd>& shapes, double degrees,
 // A video whose basis can absorb rotation (3K ≥ P/2), though the K-basis
 // model explains its tracks exactly, gets the triple start alone, the
 // temporal shape term and, for a camera at constant angular velocity, the
-// angular-acceleration term, in two stages (camera, then shape with the
-// rotations held) with K_cam = K. The
+// angular-acceleration term, in one stage: the camera stage with K_cam = K
+// (a shape stage runs only when K_cam > K). The
 // data: a smoothly deforming object (P = 16, K = 3, a rigid shape plus two
 // modes with slow sinusoidal weights) seen under a 150° orbit at constant
 // speed, scored in its object frame as the field scores the Akhter et al.
@@ -260,6 +261,50 @@ TEST(Reconstruct, VideoWithLargeBasisTakesTheTripleStartAndTemporalTerms) {
   EXPECT_GT(result.refine.iterations, 0);
   EXPECT_TRUE(result.refine.converged);
   EXPECT_EQ(result.model.num_bases, 3);
+}
+
+// K above the camera cap (3K > 0.75 P): the path prior is decided on a
+// start with CameraBasesCap bases, computed beside the start itself when
+// there are two threads; the answer is the same bits with one thread.
+TEST(Reconstruct, ReferenceStartBesideTheStartGivesTheBitsOfOneThread) {
+  constexpr int kVideoFrames = 80, kVideoPoints = 16, kModes = 5;
+  const std::vector<Eigen::Matrix3Xd> modes =
+      RandomModes(kModes, kVideoPoints, 5);
+  std::vector<Eigen::Matrix3Xd> shapes;
+  for (int t = 0; t < kVideoFrames; ++t) {
+    const double phase = 2.0 * M_PI * t / kVideoFrames;
+    Eigen::Matrix3Xd shape = modes[0];
+    for (int k = 1; k < kModes; ++k) {
+      shape += 0.3 / k * std::sin((0.5 + 0.6 * k) * phase + k) * modes[k];
+    }
+    shapes.push_back(shape);
+  }
+  ReprojectedSequence video;
+  ASSERT_NO_FATAL_FAILURE(OrbitVideo(shapes, 120.0, &video));
+  ReconstructOptions options;
+  options.start.num_bases = kModes;
+  ASSERT_LT(CameraBasesCap(options.prior_rule, video.measurements), kModes);
+  ReconstructResult one, two;
+  options.solver.num_threads = 1;
+  ASSERT_TRUE(Reconstruct(options, video.measurements, &one).ok());
+  options.solver.num_threads = 2;
+  ASSERT_TRUE(Reconstruct(options, video.measurements, &two).ok());
+  ASSERT_TRUE(one.refine.usable);
+  ASSERT_EQ(one.priors.term_weights.count(kTemporalShapeTerm), 1u);
+  EXPECT_EQ(one.start.method, StartMethod::kTriple);
+  EXPECT_GE(one.priors.path_acceleration_deg, 0.0);
+  EXPECT_EQ(std::memcmp(&one.priors.path_acceleration_deg,
+                        &two.priors.path_acceleration_deg, sizeof(double)),
+            0);
+  EXPECT_EQ(one.priors.term_weights, two.priors.term_weights);
+  EXPECT_GT(one.refine.iterations, 0);
+  EXPECT_EQ(one.refine.iterations, two.refine.iterations);
+  EXPECT_EQ(std::memcmp(&one.refine.final_cost, &two.refine.final_cost,
+                        sizeof(double)),
+            0);
+  EXPECT_TRUE(one.model.basis == two.model.basis);
+  EXPECT_TRUE(one.model.rotations == two.model.rotations);
+  EXPECT_TRUE(one.model.weights == two.model.weights);
 }
 
 // Too few bases for the tracks (fact 4 of solvers/prior_rule.h): a smooth
