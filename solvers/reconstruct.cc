@@ -8,10 +8,10 @@
 #include <iomanip>
 #include <sstream>
 #include <string>
-#include <thread>
 
 #include "core/enum_names.h"
 #include "core/option_checker.h"
+#include "core/parallel_for.h"
 #include "problems/extra_terms.h"
 #include "solvers/drop_unobserved.h"
 #include "solvers/two_starts.h"
@@ -80,27 +80,27 @@ Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
   fewer.num_bases = cap;
   Model reference;
   StartSummary reference_summary;
-  Status reference_status = Status::Error("not computed");
+  Status status, reference_status = Status::Error("not computed");
   const int threads = options.solver.num_threads;
-  if (with_reference && threads >= 2 &&
-      measurements.NumVisible() <= kMaxObservationsForTwoAtOnce) {
-    const int beside = threads / 2;
-    std::thread other([&] {
-      reference_status = Initialize(fewer, measurements, &reference,
-                                    &reference_summary, beside, cache);
-    });
-    const Status status = Initialize(start, measurements, &result->model,
-                                     &result->start, threads - beside, cache);
-    other.join();
-    NRSFM_RETURN_IF_ERROR(status);
-  } else {
-    NRSFM_RETURN_IF_ERROR(Initialize(start, measurements, &result->model,
-                                     &result->start, threads, cache));
-    if (with_reference) {
-      reference_status = Initialize(fewer, measurements, &reference,
-                                    &reference_summary, threads, cache);
-    }
-  }
+  const bool beside = with_reference && threads >= 2 &&
+                      measurements.NumVisible() <= kMaxObservationsForTwoAtOnce;
+  const int reference_threads = beside ? threads / 2 : threads;
+  ParallelForWorker(
+      with_reference ? 2 : 1, beside ? 2 : 1, /*grain=*/1,
+      [&](int begin, int end, int) {
+        for (int i = begin; i < end; ++i) {
+          if (i == 0) {
+            status =
+                Initialize(start, measurements, &result->model, &result->start,
+                           threads - (beside ? reference_threads : 0), cache);
+          } else {
+            reference_status =
+                Initialize(fewer, measurements, &reference, &reference_summary,
+                           reference_threads, cache);
+          }
+        }
+      });
+  NRSFM_RETURN_IF_ERROR(status);
   ProblemOptions problem = options.problem;
   result->priors = decision;
   if (options.priors == PriorMode::kAuto) {
@@ -310,8 +310,8 @@ Status ReconstructInUnits(const ReconstructOptions& options,
   // The camera stage: the start and its refinement with K_cam ≥ K bases
   // (K_cam = K with priors = manual).
   ReconstructOptions camera = options;
-  const bool two_stages = !decision.term_weights.empty();
-  if (two_stages) {
+  const bool shape_prior = !decision.term_weights.empty();
+  if (shape_prior) {
     camera.start.num_bases = std::max(num_bases, decision.camera_num_bases);
     camera.solver.function_tolerance =
         std::max(options.solver.function_tolerance,
@@ -356,7 +356,7 @@ Status ReconstructInUnits(const ReconstructOptions& options,
   // re-solve the same problem with the rotations held from its end, and only
   // polish it (measured in docs/performance.md: no gain in e3D over the
   // generalisation protocol, up to 12× the LM steps on noisy tracks).
-  if (two_stages && result->model.num_bases > num_bases) {
+  if (shape_prior && result->model.num_bases > num_bases) {
     NRSFM_RETURN_IF_ERROR(RefineWithCameraHeld(options, measurements, result));
   }
   const bool at_limit =

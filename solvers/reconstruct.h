@@ -111,7 +111,7 @@ inline constexpr int kMaxObservationsForTwoAtOnce = 1000000;
 //      docs/priors.md). The path prior (solvers/prior_rule.h
 //      DecidePathPrior) is decided on the start, or, when K_cam is above
 //      CameraBasesCap, on a second start with that many bases, computed
-//      beside the first on half the threads (num_threads ≥ 2 and at most
+//      beside the first (core/parallel_for.h; num_threads ≥ 2 and at most
 //      kMaxObservationsForTwoAtOnce observations; the same starts for any
 //      thread count).
 //    - otherwise both the factorization and the rigid starts are refined and

@@ -184,6 +184,26 @@ std::vector<Eigen::Matrix3Xd> RandomModes(int count, int num_points,
   return modes;
 }
 
+// F frames of a smooth deformation of `num_modes` random modes of P points:
+// the first mode plus 0.3/k sin((0.5 + 0.7 k) φ + k) times mode k, with φ
+// one turn over the frames.
+std::vector<Eigen::Matrix3Xd> SmoothModalShapes(int num_frames, int num_points,
+                                                int num_modes,
+                                                std::uint64_t seed) {
+  const std::vector<Eigen::Matrix3Xd> modes =
+      RandomModes(num_modes, num_points, seed);
+  std::vector<Eigen::Matrix3Xd> shapes;
+  for (int t = 0; t < num_frames; ++t) {
+    const double phase = 2.0 * M_PI * t / num_frames;
+    Eigen::Matrix3Xd shape = modes[0];
+    for (int k = 1; k < num_modes; ++k) {
+      shape += 0.3 / k * std::sin((0.5 + 0.7 * k) * phase + k) * modes[k];
+    }
+    shapes.push_back(shape);
+  }
+  return shapes;
+}
+
 // The object-frame shapes `shapes` (one per frame) seen under an orbit of
 // `degrees` at constant speed, written as the Akhter et al. files are (S +
 // Rs), so that the truth is scored in its object frame.
@@ -267,20 +287,11 @@ TEST(Reconstruct, VideoWithLargeBasisTakesTheTripleStartAndTemporalTerms) {
 // start with CameraBasesCap bases, computed beside the start itself when
 // there are two threads; the answer is the same bits with one thread.
 TEST(Reconstruct, ReferenceStartBesideTheStartGivesTheBitsOfOneThread) {
-  constexpr int kVideoFrames = 80, kVideoPoints = 16, kModes = 5;
-  const std::vector<Eigen::Matrix3Xd> modes =
-      RandomModes(kModes, kVideoPoints, 5);
-  std::vector<Eigen::Matrix3Xd> shapes;
-  for (int t = 0; t < kVideoFrames; ++t) {
-    const double phase = 2.0 * M_PI * t / kVideoFrames;
-    Eigen::Matrix3Xd shape = modes[0];
-    for (int k = 1; k < kModes; ++k) {
-      shape += 0.3 / k * std::sin((0.5 + 0.6 * k) * phase + k) * modes[k];
-    }
-    shapes.push_back(shape);
-  }
+  constexpr int kModes = 5;
   ReprojectedSequence video;
-  ASSERT_NO_FATAL_FAILURE(OrbitVideo(shapes, 120.0, &video));
+  ASSERT_NO_FATAL_FAILURE(OrbitVideo(
+      SmoothModalShapes(/*num_frames=*/80, /*num_points=*/16, kModes, 5), 120.0,
+      &video));
   ReconstructOptions options;
   options.start.num_bases = kModes;
   ASSERT_LT(CameraBasesCap(options.prior_rule, video.measurements), kModes);
@@ -314,20 +325,11 @@ TEST(Reconstruct, ReferenceStartBesideTheStartGivesTheBitsOfOneThread) {
 // fits the two-basis shapes with the temporal term; the data term alone
 // bends the camera to absorb what two bases cannot fit.
 TEST(Reconstruct, TooFewBasesEstimateTheCameraWithMore) {
-  constexpr int kVideoFrames = 150, kVideoPoints = 30, kModes = 6;
-  const std::vector<Eigen::Matrix3Xd> modes =
-      RandomModes(kModes, kVideoPoints, 11);
-  std::vector<Eigen::Matrix3Xd> shapes;
-  for (int t = 0; t < kVideoFrames; ++t) {
-    const double phase = 2.0 * M_PI * t / kVideoFrames;
-    Eigen::Matrix3Xd shape = modes[0];
-    for (int k = 1; k < kModes; ++k) {
-      shape += 0.3 / k * std::sin((0.5 + 0.7 * k) * phase + k) * modes[k];
-    }
-    shapes.push_back(shape);
-  }
+  constexpr int kModes = 6;
   ReprojectedSequence video;
-  ASSERT_NO_FATAL_FAILURE(OrbitVideo(shapes, 120.0, &video));
+  ASSERT_NO_FATAL_FAILURE(OrbitVideo(
+      SmoothModalShapes(/*num_frames=*/150, /*num_points=*/30, kModes, 11),
+      120.0, &video));
 
   ReconstructOptions options;
   options.start.num_bases = 2;
