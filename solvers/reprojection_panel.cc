@@ -191,13 +191,6 @@ bool ReprojectionPanel::Build(const StructuredBlocks& blocks) {
   return true;
 }
 
-Eigen::Matrix<double, 2, 3> ReprojectionPanel::CurrentProjection(
-    int view) const {
-  const View& v = views_[view];
-  const double s = v.scale_value != nullptr ? *v.scale_value : 1.0;
-  return s * ProjectedRotation::FromAngleAxis(v.rotation_values).projection;
-}
-
 void ReprojectionPanel::Update(int num_threads) {
   const int num_views = this->num_views(), k = num_bases_;
   a_.resize(num_views);

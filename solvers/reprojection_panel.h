@@ -60,17 +60,6 @@ class ReprojectionPanel {
   int num_points() const { return static_cast<int>(points_.size()); }
   // Observed entries (residuals) of the panel.
   long long num_entries() const { return num_entries_; }
-  int num_bases() const { return num_bases_; }
-  // View `view`'s weights block (a Block index, −1 when constant); column
-  // `column`'s basis block; the first row in r of their residual (−1: not
-  // observed) and its weight w.
-  int ViewWeightsBlock(int view) const { return views_[view].weights; }
-  int PointBlock(int column) const { return points_[column]; }
-  int Row(int view, int column) const { return rows_(view, column); }
-  double Weight(int view, int column) const { return w_(2 * view, column); }
-  // a_v = s Π R of view `view` at the blocks' current values (not those of
-  // the last Update()).
-  Eigen::Matrix<double, 2, 3> CurrentProjection(int view) const;
 
   // The views' derivatives and the points' values at the blocks' current
   // values.

@@ -3,7 +3,6 @@
 #include <glog/logging.h>
 
 #include <Eigen/Core>
-#include <Eigen/LU>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -13,7 +12,6 @@
 #include "solvers/schur_elimination.h"
 #include "solvers/structured_jacobian.h"
 #include "solvers/structured_layout.h"
-#include "solvers/weights_projection.h"
 
 namespace nrsfm {
 namespace {
@@ -36,10 +34,7 @@ class Solver {
         blocks_(blocks),
         jacobian_(blocks, options.solver.num_threads),
         schur_(blocks, jacobian_, options.solver.num_threads),
-        preconditioner_(blocks, jacobian_, options.solver.num_threads) {
-    if (options.project_weights && jacobian_.panel() != nullptr)
-      projection_.Build(blocks, *jacobian_.panel());
-  }
+        preconditioner_(blocks, jacobian_, options.solver.num_threads) {}
 
   bool Run(StructuredSolverSummary* summary);
 
@@ -61,7 +56,6 @@ class Solver {
   structured::StructuredJacobian jacobian_;
   structured::SchurElimination schur_;
   structured::BandPreconditioner preconditioner_;
-  structured::WeightsProjection projection_;
   Eigen::VectorXd gradient_reduced_, gradient_eliminated_, d_reduced_,
       d_eliminated_;
   double evaluate_seconds_ = 0.0, preconditioner_seconds_ = 0.0,
@@ -166,11 +160,6 @@ bool Solver::Run(StructuredSolverSummary* summary) {
   int iteration = 0;
   summary->message = "iteration limit";
   Eigen::VectorXd step_reduced, step_eliminated;
-  // The product of the balancing mixes of the accepted steps, undone at the
-  // end: the result keeps the start's gauge of weights and basis.
-  Eigen::MatrixXd mixed;
-  if (projection_.balances())
-    mixed.setIdentity(projection_.num_bases(), projection_.num_bases());
   while (true) {
     const double gradient_max = std::max(
         gradient_reduced_.size() ? gradient_reduced_.cwiseAbs().maxCoeff()
@@ -209,17 +198,6 @@ bool Solver::Run(StructuredSolverSummary* summary) {
       break;
     }
     Step(saved, step_reduced, step_eliminated);
-    if (projection_.projects()) {
-      // The weights to their minimiser at the trial point (a failed
-      // projection leaves the step as it is), then weights and basis
-      // balanced (the cost unchanged).
-      double trial_cost = 0.0;
-      if (Evaluate(false, &trial_cost)) {
-        projection_.Project(jacobian_.residuals(), solver.num_threads);
-      }
-    }
-    Eigen::MatrixXd balanced;
-    const bool balanced_now = projection_.Balance(&balanced);
     // With the Jacobian: most steps are taken, and a rejected one evaluates
     // again at the restored values (the same bits as before the step).
     double new_cost = 0.0;
@@ -237,7 +215,6 @@ bool Solver::Run(StructuredSolverSummary* summary) {
           1e16,
           radius / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * ratio - 1.0, 3)));
       decrease = 2.0;
-      if (balanced_now) mixed = balanced * mixed;
       ComputeGradientAndScaling();
       if (solver.progress)
         solver.progress(IterationReport{iteration, cost, SecondsSince(start)});
@@ -259,11 +236,6 @@ bool Solver::Run(StructuredSolverSummary* summary) {
         break;
       }
     }
-  }
-  if (projection_.balances()) {
-    // The cost is unchanged by the mix (to round-off): the blocks hold the
-    // minimiser in the start's gauge.
-    projection_.Mix(mixed.partialPivLu().inverse());
   }
   summary->usable = std::isfinite(cost);
   summary->iterations = iteration;

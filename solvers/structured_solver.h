@@ -83,11 +83,6 @@ struct StructuredSolverOptions {
   // cg_relative_tolerance and max_cg_iterations; linear_solver and
   // verbosity are not read.
   SolverOptions solver;
-  // After every trial step, the basis weights set to their least-squares
-  // minimiser given the other blocks, and the step's component along the
-  // K × K mixing of weights and basis removed, where the problem allows
-  // (solvers/weights_projection.h); false: the plain LM step.
-  bool project_weights = true;
 };
 
 struct StructuredSolverSummary {
