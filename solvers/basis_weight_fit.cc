@@ -90,38 +90,115 @@ void FitWeightsGivenBasis(const Measurements& centered, double damping,
   const int k = model->num_bases;
   const int num_points = model->num_points;
   const int n = k + (fit_translations ? 2 : 0);
-  // Per frame the design matrix A (2P × n): rows 2p, 2p + 1 of point p hold
-  // Π R_t S_b[:, p] in column b and, with translations, I_2; zero rows for
-  // points the frame does not see.
+  using Basis = Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic>>;
+  // Per frame the normal equations of the design A (2P × n): rows 2p,
+  // 2p + 1 of point p hold Π R_t S_b[:, p] in column b and, with
+  // translations, I_2; points the frame does not see have no rows. With
+  // B_p = [S_1[:, p] … S_K[:, p]] (3 × K) and C = (Π R_t)ᵀ Π R_t, the
+  // weights' block is Σ_p B_pᵀ C B_p = Σ_ij C_ij Σ_p B_p(i, :)ᵀ B_p(j, :):
+  // the point sums over all points are formed once, and a frame subtracts
+  // the points it does not see (or sums the ones it sees, when fewer).
+  // moments[3 i + j] = Σ_p B_p(i, :)ᵀ B_p(j, :) (K × K), j ≤ i; column sums.
+  std::vector<Eigen::MatrixXd> moments(9, Eigen::MatrixXd::Zero(k, k));
+  Eigen::Matrix3Xd sums = Eigen::Matrix3Xd::Zero(3, k);
+  // rows[i] (P × K): row p is B_p(i, :), for the right-hand sides
+  // Σ_p B_pᵀ u_p = Σ_i rows[i]ᵀ u(i, :)ᵀ, u_p = (Π R_t)ᵀ w̃_tp.
+  std::vector<Eigen::MatrixXd> rows(3, Eigen::MatrixXd(num_points, k));
+  for (int p = 0; p < num_points; ++p) {
+    const Basis basis(model->basis.col(p).data(), 3, k);
+    for (int i = 0; i < 3; ++i) rows[i].row(p) = basis.row(i);
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j <= i; ++j) {
+        moments[3 * i + j].noalias() += basis.row(i).transpose() * basis.row(j);
+      }
+    }
+    sums += basis;
+  }
+  // W and the visibility frame by frame (a frame's row of W is strided by 2F
+  // in memory; these copies hold it contiguously).
+  const int num_frames = model->num_frames;
+  Eigen::MatrixXd by_frame(2 * num_points, num_frames);
+  Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> seen_by_frame(num_points,
+                                                                   num_frames);
+  ParallelFor(num_points, num_threads, 256, [&](int begin, int end) {
+    for (int p = begin; p < end; ++p) {
+      for (int t = 0; t < num_frames; ++t) {
+        by_frame(2 * p, t) = centered.W(2 * t, p);
+        by_frame(2 * p + 1, t) = centered.W(2 * t + 1, p);
+        seen_by_frame(p, t) = centered.visible(t, p);
+      }
+    }
+  });
   ParallelFor(
       model->num_frames, num_threads, /*grain=*/4, [&](int begin, int end) {
-        Eigen::MatrixXd design(2 * num_points, n);
-        Eigen::VectorXd observed(2 * num_points);
+        Eigen::MatrixXd c_basis(3, k), block(k, k);
+        Eigen::Matrix3Xd u(3, num_points);
         for (int t = begin; t < end; ++t) {
           const Eigen::Matrix<double, 2, 3> pr =
               model->Rotation(t, 0).topRows<2>();
+          const Eigen::Matrix3d c = pr.transpose() * pr;
           const Eigen::Vector2d fixed_shift =
               fit_translations ? Eigen::Vector2d::Zero()
                                : Eigen::Vector2d(model->translations.col(t));
-          for (int p = 0; p < num_points; ++p) {
-            if (!centered.visible(t, p)) {
-              design.middleRows<2>(2 * p).setZero();
-              observed.segment<2>(2 * p).setZero();
-              continue;
+          int seen = 0;
+          for (int p = 0; p < num_points; ++p)
+            seen += seen_by_frame(p, t) ? 1 : 0;
+          // Sum over the points seen (sign +1), or over all minus the
+          // points not seen (sign −1), whichever is shorter.
+          const bool subtract = 2 * seen > num_points;
+          const double sign = subtract ? -1.0 : 1.0;
+          Eigen::MatrixXd weights_block = Eigen::MatrixXd::Zero(k, k);
+          Eigen::Matrix3Xd column_sums = Eigen::Matrix3Xd::Zero(3, k);
+          if (subtract) {
+            for (int i = 0; i < 3; ++i) {
+              for (int j = 0; j <= i; ++j) {
+                const double cij = c(i, j);
+                if (i == j) {
+                  weights_block += cij * moments[3 * i + j];
+                } else {
+                  weights_block += cij * (moments[3 * i + j] +
+                                          moments[3 * i + j].transpose());
+                }
+              }
             }
-            for (int b = 0; b < k; ++b) {
-              design.block<2, 1>(2 * p, b) =
-                  pr * model->basis.block<3, 1>(3 * b, p);
-            }
-            if (fit_translations) design.block<2, 2>(2 * p, k).setIdentity();
-            observed.segment<2>(2 * p) =
-                centered.Observation(t, 0, p) - fixed_shift;
+            column_sums = sums;
           }
-          Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(n, n);
-          normal.selfadjointView<Eigen::Lower>().rankUpdate(design.transpose());
-          normal.triangularView<Eigen::StrictlyUpper>() = normal.transpose();
-          const Eigen::VectorXd x = SolveDamped(
-              std::move(normal), design.transpose() * observed, damping);
+          Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
+          Eigen::Vector2d observed_sum = Eigen::Vector2d::Zero();
+          for (int p = 0; p < num_points; ++p) {
+            const bool visible = seen_by_frame(p, t);
+            if (visible) {
+              const Eigen::Vector2d observed =
+                  by_frame.block<2, 1>(2 * p, t) - fixed_shift;
+              u.col(p).noalias() = pr.transpose() * observed;
+              observed_sum += observed;
+            } else {
+              u.col(p).setZero();
+            }
+            if (visible != subtract) {
+              const Basis basis(model->basis.col(p).data(), 3, k);
+              c_basis.noalias() = c * basis;
+              block.noalias() = basis.transpose() * c_basis;
+              weights_block += sign * block;
+              column_sums += sign * basis;
+            }
+          }
+          for (int i = 0; i < 3; ++i) {
+            rhs.head(k).noalias() += rows[i].transpose() * u.row(i).transpose();
+          }
+          if (fit_translations) rhs.tail<2>() = observed_sum;
+          Eigen::MatrixXd normal(n, n);
+          normal.topLeftCorner(k, k) = weights_block;
+          if (fit_translations) {
+            // Columns of T: Σ_p (Π R_t S_b[:, p])ᵀ I_2 = (Π R_t Σ_p B_p)ᵀ.
+            const Eigen::MatrixXd cross = pr * column_sums;  // 2 × K
+            normal.topRightCorner(k, 2) = cross.transpose();
+            normal.bottomLeftCorner(2, k) = cross;
+            normal.bottomRightCorner<2, 2>() =
+                static_cast<double>(seen) * Eigen::Matrix2d::Identity();
+          }
+          const Eigen::VectorXd x =
+              SolveDamped(std::move(normal), rhs, damping);
           model->weights.col(t) = x.head(k);
           if (fit_translations) model->translations.col(t) = x.tail<2>();
         }
