@@ -64,7 +64,29 @@ void RefineRotationFromMoments(const PoseMoments& moments, int max_steps,
 
 // One rotation update per frame (step 2 of the header), over visible points.
 // Frames run on up to `num_threads` threads, each on its own.
-void RefineRotations(const Measurements& centered, int num_threads,
+// W and the visibility of one camera frame by frame: a frame's observations
+// of every point contiguous (W's rows are strided by 2F in memory).
+struct FrameMajorTracks {
+  Eigen::MatrixXd w;  // 2P × F: column t holds x_t0, y_t0, x_t1, …
+  Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> seen;  // P × F
+
+  FrameMajorTracks(const Measurements& centered, int num_threads)
+      : w(2 * centered.num_points, centered.num_frames),
+        seen(centered.num_points, centered.num_frames) {
+    const int f = centered.num_frames;
+    ParallelFor(centered.num_points, num_threads, 256, [&](int begin, int end) {
+      for (int p = begin; p < end; ++p) {
+        for (int t = 0; t < f; ++t) {
+          w(2 * p, t) = centered.W(2 * t, p);
+          w(2 * p + 1, t) = centered.W(2 * t + 1, p);
+          seen(p, t) = centered.visible(t, p);
+        }
+      }
+    });
+  }
+};
+
+void RefineRotations(const FrameMajorTracks& tracks, int num_threads,
                      Model* model) {
   const int k = model->num_bases;
   ParallelFor(
@@ -73,13 +95,13 @@ void RefineRotations(const Measurements& centered, int num_threads,
           PoseMoments moments;
           const Eigen::Vector2d shift = model->translations.col(t);
           for (int p = 0; p < model->num_points; ++p) {
-            if (!centered.visible(t, p)) continue;
+            if (!tracks.seen(p, t)) continue;
             // The point of frame t's shape, summed as ShapeInObject does.
             Eigen::Vector3d x = Eigen::Vector3d::Zero();
             for (int b = 0; b < k; ++b) {
               x += model->weights(b, t) * model->basis.block<3, 1>(3 * b, p);
             }
-            const Eigen::Vector2d o = centered.Observation(t, 0, p) - shift;
+            const Eigen::Vector2d o = tracks.w.block<2, 1>(2 * p, t) - shift;
             moments.c.noalias() += x * x.transpose();
             moments.d.noalias() += o * x.transpose();
             moments.e += o.squaredNorm();
@@ -161,6 +183,7 @@ void AlternateFromRigid(const Measurements& centered, int num_bases,
   summary->rigid_rms = std::sqrt(cost / centered.NumVisible());
 
   // Step 2: the alternation.
+  const FrameMajorTracks tracks(centered, num_threads);
   int rounds = 0;
   for (int round = 0; round < options.rounds; ++round) {
     FitBasisGivenMotion(centered, kDamping, model, num_threads);
@@ -168,7 +191,7 @@ void AlternateFromRigid(const Measurements& centered, int num_bases,
     FitWeightsGivenBasis(centered, kDamping, /*fit_translations=*/true, model,
                          num_threads);
     BalanceBases(model);
-    if (update_rotations) RefineRotations(centered, num_threads, model);
+    if (update_rotations) RefineRotations(tracks, num_threads, model);
     ++rounds;
     const double previous = cost;
     cost = ReprojectionSquaredError(centered, *model, num_threads);
