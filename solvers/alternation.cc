@@ -64,28 +64,6 @@ void RefineRotationFromMoments(const PoseMoments& moments, int max_steps,
 
 // One rotation update per frame (step 2 of the header), over visible points.
 // Frames run on up to `num_threads` threads, each on its own.
-// W and the visibility of one camera frame by frame: a frame's observations
-// of every point contiguous (W's rows are strided by 2F in memory).
-struct FrameMajorTracks {
-  Eigen::MatrixXd w;  // 2P × F: column t holds x_t0, y_t0, x_t1, …
-  Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> seen;  // P × F
-
-  FrameMajorTracks(const Measurements& centered, int num_threads)
-      : w(2 * centered.num_points, centered.num_frames),
-        seen(centered.num_points, centered.num_frames) {
-    const int f = centered.num_frames;
-    ParallelFor(centered.num_points, num_threads, 256, [&](int begin, int end) {
-      for (int p = begin; p < end; ++p) {
-        for (int t = 0; t < f; ++t) {
-          w(2 * p, t) = centered.W(2 * t, p);
-          w(2 * p + 1, t) = centered.W(2 * t + 1, p);
-          seen(p, t) = centered.visible(t, p);
-        }
-      }
-    });
-  }
-};
-
 void RefineRotations(const FrameMajorTracks& tracks, int num_threads,
                      Model* model) {
   const int k = model->num_bases;
@@ -188,7 +166,7 @@ void AlternateFromRigid(const Measurements& centered, int num_bases,
   for (int round = 0; round < options.rounds; ++round) {
     FitBasisGivenMotion(centered, kDamping, model, num_threads);
     CentreBasisKeepingProjections(model);
-    FitWeightsGivenBasis(centered, kDamping, /*fit_translations=*/true, model,
+    FitWeightsGivenBasis(tracks, kDamping, /*fit_translations=*/true, model,
                          num_threads);
     BalanceBases(model);
     if (update_rotations) RefineRotations(tracks, num_threads, model);

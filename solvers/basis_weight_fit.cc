@@ -82,11 +82,39 @@ void FitBasisGivenMotion(const Measurements& centered, double damping,
   });
 }
 
+FrameMajorTracks::FrameMajorTracks(const Measurements& centered,
+                                   int num_threads)
+    : w(2 * centered.num_points, centered.num_frames),
+      seen(centered.num_points, centered.num_frames) {
+  CHECK_EQ(centered.num_cameras, 1);
+  const int f = centered.num_frames;
+  ParallelFor(centered.num_points, num_threads, 256, [&](int begin, int end) {
+    for (int p = begin; p < end; ++p) {
+      for (int t = 0; t < f; ++t) {
+        w(2 * p, t) = centered.W(2 * t, p);
+        w(2 * p + 1, t) = centered.W(2 * t + 1, p);
+        seen(p, t) = centered.visible(t, p);
+      }
+    }
+  });
+}
+
 void FitWeightsGivenBasis(const Measurements& centered, double damping,
                           bool fit_translations, Model* model,
                           int num_threads) {
   CHECK(model != nullptr);
   CheckMonocular(centered, *model);
+  FitWeightsGivenBasis(FrameMajorTracks(centered, num_threads), damping,
+                       fit_translations, model, num_threads);
+}
+
+void FitWeightsGivenBasis(const FrameMajorTracks& tracks, double damping,
+                          bool fit_translations, Model* model,
+                          int num_threads) {
+  CHECK(model != nullptr);
+  CHECK_EQ(model->num_cameras, 1);
+  CHECK_EQ(tracks.seen.cols(), model->num_frames);
+  CHECK_EQ(tracks.seen.rows(), model->num_points);
   const int k = model->num_bases;
   const int num_points = model->num_points;
   const int n = k + (fit_translations ? 2 : 0);
@@ -114,21 +142,6 @@ void FitWeightsGivenBasis(const Measurements& centered, double damping,
     }
     sums += basis;
   }
-  // W and the visibility frame by frame (a frame's row of W is strided by 2F
-  // in memory; these copies hold it contiguously).
-  const int num_frames = model->num_frames;
-  Eigen::MatrixXd by_frame(2 * num_points, num_frames);
-  Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> seen_by_frame(num_points,
-                                                                   num_frames);
-  ParallelFor(num_points, num_threads, 256, [&](int begin, int end) {
-    for (int p = begin; p < end; ++p) {
-      for (int t = 0; t < num_frames; ++t) {
-        by_frame(2 * p, t) = centered.W(2 * t, p);
-        by_frame(2 * p + 1, t) = centered.W(2 * t + 1, p);
-        seen_by_frame(p, t) = centered.visible(t, p);
-      }
-    }
-  });
   ParallelFor(
       model->num_frames, num_threads, /*grain=*/4, [&](int begin, int end) {
         Eigen::MatrixXd c_basis(3, k), block(k, k);
@@ -142,7 +155,7 @@ void FitWeightsGivenBasis(const Measurements& centered, double damping,
                                : Eigen::Vector2d(model->translations.col(t));
           int seen = 0;
           for (int p = 0; p < num_points; ++p)
-            seen += seen_by_frame(p, t) ? 1 : 0;
+            seen += tracks.seen(p, t) ? 1 : 0;
           // Sum over the points seen (sign +1), or over all minus the
           // points not seen (sign −1), whichever is shorter.
           const bool subtract = 2 * seen > num_points;
@@ -166,10 +179,10 @@ void FitWeightsGivenBasis(const Measurements& centered, double damping,
           Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
           Eigen::Vector2d observed_sum = Eigen::Vector2d::Zero();
           for (int p = 0; p < num_points; ++p) {
-            const bool visible = seen_by_frame(p, t);
+            const bool visible = tracks.seen(p, t);
             if (visible) {
               const Eigen::Vector2d observed =
-                  by_frame.block<2, 1>(2 * p, t) - fixed_shift;
+                  tracks.w.block<2, 1>(2 * p, t) - fixed_shift;
               u.col(p).noalias() = pr.transpose() * observed;
               observed_sum += observed;
             } else {

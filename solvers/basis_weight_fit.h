@@ -22,10 +22,24 @@ namespace nrsfm {
 void FitBasisGivenMotion(const Measurements& centered, double damping,
                          Model* model, int num_threads = 1);
 
+// W and the visibility of a one-camera input frame by frame: a frame's
+// observations of every point contiguous in memory (W's rows are strided by
+// 2F), for the steps that go frame by frame.
+struct FrameMajorTracks {
+  FrameMajorTracks(const Measurements& centered, int num_threads = 1);
+
+  Eigen::MatrixXd w;  // 2P × F: column t holds x_t0, y_t0, x_t1, …
+  Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> seen;  // P × F
+};
+
 // Step 2: every weight vector l_t (K) given the basis and rotations, over
 // the points frame t sees; with `fit_translations` jointly with δT_t
 // (K + 2 unknowns). Overwrites model->weights (and model->translations).
+// `tracks` (FrameMajorTracks of `centered`) when the caller keeps one.
 void FitWeightsGivenBasis(const Measurements& centered, double damping,
+                          bool fit_translations, Model* model,
+                          int num_threads = 1);
+void FitWeightsGivenBasis(const FrameMajorTracks& tracks, double damping,
                           bool fit_translations, Model* model,
                           int num_threads = 1);
 
