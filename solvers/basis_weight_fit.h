@@ -26,7 +26,7 @@ void FitBasisGivenMotion(const Measurements& centered, double damping,
 // observations of every point contiguous in memory (W's rows are strided by
 // 2F), for the steps that go frame by frame.
 struct FrameMajorTracks {
-  FrameMajorTracks(const Measurements& centered, int num_threads = 1);
+  explicit FrameMajorTracks(const Measurements& centered, int num_threads = 1);
 
   Eigen::MatrixXd w;  // 2P × F: column t holds x_t0, y_t0, x_t1, …
   Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> seen;  // P × F
