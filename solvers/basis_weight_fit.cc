@@ -129,12 +129,8 @@ void FitWeightsGivenBasis(const FrameMajorTracks& tracks, double damping,
   // moments[3 i + j] = Σ_p B_p(i, :)ᵀ B_p(j, :) (K × K), j ≤ i; column sums.
   std::vector<Eigen::MatrixXd> moments(9, Eigen::MatrixXd::Zero(k, k));
   Eigen::Matrix3Xd sums = Eigen::Matrix3Xd::Zero(3, k);
-  // rows[i] (P × K): row p is B_p(i, :), for the right-hand sides
-  // Σ_p B_pᵀ u_p = Σ_i rows[i]ᵀ u(i, :)ᵀ, u_p = (Π R_t)ᵀ w̃_tp.
-  std::vector<Eigen::MatrixXd> rows(3, Eigen::MatrixXd(num_points, k));
   for (int p = 0; p < num_points; ++p) {
     const Basis basis(model->basis.col(p).data(), 3, k);
-    for (int i = 0; i < 3; ++i) rows[i].row(p) = basis.row(i);
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j <= i; ++j) {
         moments[3 * i + j].noalias() += basis.row(i).transpose() * basis.row(j);
@@ -145,7 +141,6 @@ void FitWeightsGivenBasis(const FrameMajorTracks& tracks, double damping,
   ParallelFor(
       model->num_frames, num_threads, /*grain=*/4, [&](int begin, int end) {
         Eigen::MatrixXd c_basis(3, k), block(k, k);
-        Eigen::Matrix3Xd u(3, num_points);
         for (int t = begin; t < end; ++t) {
           const Eigen::Matrix<double, 2, 3> pr =
               model->Rotation(t, 0).topRows<2>();
@@ -180,24 +175,21 @@ void FitWeightsGivenBasis(const FrameMajorTracks& tracks, double damping,
           Eigen::Vector2d observed_sum = Eigen::Vector2d::Zero();
           for (int p = 0; p < num_points; ++p) {
             const bool visible = tracks.seen(p, t);
+            const Basis basis(model->basis.col(p).data(), 3, k);
             if (visible) {
+              // Σ_p B_pᵀ (Π R_t)ᵀ w̃_tp.
               const Eigen::Vector2d observed =
                   tracks.w.block<2, 1>(2 * p, t) - fixed_shift;
-              u.col(p).noalias() = pr.transpose() * observed;
+              rhs.head(k).noalias() +=
+                  basis.transpose() * (pr.transpose() * observed);
               observed_sum += observed;
-            } else {
-              u.col(p).setZero();
             }
             if (visible != subtract) {
-              const Basis basis(model->basis.col(p).data(), 3, k);
               c_basis.noalias() = c * basis;
               block.noalias() = basis.transpose() * c_basis;
               weights_block += sign * block;
               column_sums += sign * basis;
             }
-          }
-          for (int i = 0; i < 3; ++i) {
-            rhs.head(k).noalias() += rows[i].transpose() * u.row(i).transpose();
           }
           if (fit_translations) rhs.tail<2>() = observed_sum;
           Eigen::MatrixXd normal(n, n);
