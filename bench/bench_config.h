@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "solvers/reconstruct.h"
+#include "solvers/pipeline/reconstruct.h"
 
 namespace nrsfm {
 namespace bench {

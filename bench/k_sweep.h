@@ -10,7 +10,7 @@
 #include "bench/bench_config.h"
 #include "core/status.h"
 #include "core/synthetic.h"
-#include "solvers/reconstruct.h"
+#include "solvers/pipeline/reconstruct.h"
 
 namespace nrsfm {
 namespace bench {

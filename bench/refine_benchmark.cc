@@ -31,7 +31,7 @@
 #include "core/synthetic.h"
 #include "problems/linear_solver_choice.h"
 #include "problems/problem_builder.h"
-#include "solvers/reconstruct.h"
+#include "solvers/pipeline/reconstruct.h"
 
 DEFINE_string(mode, "all", "table | drink | all");
 DEFINE_string(sizes, "1102x41x12,300x110x5,300x5000x5",

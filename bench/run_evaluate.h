@@ -12,7 +12,7 @@
 #include "core/metrics.h"
 #include "core/model.h"
 #include "core/status.h"
-#include "solvers/reconstruct.h"
+#include "solvers/pipeline/reconstruct.h"
 
 namespace nrsfm {
 namespace bench {

@@ -25,7 +25,7 @@
 #include "core/parallel_for.h"
 #include "core/read_measurements.h"
 #include "problems/extra_terms.h"
-#include "solvers/prior_rule.h"
+#include "solvers/pipeline/prior_rule.h"
 
 namespace nrsfm {
 namespace bench {
@@ -52,11 +52,11 @@ const std::map<std::string, PublishedNumbers>& Published() {
 using Sequence = MocapSequence;
 
 // Strategies: "default" (Reconstruct() with default options: the prior rule
-// of solvers/prior_rule.h chooses start and terms), "plain" (no extra term,
-// the factorization/rigid start rule: the pipeline before the rule), or
+// of solvers/pipeline/prior_rule.h chooses start and terms), "plain" (no extra
+// term, the factorization/rigid start rule: the pipeline before the rule), or
 // '+'-joined parts with manual terms: "triple" (the corrective-triple start,
-// solvers/triple_start.h) and "ts" (the object-frame temporal shape prior,
-// λ_S = kTemporalShapeWeight, problems/temporal_error.h). "all" runs the
+// solvers/start/triple_start.h) and "ts" (the object-frame temporal shape
+// prior, λ_S = kTemporalShapeWeight, problems/temporal_error.h). "all" runs the
 // ablation list below.
 const double kTemporalShapeWeight = PriorRuleOptions().temporal_shape_weight;
 

@@ -9,7 +9,7 @@
 // z = 0) and Lee et al.'s numbers (CVPR 2016, Table 2), and in the object
 // frame by e3D (the new truth keeps the source's object frame: its S, or its
 // camera-frame points for face). Also whether the result carries the little
-// rotation warning (solvers/reconstruct.h).
+// rotation warning (solvers/pipeline/reconstruct.h).
 #include <cmath>
 #include <iostream>
 #include <map>

@@ -71,7 +71,7 @@ struct Model {
 
   // Checks that every block has the size Resize() gives and finite values.
   // With allow_nan, NaN is accepted (never ±Inf): the mark of a point or
-  // frame left out of a reconstruction (solvers/drop_unobserved.h).
+  // frame left out of a reconstruction (solvers/pipeline/drop_unobserved.h).
   Status Validate(bool allow_nan = false) const;
 };
 

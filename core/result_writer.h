@@ -61,13 +61,15 @@ struct ReconstructionReport {
   double reprojection_rms = 0;  // final, input units
   bool solution_usable = true;
   std::vector<std::string> warnings;
-  // Points and frames left out of the solve (solvers/drop_unobserved.h),
-  // written as "dropped_points" and "dropped_frames" (0-based indices).
+  // Points and frames left out of the solve
+  // (solvers/pipeline/drop_unobserved.h), written as "dropped_points" and
+  // "dropped_frames" (0-based indices).
   std::vector<int> dropped_points;
   std::vector<int> dropped_frames;
   // The extra terms' weights the refinement used, e.g. {"temporal_shape", 1}
   // (chosen by the prior rule or given), and what the data measured for the
-  // rule and the warnings, e.g. {"track_step", 0.08} (solvers/prior_rule.h).
+  // rule and the warnings, e.g. {"track_step", 0.08}
+  // (solvers/pipeline/prior_rule.h).
   std::vector<std::pair<std::string, double>> term_weights;
   std::vector<std::pair<std::string, double>> diagnostics;
   std::vector<std::pair<std::string, double>> metrics;  // e.g. {"e3d", 0.03}

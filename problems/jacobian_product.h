@@ -1,6 +1,6 @@
 // Products with a residual block's Jacobian computed from its parameters,
 // for a solver that multiplies by the Jacobian many times per step
-// (solvers/structured_solver.h: every conjugate-gradient iteration).
+// (solvers/refine/structured_solver.h: every conjugate-gradient iteration).
 //
 // A stored Jacobian is read from memory at every product; a cost function
 // whose Jacobian is structured (repeated or mostly zero entries) can form
@@ -23,7 +23,8 @@ namespace nrsfm {
 // scale. The Delaunay smoothness of a frame's shape (l_t; b_i − Σ_j w_ij b_j),
 // the temporal shape prior (l_t − l_(t−1); b_p) and the deformation prior (m ⊙
 // l_t with m = (0, 1, …, 1); b_p) have it. A solver can then sum such blocks of
-// one term over all frames at once (solvers/structured_layout.h, BilinearGrid).
+// one term over all frames at once (solvers/refine/structured_layout.h,
+// BilinearGrid).
 struct BilinearForm {
   double scale = 0.0;            // s
   int num_bases = 0;             // K

@@ -13,9 +13,9 @@
 //   when a term couples points (the Delaunay smoothness), together by a
 //   sparse factorisation along the couplings — conjugate gradients over the
 //   frames with a block-band preconditioner that is exact for every coupling
-//   the temporal terms make; solvers/structured_solver.h, a minimiser of its
-//   own: solvers/minimizer_choice.h). Without temporal terms it does what
-//   ITERATIVE_SCHUR with JACOBI does, with cheaper products
+//   the temporal terms make; solvers/refine/structured_solver.h, a minimiser of
+//   its own: solvers/refine/minimizer_choice.h). Without temporal terms it does
+//   what ITERATIVE_SCHUR with JACOBI does, with cheaper products
 //   (docs/performance.md); a problem whose blocks it cannot lay out (a free
 //   block of an unknown kind) falls back to ITERATIVE_SCHUR (CGNR when
 //   points are coupled: Ceres cannot eliminate them)
@@ -47,7 +47,7 @@ enum class LinearSolverChoice {
   kDenseQr,               // dense QR of J (tiny problems only)
   kStructured,            // points eliminated, CG over the frame chain with a
                           // block-band preconditioner: not a Ceres linear
-                          // solver but a minimiser (solvers/minimizer_choice.h)
+                // solver but a minimiser (solvers/refine/minimizer_choice.h)
 };
 // "auto", "dense_schur", "sparse_schur", "iterative_schur",
 // "sparse_normal_cholesky", "cgnr", "dense_qr", "structured"; an error lists
@@ -88,7 +88,7 @@ LinearSolverChoice ChooseLinearSolver(const ProblemStructure& structure);
 // instead of exhausting the memory, when DENSE_QR, DENSE_SCHUR or the
 // reduced matrix of SPARSE_SCHUR would need more than kMaxDenseBytes.
 // `*used` is the resolved choice. kStructured is not a Ceres linear solver:
-// an error (solvers/minimizer_choice.h sends it to its own minimiser).
+// an error (solvers/refine/minimizer_choice.h sends it to its own minimiser).
 // Determinism: every solver gets an explicit ordering by block kind (Ceres
 // would otherwise order blocks by address, so the rounding would depend on
 // the heap layout), and DENSE_SCHUR / SPARSE_SCHUR are set to one thread:

@@ -1,7 +1,7 @@
 // What the one Ceres problem of a reconstruction holds and which of its
 // blocks are refined (docs/problem.md). ProblemBuilder (problems/
 // problem_builder.h) and AddExtraTerms (problems/extra_terms.h) read these
-// options; Refine() (solvers/refine.h) takes them as they are.
+// options; Refine() (solvers/refine/refine.h) takes them as they are.
 #ifndef NRSFM_PROBLEMS_PROBLEM_OPTIONS_H_
 #define NRSFM_PROBLEMS_PROBLEM_OPTIONS_H_
 

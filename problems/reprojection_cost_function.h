@@ -61,10 +61,11 @@ struct ProjectedRotation {
 
 // The basis block's Jacobian of the reprojection error factors as
 //   ∂r/∂b_k = l_k · A,   A = sqrt(w_obs) · s · Π R(ω)   (2 × 3),
-// so a solver that multiplies by it many times (solvers/structured_solver.h:
-// every conjugate-gradient iteration) can keep A (6 numbers) instead of the
-// 2 × 3K block and form J_b δb = A Σ_k l_k δb_k and J_bᵀ y = [l_k Aᵀ y]_k
-// with the weights l it reads from the weights block.
+// so a solver that multiplies by it many times
+// (solvers/refine/structured_solver.h: every conjugate-gradient iteration) can
+// keep A (6 numbers) instead of the 2 × 3K block and form J_b δb = A Σ_k l_k
+// δb_k and J_bᵀ y = [l_k Aᵀ y]_k with the weights l it reads from the weights
+// block.
 class BasisJacobianFactor {
  public:
   static constexpr int kRotationSlot = 0;  // parameter block ω (3)

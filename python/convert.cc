@@ -28,7 +28,7 @@
 #include "core/result_writer.h"
 #include "core/rotation.h"
 #include "problems/extra_terms.h"
-#include "solvers/refine.h"
+#include "solvers/refine/refine.h"
 #include "tools/command_flags.h"
 #include "tools/flag_table.h"
 #include "tools/reconstruction_steps.h"

@@ -30,7 +30,7 @@
 #include "problems/extra_terms.h"
 #include "python/convert.h"
 #include "python/keywords.h"
-#include "solvers/refine.h"
+#include "solvers/refine/refine.h"
 #include "tools/command_flags.h"
 #include "tools/flag_table.h"
 #include "tools/reconstruction_steps.h"

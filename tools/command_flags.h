@@ -22,13 +22,13 @@
 #include "problems/delaunay_edges.h"
 #include "problems/extra_terms.h"
 #include "problems/problem_options.h"
-#include "solvers/alternation.h"
-#include "solvers/initialize.h"
-#include "solvers/low_rank_completion.h"
-#include "solvers/prior_rule.h"
-#include "solvers/reconstruct.h"
-#include "solvers/select_num_bases.h"
-#include "solvers/solver_options.h"
+#include "solvers/pipeline/prior_rule.h"
+#include "solvers/pipeline/reconstruct.h"
+#include "solvers/pipeline/select_num_bases.h"
+#include "solvers/refine/solver_options.h"
+#include "solvers/start/alternation.h"
+#include "solvers/start/low_rank_completion.h"
+#include "solvers/start/start.h"
 
 namespace nrsfm {
 namespace tools {

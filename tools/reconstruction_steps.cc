@@ -10,7 +10,7 @@
 
 #include "core/result_reader.h"
 #include "problems/extra_terms.h"
-#include "solvers/drop_unobserved.h"
+#include "solvers/pipeline/drop_unobserved.h"
 #include "tools/flag_table.h"
 
 namespace nrsfm {

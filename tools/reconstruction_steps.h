@@ -17,8 +17,8 @@
 #include "core/metrics.h"
 #include "core/result_writer.h"
 #include "core/status.h"
-#include "solvers/reconstruct.h"
-#include "solvers/select_num_bases.h"
+#include "solvers/pipeline/reconstruct.h"
+#include "solvers/pipeline/select_num_bases.h"
 #include "tools/command_flags.h"
 
 namespace nrsfm {
@@ -73,7 +73,7 @@ Status ReadTruth(const std::string& path, const std::string& variable,
                  GroundTruth* truth);
 
 // A reconstruction as `nrsfm reconstruct` runs it: --K N, or --K auto with
-// --K_max and --K_threshold (solvers/select_num_bases.h).
+// --K_max and --K_threshold (solvers/pipeline/select_num_bases.h).
 struct ReconstructionRun {
   bool auto_k = false;
   int num_bases = 0;               // K used (chosen, with auto)
@@ -86,7 +86,7 @@ struct ReconstructionRun {
 // was not given. `context` prefixes
 // the errors of a fixed K (the tool: the input path).
 // With observation weights, an error when a K to be run would leave points
-// or frames out (solvers/drop_unobserved.h): Reconstruct() passes the
+// or frames out (solvers/pipeline/drop_unobserved.h): Reconstruct() passes the
 // weights of all the measurements on to the ones it keeps, whose sizes
 // differ, so such a run cannot be done yet; the error names what would be
 // left out.

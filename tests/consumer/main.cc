@@ -2,7 +2,7 @@
 // the installed headers, library and dependencies are complete.
 #include <nrsfm/core/metrics.h>
 #include <nrsfm/core/synthetic.h>
-#include <nrsfm/solvers/reconstruct.h>
+#include <nrsfm/solvers/pipeline/reconstruct.h>
 
 #include <iostream>
 

@@ -355,8 +355,8 @@ TEST(ResultWriter, EmptyResultFilesGiveTheOneLineError) {
 }
 
 // A reconstruction that left out point 2 and frame 1 (NaN in the model, as
-// solvers/drop_unobserved.h makes it): written with "nan" there and the
-// lists in result.json, read back with NaN in the same places. Other NaN in
+// solvers/pipeline/drop_unobserved.h makes it): written with "nan" there and
+// the lists in result.json, read back with NaN in the same places. Other NaN in
 // the model is still refused.
 TEST(ResultWriter, LeftOutPointsAndFramesAreWrittenAsNaN) {
   Model model;

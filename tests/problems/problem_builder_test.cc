@@ -282,7 +282,8 @@ TEST(ProblemBuilder, ExtraTermsPlugInThroughTheBlockAccessors) {
       new ceres::AutoDiffCostFunction<Difference, 6, 6, 6>(new Difference),
       nullptr, builder.BasisBlock(0), builder.BasisBlock(1));
   EXPECT_FALSE(builder.PointBlocksAreIndependent());
-  // The points are still eliminated, together (solvers/schur_elimination.h).
+  // The points are still eliminated, together
+  // (solvers/refine/schur_elimination.h).
   EXPECT_EQ(ChooseLinearSolver(DescribeProblem(&builder)),
             LinearSolverChoice::kStructured);
 }

@@ -227,8 +227,8 @@ TEST_F(CliTest, CamerasComeFromTheFile) {
 // for K = 4 (6 needed; on the 100 frames used here seed 6 points 40, 41, 85
 // and seed 7 points 41, 42 are seen once; on the default 500 frames seed 7's
 // point 41 is seen in 5 views, which the rule leaves out too, and the result
-// is as exact; tests/solvers/drop_unobserved_test.cc has that case): they
-// are left out, named, NaN in the result, and the rest is exact; evaluate
+// is as exact; tests/solvers/pipeline/drop_unobserved_test.cc has that case):
+// they are left out, named, NaN in the result, and the rest is exact; evaluate
 // scores the rest and lists what it did not score.
 TEST_F(CliTest, ShoeSeedsWithPointsSeenTooRarelyReconstruct) {
   std::vector<std::vector<int>> dropped = {{40, 41, 85}, {41, 42}};

@@ -1,0 +1,145 @@
+#include "solvers/pipeline/select_num_bases.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <utility>
+
+#include "core/option_checker.h"
+
+namespace nrsfm {
+namespace {
+
+// The floor of e(K) in the rule of the header, times the RMS spread of W
+// (dimensionless): far above round-off, far below any real noise.
+constexpr double kRelativeNoiseFloor = 1e-6;
+// LM iterations of each K of the curve (at most the solver's own limit); the
+// chosen K is reconstructed again with the solver's limit.
+constexpr int kCurveMaxIterations = 100;
+
+// Free parameters of a model with K bases, less the gauge (see the header).
+double NumFreeParameters(const Measurements& m, int k) {
+  const double f = m.num_frames, views = m.NumViews(), p = m.num_points;
+  return views * 5.0 + f * k + 3.0 * k * p + (m.num_cameras - 1) * f -
+         (static_cast<double>(k) * k + 3.0);
+}
+
+}  // namespace
+
+Status SelectNumBasesOptions::Check() const {
+  OptionChecker check("K selection");
+  check.AtLeast("max_num_bases", max_num_bases, 2);
+  check.FiniteAtLeast("threshold", threshold, 1.0);
+  return check.status();
+}
+
+Status SelectNumBases(const ReconstructOptions& options,
+                      const SelectNumBasesOptions& select_options,
+                      const Measurements& measurements,
+                      SelectNumBasesResult* result) {
+  NRSFM_RETURN_IF_ERROR(select_options.Check());
+  NRSFM_RETURN_IF_ERROR(measurements.Validate());
+  const int num_observations = measurements.NumVisible();
+  // The largest K the data supports: 3K + 1 ≤ P and 3K + 1 ≤ 2F, and more
+  // scalar residuals than free parameters.
+  int k_max = select_options.max_num_bases;
+  while (k_max >= 1 &&
+         (3 * k_max + 1 > measurements.num_points ||
+          3 * k_max + 1 > 2 * measurements.num_frames ||
+          NumFreeParameters(measurements, k_max) >= 2.0 * num_observations)) {
+    --k_max;
+  }
+  if (k_max < 1) {
+    return Status::Error("K selection: the data supports no K >= 1 (P = " +
+                         std::to_string(measurements.num_points) + ", F = " +
+                         std::to_string(measurements.num_frames) + ")");
+  }
+
+  SelectNumBasesResult out;
+  std::vector<ReconstructResult> reconstructions;
+  for (int k = 1; k <= k_max; ++k) {
+    ReconstructOptions k_options = options;
+    k_options.start.num_bases = k;
+    // The curve measures how well K bases fit the tracks: with priors = auto
+    // it is the data term alone (the chosen K is then reconstructed with the
+    // rule's terms); manual terms are kept as given.
+    if (options.priors == PriorMode::kAuto) {
+      k_options.priors = PriorMode::kManual;
+      k_options.problem.term_weights.clear();
+    }
+    // Each point of the curve needs the fit, not the last digits: models
+    // with more bases than the data carry converge slowly along their extra
+    // freedom.
+    k_options.solver.max_iterations =
+        std::min(options.solver.max_iterations, kCurveMaxIterations);
+    NumBasesCandidate candidate;
+    candidate.num_bases = k;
+    ReconstructResult reconstruction;
+    const Status status = Reconstruct(k_options, measurements, &reconstruction);
+    if (!status.ok()) {
+      candidate.message = status.message();
+    } else if (!reconstruction.refine.usable) {
+      candidate.message =
+          "refinement not usable: " + reconstruction.refine.message;
+    } else {
+      candidate.ok = true;
+      candidate.reprojection_rms = reconstruction.refine.reprojection_rms;
+      candidate.seconds = reconstruction.total_seconds;
+    }
+    out.curve.push_back(candidate);
+    reconstructions.push_back(std::move(reconstruction));
+  }
+
+  // σ̂ from the best-fitting (largest successful) K.
+  int reference = -1;
+  for (int i = k_max - 1; i >= 0; --i) {
+    if (out.curve[i].ok) {
+      reference = i;
+      break;
+    }
+  }
+  if (reference < 0) {
+    return Status::Error("K selection: no K in 1.." + std::to_string(k_max) +
+                         " reconstructed; K = 1: " + out.curve[0].message);
+  }
+  const double n_obs = 2.0 * num_observations;
+  const double rss =
+      n_obs * 0.5 * std::pow(out.curve[reference].reprojection_rms, 2);
+  const double dof = n_obs - NumFreeParameters(measurements, reference + 1);
+  out.noise_stddev = std::sqrt(rss / std::max(dof, 1.0));
+  const double floor = kRelativeNoiseFloor * measurements.ImageSpreadRms();
+
+  out.num_bases = reference + 1;
+  for (auto& candidate : out.curve) {
+    const double dof_k =
+        n_obs - NumFreeParameters(measurements, candidate.num_bases);
+    candidate.expected_rms =
+        out.noise_stddev * std::sqrt(2.0 * std::max(dof_k, 0.0) / n_obs);
+  }
+  for (const auto& candidate : out.curve) {
+    if (!candidate.ok) continue;
+    if (candidate.reprojection_rms <=
+        select_options.threshold * std::max(candidate.expected_rms, floor)) {
+      out.num_bases = candidate.num_bases;
+      break;
+    }
+  }
+  // The chosen K once more with the solver's own iteration limit (and, with
+  // priors = auto, the rule's terms), unless its curve solve already had both.
+  const ReconstructResult& curve_result = reconstructions[out.num_bases - 1];
+  if (options.priors == PriorMode::kAuto ||
+      (curve_result.refine.usable && !curve_result.refine.converged &&
+       kCurveMaxIterations < options.solver.max_iterations)) {
+    ReconstructOptions chosen = options;
+    chosen.start.num_bases = out.num_bases;
+    NRSFM_RETURN_IF_ERROR(
+        Reconstruct(chosen, measurements, &out.reconstruction)
+            .WithContext("K = " + std::to_string(out.num_bases)));
+  } else {
+    out.reconstruction = std::move(reconstructions[out.num_bases - 1]);
+  }
+  *result = std::move(out);
+  return Status::OK();
+}
+
+}  // namespace nrsfm
