@@ -368,19 +368,36 @@ struct SetsNothing {};
     NRSFM_HELP(                                                                \
         {kReconstruct,                                                         \
          "(--priors auto) the temporal shape prior's weight for a video."}))   \
+  X(double, rule_min_temporal_shape_weight,                                    \
+    ::nrsfm::PriorRuleOptions().min_temporal_shape_weight, kStart,             \
+    NRSFM_SETS(reconstruct, prior_rule.min_temporal_shape_weight),             \
+    NRSFM_HELP({kReconstruct,                                                  \
+                "(--priors auto) the temporal shape prior's weight when the "  \
+                "start's frames deform independently (docs/priors.md)."}))     \
   X(double, rule_deformation_weight,                                           \
     ::nrsfm::PriorRuleOptions().deformation_weight, kStart,                    \
     NRSFM_SETS(reconstruct, prior_rule.deformation_weight),                    \
     NRSFM_HELP({kReconstruct,                                                  \
                 "(--priors auto) the deformation prior's weight when the "     \
                 "tracks are not a video."}))                                   \
+  X(double, rule_rigidity_weight, ::nrsfm::PriorRuleOptions().rigidity_weight, \
+    kStart, NRSFM_SETS(reconstruct, prior_rule.rigidity_weight),               \
+    NRSFM_HELP({kReconstruct,                                                  \
+                "(--priors auto) the rigidity's weight with several cameras, " \
+                "(spread / rad)^2 (docs/priors.md)."}))                        \
   X(double, rule_max_path_acceleration_deg,                                    \
     ::nrsfm::PriorRuleOptions().max_path_acceleration_deg, kStart,             \
     NRSFM_SETS(reconstruct, prior_rule.max_path_acceleration_deg),             \
     NRSFM_HELP(                                                                \
         {kReconstruct,                                                         \
          "(--priors auto) the start's camera-path acceleration, deg/frame^2, " \
-         "below which the rotation prior is on; 0 = never."}))                 \
+         "below which the rotation prior is tried; 0 = never."}))              \
+  X(double, rule_max_path_fit_ratio,                                           \
+    ::nrsfm::PriorRuleOptions().max_path_fit_ratio, kStart,                    \
+    NRSFM_SETS(reconstruct, prior_rule.max_path_fit_ratio),                    \
+    NRSFM_HELP({kReconstruct,                                                  \
+                "(--priors auto) the path prior is kept when the tracks are "  \
+                "fitted within this factor (RMS) of the fit without it."}))    \
   X(double, rule_rotation_acceleration_weight,                                 \
     ::nrsfm::PriorRuleOptions().rotation_acceleration_weight, kStart,          \
     NRSFM_SETS(reconstruct, prior_rule.rotation_acceleration_weight),          \

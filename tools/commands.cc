@@ -183,6 +183,10 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
   if (options.priors == PriorMode::kAuto) {
     out << ": track order " << std::setprecision(3) << result.priors.track_order
         << (result.priors.video ? ", video" : ", not a video");
+    if (result.priors.deformation_coherence >= 0) {
+      out << ", start's deformation coherence "
+          << result.priors.deformation_coherence;
+    }
     if (result.priors.path_acceleration_deg >= 0) {
       out << ", start's path acceleration "
           << result.priors.path_acceleration_deg << " deg/frame^2";

@@ -99,9 +99,18 @@ Status PriorRuleOptions::Check() const {
                     std::to_string(min_track_order));
   check.FinitePositive("min_basis_fraction", min_basis_fraction);
   check.FinitePositive("temporal_shape_weight", temporal_shape_weight);
+  check.Require(
+      std::isfinite(min_temporal_shape_weight) &&
+          min_temporal_shape_weight > 0.0 &&
+          min_temporal_shape_weight <= temporal_shape_weight,
+      "min_temporal_shape_weight must be in (0, temporal_shape_weight], "
+      "got " +
+          std::to_string(min_temporal_shape_weight));
   check.FinitePositive("deformation_weight", deformation_weight);
+  check.FinitePositive("rigidity_weight", rigidity_weight);
   check.FiniteAtLeast("max_path_acceleration_deg", max_path_acceleration_deg,
                       0.0);
+  check.FiniteAtLeast("max_path_fit_ratio", max_path_fit_ratio, 1.0);
   check.FinitePositive("rotation_acceleration_weight",
                        rotation_acceleration_weight);
   check.Require(camera_rank_fraction > 0.0 && camera_rank_fraction < 1.0,
@@ -209,6 +218,7 @@ Status AnalyseTrackRank(const PriorRuleOptions& options,
   decision->model_explains_tracks = true;
   decision->camera_num_bases = num_bases;
   decision->noise_rms = -1.0;
+  decision->exactly_low_rank = false;
   const int rows = 2 * measurements.NumViews();
   const int points = measurements.num_points;
   const bool complete = measurements.IsComplete();
@@ -253,6 +263,24 @@ Status AnalyseTrackRank(const PriorRuleOptions& options,
     return static_cast<double>(rows) * (r + 1) +
            static_cast<double>(points) * r - static_cast<double>(r) * r;
   };
+  // Noise-free data: no residual below round-off is asked for, nor, with
+  // missing entries, below what the completion itself reaches on exact data
+  // (its ridge and ALS leave ~10⁻⁵ of the spread: 7·10⁻⁶ on the shoe).
+  const double floor_rms = (complete ? 1e-6 : 1e-4) * std::sqrt(2.0 * spread2);
+  const auto fit_rms = [&](int k) {
+    return std::sqrt(2.0 * rss(3 * k) / n_total);
+  };
+  decision->exactly_low_rank = fit_rms(num_bases) <= floor_rms;
+  // With missing entries the completion's residual is no unbiased reading
+  // of the misfit (its ridge and unconverged rounds leave about the same
+  // excess at every rank: on the seed's shoe 1.28–1.38× the noise from rank
+  // 12 to 42, each completion 10–18 s); the camera is then estimated with K
+  // bases, and the noise is estimated only for a video (third differences).
+  if (!complete) {
+    const double noise = video ? TemporalNoiseRms(measurements) : -1.0;
+    if (noise >= 0.0) decision->noise_rms = noise;
+    return failed.WithContext("rank of the tracks");
+  }
   // The noise per coordinate: for a video from the tracks' third
   // differences (TemporalNoiseRms), which the deformation does not enter;
   // otherwise what the largest rank leaves, per degree of freedom.
@@ -273,12 +301,8 @@ Status AnalyseTrackRank(const PriorRuleOptions& options,
     variance = rss(3 * noise_bases) / dof;
   }
   decision->noise_rms = std::sqrt(variance);
-  // Noise-free data: no residual below round-off is asked for, nor, with
-  // missing entries, below what the completion itself reaches on exact data
-  // (its ridge and ALS leave ~10⁻⁵ of the spread: 7·10⁻⁶ on the shoe).
-  const double floor_rms = (complete ? 1e-6 : 1e-4) * std::sqrt(2.0 * spread2);
   const auto explains = [&](int k) {
-    const double rms = std::sqrt(2.0 * rss(3 * k) / n_total);
+    const double rms = fit_rms(k);
     const double expected = std::sqrt(
         variance * 2.0 * std::max(0.0, n_total - parameters(3 * k)) / n_total);
     return rms <= options.camera_fit_threshold * std::max(expected, floor_rms);
@@ -307,7 +331,7 @@ Status DecidePriors(const PriorRuleOptions& options,
                                          completions));
   const bool basis_absorbs_rotation =
       3.0 * num_bases >= options.min_basis_fraction * measurements.num_points;
-  if (!decision->model_explains_tracks || basis_absorbs_rotation) {
+  if (!decision->exactly_low_rank || basis_absorbs_rotation) {
     if (decision->video) {
       decision->term_weights[kTemporalShapeTerm] =
           options.temporal_shape_weight;
@@ -315,20 +339,69 @@ Status DecidePriors(const PriorRuleOptions& options,
       decision->term_weights[kDeformationTerm] = options.deformation_weight;
     }
   }
+  if (measurements.num_cameras > 1) {
+    decision->term_weights[kRigidityTerm] = options.rigidity_weight;
+  }
   return Status::OK();
 }
 
-void DecidePathPrior(const PriorRuleOptions& options, const Model& start,
-                     PriorDecision* decision) {
-  if (decision->term_weights.count(kTemporalShapeTerm) == 0) return;
-  decision->path_acceleration_deg = PathAccelerationDeg(start);
-  const bool constant_angular_velocity =
-      decision->path_acceleration_deg >= 0.0 &&
-      decision->path_acceleration_deg < options.max_path_acceleration_deg;
-  if (constant_angular_velocity) {
+void DecideStartPriors(const PriorRuleOptions& options, const Model& start,
+                       const Model& path_start, double strength,
+                       PriorDecision* decision) {
+  for (const char* name : {kTemporalShapeTerm, kDeformationTerm}) {
+    const auto it = decision->term_weights.find(name);
+    if (it != decision->term_weights.end()) it->second *= strength;
+  }
+  const auto temporal = decision->term_weights.find(kTemporalShapeTerm);
+  if (temporal == decision->term_weights.end()) return;
+  decision->deformation_coherence = DeformationCoherence(start);
+  if (decision->deformation_coherence >= 0.0) {
+    const double full = options.temporal_shape_weight;
+    const double c = decision->deformation_coherence;
+    temporal->second = strength * full *
+                       std::pow(options.min_temporal_shape_weight / full,
+                                std::pow(1.0 - c, 4));
+  }
+  decision->path_acceleration_deg = PathAccelerationDeg(path_start);
+  if (decision->path_acceleration_deg >= 0.0 &&
+      decision->path_acceleration_deg < options.max_path_acceleration_deg) {
     decision->term_weights[kRotationAccelerationTerm] =
         options.rotation_acceleration_weight;
   }
+}
+
+double DeformationCoherence(const Model& model) {
+  const int frames = model.num_frames, bases = model.num_bases;
+  if (frames < 2 || bases < 1) return -1.0;
+  // S_t = Σ_k l_tk S_k, so ||Σ_k a_k S_k||² = aᵀ G a with G the Gram matrix
+  // of the basis shapes over the points that are defined.
+  Eigen::MatrixXd basis = model.basis;
+  for (int p = 0; p < model.num_points; ++p) {
+    if (!basis.col(p).allFinite()) basis.col(p).setZero();
+  }
+  Eigen::MatrixXd gram(bases, bases);
+  for (int k = 0; k < bases; ++k) {
+    for (int j = 0; j <= k; ++j) {
+      gram(k, j) = gram(j, k) = (basis.middleRows(3 * k, 3).array() *
+                                 basis.middleRows(3 * j, 3).array())
+                                    .sum();
+    }
+  }
+  const Eigen::MatrixXd& l = model.weights;
+  if (!l.allFinite()) return -1.0;
+  const Eigen::VectorXd mean = l.rowwise().mean();
+  double spread = 0.0, change = 0.0;
+  for (int t = 0; t < frames; ++t) {
+    const Eigen::VectorXd d = l.col(t) - mean;
+    spread += d.dot(gram * d);
+    if (t > 0) {
+      const Eigen::VectorXd a = l.col(t) - l.col(t - 1);
+      change += a.dot(gram * a);
+    }
+  }
+  if (!(spread > 0.0)) return 1.0;
+  const double expected = 2.0 * (frames - 1) / frames * spread;
+  return std::clamp(1.0 - change / expected, 0.0, 1.0);
 }
 
 double LargestViewAngleDeg(const Model& model) {

@@ -1,81 +1,19 @@
 // The rule that chooses the extra terms of a reconstruction from the data
-// when the caller does not (ReconstructOptions::priors = kAuto). Four facts
-// about the input decide it, each measured, not assumed:
-//
-// 1. Are the tracks a video (frames in time order)? With m_L the median
-//    over t of the RMS over points seen in frames t − L and t (every view)
-//    of ||w_tcp − w_(t−L)cp||, the order of the frames shows in how the
-//    motion grows with the lag: in a video the tracks move further over L
-//    frames than between neighbours, while frames in no order (independent
-//    views, random rotations or deformations) are as far apart at every lag.
-//    The track order is max over L = 2, 4, 8, … ≤ F/2 of m_L / m_1, and the
-//    frames are a video when it is at least min_track_order. Noise adds the
-//    same to every m_L, so a noisy video shows its order only at long lags.
-//    The track order of real, shuffled, synthetic and noisy re-projected
-//    sequences is measured in docs/priors.md. m_1 / spread (track_step) is
-//    reported as a diagnostic.
-// 2. Do the data alone determine the model? Two reasons that they do not,
-//    either of which adds a shape prior:
-//    a. misfit: the K-basis model does not explain the tracks (fact 4
-//       below: the rank-3K affine fit leaves more than camera_fit_threshold
-//       times what noise alone would leave). Real tracks are never exactly
-//       of rank 3K; fitted alone, the misfit bends the depth and the camera
-//       (the shapes stretch along the view direction; how far is measured in
-//       docs/priors.md).
-//    b. the basis can absorb a rotation error: 3K ≥ min_basis_fraction · P,
-//       the shape space spans most of what P points can do, so a slow drift
-//       of the rotations is fitted as well by the basis.
-//    The prior: for a video the shape's smoothness in time (temporal_shape
-//    at temporal_shape_weight), which also ties the object frame over the
-//    sequence; for frames in no order the deformation prior (deformation at
-//    deformation_weight: each frame's shape close to one rigid shape up to
-//    its scale, problems/deformation_error.h). Both weights are
-//    dimensionless: λ = 1 weighs a point's 3D move like a reprojection error
-//    of the same length. When neither a. nor b. holds (tracks of exactly
-//    K basis shapes, up to noise, with P well above 3K) the data term alone
-//    is well-posed and exact, and a prior would only bias it; none is added.
-// 3. Does the camera move at constant angular velocity? Asked only when
-//    the temporal_shape term is on (2.). The start's camera path (camera 0):
-//    with a_L the median over t of
-//      |log(R_(t+L) R_tᵀ) − log(R_t R_(t−L)ᵀ)| / L²   (degrees per frame²),
-//    the path's acceleration is a_4 − a_1 / 16, clamped at 0: jitter of the
-//    start's rotations from frame to frame (noise in the tracks) adds about a_1
-//    to a_1 and a_1 / L² to a_L, so the difference keeps the acceleration of
-//    the path itself. When it is below max_path_acceleration_deg (a turntable
-//    or an orbiting rig; the starts' values on constant and real camera paths,
-//    with and without noise, are measured in docs/priors.md), the refinement
-//    keeps it constant with the rotation_acceleration term at
-//    rotation_acceleration_weight, strong enough to act as a constraint.
-//    Without it the rotations of such data drift by several degrees over the
-//    sequence while fitting the tracks as well (the basis absorbs the
-//    drift), which is what the object-frame error measures.
-// 4. How well does the K-basis model explain the tracks, and with how many
-//    bases should the camera be estimated? From the singular values of the
-//    tracks minus each row's translation (missing entries completed at the
-//    largest rank tried, solvers/start/low_rank_completion.h): RSS(r), what a
-//    rank-r affine fit leaves, n(r) its free parameters. The noise variance
-//    per coordinate σ̂²: for a video from the tracks' third differences in
-//    time (TemporalNoiseRms: smooth motion does not enter them, nor does
-//    a deformation that changes from frame to frame at random look smooth);
-//    otherwise at the rank R = 3R' of the largest R' ≤ min(P, 2FM) / 6 that
-//    the data support (what the visible entries allow),
-//    σ̂² = RSS(R) / (N − n(R)), as solvers/pipeline/select_num_bases.h does with
-//    its reconstructions (a larger R keeps only the smallest singular values of
-//    the noise and underestimates it). Without such an R' > K no misfit is
-//    declared. The ranks tried never exceed 3R' with 3R' + 1 ≤ min(P, 2FM)
-//    and what the visible entries allow. A rank r
-//    explains the tracks when
-//    sqrt(2 RSS(r) / N) ≤ camera_fit_threshold · max(σ̂ sqrt(2 (N − n(r)) / N),
-//    f · spread), f = 10⁻⁶ (10⁻⁴ with missing entries: what the completion
-//    reaches on exact data). When rank 3K does not (misfit), the camera is
-//    estimated with K_cam > K bases and the K-basis shapes are then fitted with
-//    those rotations held (solvers/pipeline/reconstruct.h): a model that cannot
-//    explain the tracks bends the rotations to absorb what it cannot fit. K_cam
-//    is the smallest K' > K whose rank explains the tracks, at most the largest
-//    K' with 3K' ≤ camera_rank_fraction · min(P, 2FM) and K' ≤ kMaxCameraBases
-//    (with more, the camera's own extra bases absorb rotation:
-//    docs/priors.md). Real tracks, never exactly low-rank, use that cap.
-// The numbers behind the thresholds and weights are in docs/priors.md.
+// when the caller does not (ReconstructOptions::priors = kAuto). What it
+// measures, each a function below:
+// 1. whether the tracks are a video (TrackOrder ≥ min_track_order);
+// 2. whether the rank-3K fit leaves only round-off (exactly_low_rank): only
+//    such tracks, with 3K < min_basis_fraction · P, are refined with the
+//    data term alone; every other input gets a shape prior — temporal_shape
+//    for a video, deformation otherwise;
+// 3. on the start: temporal_shape's weight from how smoothly the start
+//    deforms (DeformationCoherence), and whether the camera path is a
+//    candidate for the constant-angular-velocity prior (PathAccelerationDeg;
+//    Reconstruct() keeps it only when the tracks are fitted as well with it);
+// 4. how many bases explain the tracks (AnalyseTrackRank): the camera is
+//    estimated with K_cam ≥ K bases;
+// 5. several cameras: they are taken to be a rig, held by rigidity.
+// docs/priors.md derives each and has the measurements behind the constants.
 #ifndef NRSFM_SOLVERS_PIPELINE_PRIOR_RULE_H_
 #define NRSFM_SOLVERS_PIPELINE_PRIOR_RULE_H_
 
@@ -91,12 +29,26 @@ namespace nrsfm {
 
 struct PriorRuleOptions {
   double min_track_order = 1.25;  // > 1, dimensionless (motion ratio m_L / m_1)
-  double min_basis_fraction =
-      0.5;  // > 0, 3K / P from which the basis absorbs rotation
-  double temporal_shape_weight = 1.0;  // > 0, λ of temporal_shape for a video
-  double deformation_weight = 1.0;     // > 0, λ of deformation otherwise
-  double max_path_acceleration_deg = 0.1;  // ≥ 0, degrees per frame²; 0 = never
+  // > 0, 3K / P from which the basis absorbs rotation.
+  double min_basis_fraction = 0.5;
+  // > 0, λ of temporal_shape for a video whose start deforms smoothly
+  // (deformation coherence 1).
+  double temporal_shape_weight = 1.0;
+  // In (0, temporal_shape_weight]: λ of temporal_shape when consecutive
+  // frames of the start deform independently (coherence 0); in between
+  // λ = temporal_shape_weight · (this / temporal_shape_weight)^((1 − c)⁴).
+  double min_temporal_shape_weight = 1e-4;
+  double deformation_weight = 1.0;  // > 0, λ of deformation otherwise
+  // > 0, λ of rigidity with several cameras (a rig), in (spread / rad)²:
+  // the rule's weight on tracks of unit spread.
+  double rigidity_weight = 100.0;
+  // ≥ 0, degrees per frame²: the path prior is tried when the start's path
+  // acceleration is below it; 0 = never.
+  double max_path_acceleration_deg = 1.0;
   double rotation_acceleration_weight = 1e6;  // > 0, λ of rotation_acceleration
+  // ≥ 1: the path prior is kept when the refinement with it fits the tracks
+  // within this factor (reprojection RMS) of the refinement without it.
+  double max_path_fit_ratio = 1.5;
   double camera_rank_fraction = 0.75;  // in (0, 1): 3K_cam ≤ this · min(P, 2FM)
   double camera_fit_threshold = 1.1;  // ≥ 1, factor over the noise residual
   // The camera stage's function tolerance (relative cost decrease of an
@@ -122,6 +74,16 @@ struct PriorDecision {
   bool model_explains_tracks = true;
   int camera_num_bases = -1;
   double noise_rms = -1;
+  // Whether the rank-3K affine fit leaves no more than round-off
+  // (noise-free tracks of K basis shapes): only then may the data term
+  // stand alone.
+  bool exactly_low_rank = false;
+  // DeformationCoherence of the start (-1 when not measured): how smoothly
+  // the start's object-frame shape deforms from frame to frame.
+  double deformation_coherence = -1;
+  // The reprojection RMS of the refinement with the path prior over the one
+  // without it (-1 when the path prior was not tried).
+  double path_fit_ratio = -1;
   // The weights chosen: temporal_shape (a video) or deformation (fact 2),
   // rotation_acceleration when a video's path has constant angular velocity
   // (fact 3).
@@ -178,11 +140,25 @@ Status AnalyseTrackRank(const PriorRuleOptions& options,
 // median |x_(t+3) − 3x_(t+2) + 3x_(t+1) − x_t| / √20 over every coordinate
 // of every point visible in four consecutive frames; -1 when there is none.
 double TemporalNoiseRms(const Measurements& measurements);
-// Fact 3 when temporal_shape is on, from the start `model`: adds
-// rotation_acceleration to decision->term_weights when the path is at
-// constant angular velocity.
-void DecidePathPrior(const PriorRuleOptions& options, const Model& start,
-                     PriorDecision* decision);
+// The weights decided on the start `start` (with temporal_shape on, from
+// DecidePriors): temporal_shape's from the start's DeformationCoherence
+// (continuous in it; PriorRuleOptions), and rotation_acceleration at its
+// weight when PathAccelerationDeg of `path_start` is below
+// max_path_acceleration_deg: a candidate that Reconstruct() keeps only when
+// the tracks are fitted within max_path_fit_ratio with it. `strength` (≥ 1)
+// multiplies the shape prior's weight: a re-solve of a result the data did not
+// determine (solvers/pipeline/reconstruct.h). `path_start` is the start the
+// path is measured on (solvers/pipeline/ reconstruct.h: one with at most
+// CameraBasesCap bases).
+void DecideStartPriors(const PriorRuleOptions& options, const Model& start,
+                       const Model& path_start, double strength,
+                       PriorDecision* decision);
+// How smoothly the object-frame shape of `model` deforms in time, in [0, 1]:
+// 1 − Σ_t ||S_t − S_(t−1)||² / (2 (F − 1) / F · Σ_t ||S_t − S̄||²) clamped,
+// S̄ the mean shape over the frames (camera 0's frames; NaN points
+// skipped). 1 for a shape that deforms slowly (or not at all), about 0 when
+// consecutive frames deform independently; -1 when F < 2.
+double DeformationCoherence(const Model& model);
 
 // The largest angle, in degrees, between the rotations of camera 0 in any two
 // frames of `model`: how far the viewpoint turns over the sequence.

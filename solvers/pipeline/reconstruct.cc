@@ -3,9 +3,11 @@
 #include <glog/logging.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -58,8 +60,9 @@ namespace {
 // (solvers/refine/refine.h, KeptProblem).
 Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
                       const Measurements& measurements,
-                      const PriorDecision& decision, StartCache* cache,
-                      ReconstructResult* result, KeptProblem* kept) {
+                      const PriorDecision& decision, double strength,
+                      StartCache* cache, ReconstructResult* result,
+                      KeptProblem* kept) {
   if (options.solver.stop_requested && options.solver.stop_requested()) {
     return Status::Error("stopped on request");
   }
@@ -106,7 +109,8 @@ Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
   if (options.priors == PriorMode::kAuto) {
     const Model* path =
         with_reference && reference_status.ok() ? &reference : &result->model;
-    DecidePathPrior(options.prior_rule, *path, &result->priors);
+    DecideStartPriors(options.prior_rule, result->model, *path, strength,
+                      &result->priors);
     problem.term_weights = result->priors.term_weights;
   } else {
     result->priors.term_weights = problem.term_weights;
@@ -115,8 +119,75 @@ Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
     return Refine(problem, options.solver, measurements, &result->model,
                   &result->refine, kept);
   }
-  return Refine(problem, options.solver, measurements, &result->model,
-                &result->refine);
+  if (options.priors != PriorMode::kAuto ||
+      problem.term_weights.count(kRotationAccelerationTerm) == 0) {
+    return Refine(problem, options.solver, measurements, &result->model,
+                  &result->refine);
+  }
+  // The path prior is a candidate: refined with it and without it, side by
+  // side when there are threads for both (the one without reports no
+  // progress and asks for no stop of the caller's); it is kept when the
+  // tracks are fitted within max_path_fit_ratio with it. The one without
+  // stops once it has run as many iterations as the one with it took to
+  // converge (its fit then is no better than at its end, so the test leans
+  // to keeping the prior), and goes on to its end only when it is the
+  // answer.
+  ProblemOptions free_path = problem;
+  free_path.term_weights.erase(kRotationAccelerationTerm);
+  std::atomic<int> with_iterations{-1};  // set once the one with it ends
+  SolverOptions quiet = options.solver;
+  int free_iteration = 0;
+  quiet.progress = [&free_iteration](const IterationReport& report) {
+    free_iteration = report.iteration;
+  };
+  quiet.stop_requested = [&free_iteration, &with_iterations] {
+    const int n = with_iterations.load();
+    return n >= 0 && free_iteration >= n;
+  };
+  Model free_model = result->model;
+  RefineSummary free_summary;
+  Status with_status, free_status;
+  const bool side_by_side = threads >= 2;
+  ParallelForWorker(
+      2, side_by_side ? 2 : 1, /*grain=*/1, [&](int begin, int end, int) {
+        for (int i = begin; i < end; ++i) {
+          if (i == 0) {
+            with_status = Refine(problem, options.solver, measurements,
+                                 &result->model, &result->refine);
+            with_iterations.store(with_status.ok() && result->refine.converged
+                                      ? result->refine.iterations
+                                      : std::numeric_limits<int>::max() / 4);
+          } else {
+            free_status = Refine(free_path, quiet, measurements, &free_model,
+                                 &free_summary);
+          }
+        }
+      });
+  NRSFM_RETURN_IF_ERROR(with_status);
+  if (!free_status.ok() || !free_summary.usable) return Status::OK();
+  if (result->refine.usable && free_summary.reprojection_rms > 0.0) {
+    result->priors.path_fit_ratio =
+        result->refine.reprojection_rms / free_summary.reprojection_rms;
+  }
+  if (!result->refine.usable ||
+      result->priors.path_fit_ratio > options.prior_rule.max_path_fit_ratio) {
+    result->priors.term_weights.erase(kRotationAccelerationTerm);
+    if (free_summary.stopped) {
+      // Abandoned by the race rule: refined on to its end, the answer.
+      RefineSummary rest;
+      NRSFM_RETURN_IF_ERROR(Refine(free_path, options.solver, measurements,
+                                   &free_model, &rest));
+      if (rest.usable) {
+        rest.initial_cost = free_summary.initial_cost;
+        rest.initial_reprojection_rms = free_summary.initial_reprojection_rms;
+        rest.iterations += free_summary.iterations;
+        free_summary = rest;
+      }
+    }
+    result->model = std::move(free_model);
+    result->refine = free_summary;
+  }
+  return Status::OK();
 }
 
 // The factorization and the rigid start, each refined (StartAndRefine),
@@ -130,15 +201,15 @@ Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
 // term: KeptProblem).
 void RefineBothStarts(const ReconstructOptions& options,
                       const Measurements& measurements,
-                      const PriorDecision& decision, StartCache* cache,
-                      ReconstructResult* factorization,
+                      const PriorDecision& decision, double strength,
+                      StartCache* cache, ReconstructResult* factorization,
                       Status* factorization_status, ReconstructResult* rigid,
                       Status* rigid_status) {
   if (measurements.NumVisible() > kMaxObservationsForTwoAtOnce) {
     KeptProblem kept;
     *factorization_status =
         StartAndRefine(options, StartMethod::kFactorization, measurements,
-                       decision, cache, factorization, &kept);
+                       decision, strength, cache, factorization, &kept);
     // The rule of solvers/pipeline/two_starts.h with the first refinement
     // ended: the second is abandoned once it has run RaceIterations(n)
     // iterations without reaching the first's cost.
@@ -162,18 +233,18 @@ void RefineBothStarts(const ReconstructOptions& options,
              cost >= first.final_cost;
     };
     *rigid_status = StartAndRefine(second, StartMethod::kRigid, measurements,
-                                   decision, cache, rigid, &kept);
+                                   decision, strength, cache, rigid, &kept);
     return;
   }
-  const auto lane = [&options, &measurements, &decision, cache](
+  const auto lane = [&options, &measurements, &decision, strength, cache](
                         StartMethod method, ReconstructResult* result,
                         Status* status) -> RaceRefinement {
-    return [&options, &measurements, &decision, cache, method, result,
+    return [&options, &measurements, &decision, strength, cache, method, result,
             status](const SolverOptions& solver) {
       ReconstructOptions own = options;
       own.solver = solver;
-      *status = StartAndRefine(own, method, measurements, decision, cache,
-                               result, /*kept=*/nullptr);
+      *status = StartAndRefine(own, method, measurements, decision, strength,
+                               cache, result, /*kept=*/nullptr);
       RaceOutcome outcome;
       if (!status->ok()) return outcome;
       outcome.converged = result->refine.converged;
@@ -230,6 +301,86 @@ Status RefineWithCameraHeld(const ReconstructOptions& options,
                 &result->refine);
 }
 
+// The camera stage and, with K_cam > K, the shape stage, with the rule's
+// decision `rule` (priors = auto) or the caller's terms; `strength`
+// multiplies the shape prior (DecideStartPriors) and, above 1, adds it when
+// the rule had none.
+Status SolveWithPriors(const ReconstructOptions& options,
+                       const Measurements& measurements,
+                       const PriorDecision& rule, double strength,
+                       StartCache* cache, ReconstructResult* result) {
+  const int num_bases = options.start.num_bases;
+  PriorDecision decision = rule;
+  if (strength > 1.0 && decision.term_weights.count(kTemporalShapeTerm) == 0 &&
+      decision.term_weights.count(kDeformationTerm) == 0) {
+    // Exact low-rank tracks whose answer still was not determined: the
+    // shape prior the rule would add for noisy tracks.
+    if (decision.video) {
+      decision.term_weights[kTemporalShapeTerm] =
+          options.prior_rule.temporal_shape_weight;
+    } else {
+      decision.term_weights[kDeformationTerm] =
+          options.prior_rule.deformation_weight;
+    }
+  }
+  // The camera stage: the start and its refinement with K_cam ≥ K bases
+  // (K_cam = K with priors = manual).
+  ReconstructOptions camera = options;
+  const bool shape_prior =
+      decision.term_weights.count(kTemporalShapeTerm) > 0 ||
+      decision.term_weights.count(kDeformationTerm) > 0;
+  if (shape_prior) {
+    camera.start.num_bases = std::max(num_bases, decision.camera_num_bases);
+    camera.solver.function_tolerance =
+        std::max(options.solver.function_tolerance,
+                 options.prior_rule.camera_function_tolerance);
+  }
+  if (options.start.method != StartMethod::kAuto) {
+    NRSFM_RETURN_IF_ERROR(StartAndRefine(camera, options.start.method,
+                                         measurements, decision, strength,
+                                         cache, result, /*kept=*/nullptr));
+  } else if (decision.term_weights.count(kTemporalShapeTerm) > 0) {
+    NRSFM_RETURN_IF_ERROR(StartAndRefine(camera, StartMethod::kTriple,
+                                         measurements, decision, strength,
+                                         cache, result, /*kept=*/nullptr));
+  } else {
+    // Both starts are refined and the lower refined cost is kept: a start's
+    // own reprojection error does not tell which basin it is in (the rigid
+    // start can fit the tracks better than the factorisation start and still
+    // converge to a depth-degenerate solution).
+    ReconstructResult factorization, rigid;
+    Status factorization_status, rigid_status;
+    RefineBothStarts(camera, measurements, decision, strength, cache,
+                     &factorization, &factorization_status, &rigid,
+                     &rigid_status);
+    if (!factorization_status.ok() && !rigid_status.ok()) {
+      return Status::Error("both starts failed: factorization: " +
+                           factorization_status.message() +
+                           "; rigid: " + rigid_status.message());
+    }
+    const bool keep_rigid =
+        !factorization_status.ok() ||
+        (rigid_status.ok() && IsBetter(rigid, factorization));
+    *result = keep_rigid ? std::move(rigid) : std::move(factorization);
+    const Status& other = keep_rigid ? factorization_status : rigid_status;
+    if (!other.ok()) {
+      result->start.warnings.push_back(
+          std::string(keep_rigid ? "factorization" : "rigid") +
+          " start failed: " + other.message());
+    }
+  }
+  // The shape stage when the camera stage had more bases: its shapes reduced
+  // to K bases (ReduceNumBases), refined with its rotations held. With
+  // K_cam = K the camera stage's result is the answer: a shape stage would
+  // re-solve the same problem with the rotations held from its end, and only
+  // polish it (measured in docs/performance.md: no gain in e3D over the
+  // generalisation protocol, up to 12× the LM steps on noisy tracks).
+  if (shape_prior && result->model.num_bases > num_bases) {
+    NRSFM_RETURN_IF_ERROR(RefineWithCameraHeld(options, measurements, result));
+  }
+  return Status::OK();
+}
+
 }  // namespace
 
 double DepthRatio(const Model& model) {
@@ -256,6 +407,120 @@ double DepthRatio(const Model& model) {
 }
 
 namespace {
+
+// Whether a refinement of `options` ended at its iteration limit.
+bool AtIterationLimit(const ReconstructOptions& options,
+                      const RefineSummary& summary) {
+  return summary.usable && !summary.converged && !summary.stopped &&
+         summary.iterations >= options.solver.max_iterations;
+}
+
+// What the tool can see of a result without a ground truth, against its own
+// rigid answer: usable, ended by a tolerance, no deeper than the rigid
+// answer (or kLargeDepthRatio, whichever is larger) and fitting the tracks
+// no worse. Empty when it passes, else the first reason it does not.
+std::string WhyNotDetermined(const ReconstructOptions& options,
+                             const ReconstructResult& result,
+                             const ReconstructResult& rigid) {
+  if (!result.refine.usable) return "the refinement was not usable";
+  if (AtIterationLimit(options, result.refine) ||
+      (result.camera_stage &&
+       AtIterationLimit(options, result.camera_refine))) {
+    return "the refinement stopped at its iteration limit";
+  }
+  const double depth = DepthRatio(result.model);
+  const double rigid_depth = rigid.refine.usable ? DepthRatio(rigid.model) : 0;
+  if (depth > std::max(kLargeDepthRatio, rigid_depth)) {
+    std::ostringstream why;
+    why << std::fixed << std::setprecision(1) << "its depth is " << depth
+        << " times its image extent (the rigid answer's "
+        << std::setprecision(2) << rigid_depth << ")";
+    return why.str();
+  }
+  if (rigid.refine.usable &&
+      result.refine.reprojection_rms > rigid.refine.reprojection_rms) {
+    return "it fits the tracks worse than the rigid answer";
+  }
+  return "";
+}
+
+// The rigid answer (K = 1, the rigid start, no extra term) written with
+// `num_bases` bases: the rigid shape as the first, the others zero.
+Model RigidWithBases(const Model& rigid, int num_bases) {
+  Model model = rigid;
+  model.num_bases = num_bases;
+  model.weights = Eigen::MatrixXd::Zero(num_bases, rigid.num_frames);
+  model.weights.row(0) = rigid.weights.row(0);
+  model.basis = Eigen::MatrixXd::Zero(3 * num_bases, rigid.num_points);
+  model.basis.topRows(3) = rigid.basis.topRows(3);
+  return model;
+}
+
+// The repair of a result the data did not determine (WhyNotDetermined,
+// against the rigid answer computed here): re-solved with the shape prior
+// kRepairStrengths times stronger, the first that passes kept; when none
+// does, the rigid answer itself. result->repair says which.
+Status Repair(const ReconstructOptions& options,
+              const Measurements& measurements, const PriorDecision& rule,
+              StartCache* cache, ReconstructResult* result) {
+  ReconstructOptions rigid_options = options;
+  rigid_options.start.num_bases = 1;
+  rigid_options.priors = PriorMode::kManual;
+  rigid_options.problem.term_weights.clear();
+  ReconstructResult rigid;
+  const Status rigid_status =
+      StartAndRefine(rigid_options, StartMethod::kRigid, measurements,
+                     PriorDecision(), 1.0, cache, &rigid, /*kept=*/nullptr);
+  if (rigid_status.ok() && rigid.refine.usable) {
+    result->rigid_reprojection_rms = rigid.refine.reprojection_rms;
+    result->rigid_depth_ratio = DepthRatio(rigid.model);
+  }
+  std::string why = WhyNotDetermined(options, *result, rigid);
+  if (why.empty()) return Status::OK();
+  for (const double strength : kRepairStrengths) {
+    if (options.solver.stop_requested && options.solver.stop_requested()) {
+      return Status::Error("stopped on request");
+    }
+    ReconstructResult again;
+    const Status status =
+        SolveWithPriors(options, measurements, rule, strength, cache, &again);
+    if (!status.ok()) continue;
+    const std::string still = WhyNotDetermined(options, again, rigid);
+    if (still.empty()) {
+      again.rigid_reprojection_rms = result->rigid_reprojection_rms;
+      again.rigid_depth_ratio = result->rigid_depth_ratio;
+      again.repair_strength = strength;
+      again.warnings.push_back(
+          "repaired: the answer with the rule's prior was not determined by "
+          "the data (" +
+          why + "); re-solved with the shape prior " +
+          std::to_string(static_cast<int>(strength)) + " times stronger");
+      *result = std::move(again);
+      return Status::OK();
+    }
+  }
+  if (!rigid_status.ok() || !rigid.refine.usable) {
+    result->warnings.push_back("the answer was not determined by the data (" +
+                               why + ") and the rigid answer failed");
+    return Status::OK();
+  }
+  const double rms = result->rigid_reprojection_rms;
+  const double depth = result->rigid_depth_ratio;
+  const std::vector<std::string> warnings = result->warnings;
+  rigid.model = RigidWithBases(rigid.model, options.start.num_bases);
+  rigid.priors = rule;
+  rigid.priors.term_weights.clear();
+  *result = std::move(rigid);
+  result->warnings = warnings;
+  result->rigid_reprojection_rms = rms;
+  result->rigid_depth_ratio = depth;
+  result->repair_strength = 0;
+  result->warnings.push_back(
+      "repaired: the answer was not determined by the data (" + why +
+      "), nor with a stronger shape prior; the rigid answer (one shape, "
+      "weights 1 and 0) is returned");
+  return Status::OK();
+}
 
 // Reconstruct() on measurements in any units: every step below is invariant
 // to them but Levenberg-Marquardt's damping floor and gradient tolerance,
@@ -299,73 +564,22 @@ Status ReconstructInUnits(const ReconstructOptions& options,
     return Status::OK();
   }
   PriorDecision decision;
-  const int num_bases = options.start.num_bases;
   // The completions and the SVD the prior rule and the starts share.
   StartCache cache(measurements, options.solver.num_threads);
   if (options.priors == PriorMode::kAuto) {
     NRSFM_RETURN_IF_ERROR(DecidePriors(options.prior_rule, measurements,
-                                       num_bases, &decision,
+                                       options.start.num_bases, &decision,
                                        &cache.completions()));
   }
-  // The camera stage: the start and its refinement with K_cam ≥ K bases
-  // (K_cam = K with priors = manual).
-  ReconstructOptions camera = options;
-  const bool shape_prior = !decision.term_weights.empty();
-  if (shape_prior) {
-    camera.start.num_bases = std::max(num_bases, decision.camera_num_bases);
-    camera.solver.function_tolerance =
-        std::max(options.solver.function_tolerance,
-                 options.prior_rule.camera_function_tolerance);
+  NRSFM_RETURN_IF_ERROR(
+      SolveWithPriors(options, measurements, decision, 1.0, &cache, result));
+  if (options.priors == PriorMode::kAuto) {
+    NRSFM_RETURN_IF_ERROR(
+        Repair(options, measurements, decision, &cache, result));
   }
-  if (options.start.method != StartMethod::kAuto) {
-    NRSFM_RETURN_IF_ERROR(StartAndRefine(camera, options.start.method,
-                                         measurements, decision, &cache, result,
-                                         /*kept=*/nullptr));
-  } else if (decision.term_weights.count(kTemporalShapeTerm) > 0) {
-    NRSFM_RETURN_IF_ERROR(StartAndRefine(camera, StartMethod::kTriple,
-                                         measurements, decision, &cache, result,
-                                         /*kept=*/nullptr));
-  } else {
-    // Both starts are refined and the lower refined cost is kept: a start's
-    // own reprojection error does not tell which basin it is in (the rigid
-    // start can fit the tracks better than the factorisation start and still
-    // converge to a depth-degenerate solution).
-    ReconstructResult factorization, rigid;
-    Status factorization_status, rigid_status;
-    RefineBothStarts(camera, measurements, decision, &cache, &factorization,
-                     &factorization_status, &rigid, &rigid_status);
-    if (!factorization_status.ok() && !rigid_status.ok()) {
-      return Status::Error("both starts failed: factorization: " +
-                           factorization_status.message() +
-                           "; rigid: " + rigid_status.message());
-    }
-    const bool keep_rigid =
-        !factorization_status.ok() ||
-        (rigid_status.ok() && IsBetter(rigid, factorization));
-    *result = keep_rigid ? std::move(rigid) : std::move(factorization);
-    const Status& other = keep_rigid ? factorization_status : rigid_status;
-    if (!other.ok()) {
-      result->start.warnings.push_back(
-          std::string(keep_rigid ? "factorization" : "rigid") +
-          " start failed: " + other.message());
-    }
-  }
-  // The shape stage when the camera stage had more bases: its shapes reduced
-  // to K bases (ReduceNumBases), refined with its rotations held. With
-  // K_cam = K the camera stage's result is the answer: a shape stage would
-  // re-solve the same problem with the rotations held from its end, and only
-  // polish it (measured in docs/performance.md: no gain in e3D over the
-  // generalisation protocol, up to 12× the LM steps on noisy tracks).
-  if (shape_prior && result->model.num_bases > num_bases) {
-    NRSFM_RETURN_IF_ERROR(RefineWithCameraHeld(options, measurements, result));
-  }
-  const bool at_limit =
-      (result->refine.usable && !result->refine.converged &&
-       !result->refine.stopped &&
-       result->refine.iterations >= options.solver.max_iterations) ||
-      (result->camera_refine.usable && !result->camera_refine.converged &&
-       !result->camera_refine.stopped &&
-       result->camera_refine.iterations >= options.solver.max_iterations);
+  const bool at_limit = AtIterationLimit(options, result->refine) ||
+                        (result->camera_stage &&
+                         AtIterationLimit(options, result->camera_refine));
   if (at_limit) {
     result->warnings.push_back(
         "the refinement stopped at its iteration limit (" +
@@ -377,13 +591,14 @@ Status ReconstructInUnits(const ReconstructOptions& options,
   result->depth_ratio = DepthRatio(result->model);
   if (result->depth_ratio > kLargeDepthRatio) {
     std::ostringstream warning;
-    warning
-        << std::fixed << std::setprecision(1)
-        << "deep shapes: the depth of the result is " << result->depth_ratio
-        << " times its extent in the image (above " << kLargeDepthRatio
-        << "), as when the shapes were stretched along the view direction; "
-           "the data may not determine the depth (with priors = manual, try "
-           "priors = auto)";
+    warning << std::fixed << std::setprecision(1)
+            << "deep shapes: the depth of the result is " << result->depth_ratio
+            << " times its extent in the image (above " << kLargeDepthRatio
+            << "), as when the shapes were stretched along the view direction; "
+               "the data may not determine the depth"
+            << (options.priors == PriorMode::kManual
+                    ? " (try priors = auto, which re-solves such a result)"
+                    : "");
     result->warnings.push_back(warning.str());
   }
   result->largest_view_angle_deg = LargestViewAngleDeg(result->model);
@@ -422,9 +637,17 @@ void ToInputUnits(const ReconstructOptions& options, double spread,
     summary->reprojection_rms *= spread;
   }
   if (result->priors.noise_rms > 0) result->priors.noise_rms *= spread;
+  if (result->rigid_reprojection_rms > 0) {
+    result->rigid_reprojection_rms *= spread;
+  }
   for (auto& [name, weight] : result->priors.term_weights) {
     const auto given = options.problem.term_weights.find(name);
-    if (given != options.problem.term_weights.end()) weight = given->second;
+    if (given != options.problem.term_weights.end()) {
+      weight = given->second;
+    } else if (const ExtraTerm* term = FindExtraTerm(name);
+               term != nullptr && term->weight_in_squared_input_units) {
+      weight *= spread * spread;  // the rule's, on tracks of unit spread
+    }
   }
 }
 

@@ -20,8 +20,8 @@ namespace nrsfm {
 
 // Who chooses the extra terms (problems/extra_terms.h).
 enum class PriorMode {
-  kAuto,  // the rule of solvers/pipeline/prior_rule.h, from the data and the
-          // start; problem.term_weights must then be empty
+  kAuto,    // the rule of solvers/pipeline/prior_rule.h, from the data and the
+            // start; problem.term_weights must then be empty
   kManual,  // exactly problem.term_weights (empty: the data term alone)
 };
 // "auto", "manual"; the error lists them.
@@ -66,6 +66,14 @@ struct ReconstructResult {
   // kLargeDepthRatio a warning says so.
   double depth_ratio = 0;
   std::vector<std::string> warnings;
+  // priors = auto: the rigid answer's reprojection RMS and depth ratio
+  // (K = 1, the rigid start, no extra term; -1 when it failed), against
+  // which the result was checked, and the repair: 1 = none, s > 1 = the
+  // shape prior s times stronger, 0 = the rigid answer returned (see
+  // Reconstruct()).
+  double rigid_reprojection_rms = -1;
+  double rigid_depth_ratio = -1;
+  double repair_strength = 1;
   // Points and frames with too few observations, left out of the solve and
   // NaN in `model` (solvers/pipeline/drop_unobserved.h); a warning names them.
   // The summaries above are of the kept measurements.
@@ -89,6 +97,9 @@ double DepthRatio(const Model& model);
 // Above this depth ratio Reconstruct() warns that the depth may not be
 // determined by the data.
 inline constexpr double kLargeDepthRatio = 3.0;
+// The shape prior's strengths a result the data do not determine is
+// re-solved with, in turn (Reconstruct()).
+inline constexpr double kRepairStrengths[] = {10.0, 100.0};
 
 // When two starts are refined (the rule below), their refinements run side
 // by side in lockstep (solvers/pipeline/two_starts.h) when the measurements
@@ -97,70 +108,34 @@ inline constexpr double kLargeDepthRatio = 3.0;
 // docs/performance.md). Larger inputs refine one after the other.
 inline constexpr int kMaxObservationsForTwoAtOnce = 1000000;
 
-// The pipeline. With priors = auto the rule of solvers/pipeline/prior_rule.h
-// decides the shape prior (temporal_shape for a video, deformation otherwise;
-// none when the K-basis model explains the tracks and its basis cannot absorb
-// rotation) and K_cam ≥ K, the bases the camera is estimated with.
-// 1. Camera stage: the start with K_cam bases and its refinement. With
-//    start.method = auto:
-//    - a video with the temporal_shape prior: the triple start alone. Its
-//      rotations come from an exact corrective triple of the rank-3K
-//      factorisation, the ones the temporal terms then hold in place; the
-//      factorisation and rigid starts' rotations are further off on motion
-//      capture, and the refinement does not leave their basin (measured in
-//      docs/priors.md). The path prior (solvers/pipeline/prior_rule.h
-//      DecidePathPrior) is decided on the start, or, when K_cam is above
-//      CameraBasesCap, on a second start with that many bases, computed
-//      beside the first (core/parallel_for.h; num_threads ≥ 2 and at most
-//      kMaxObservationsForTwoAtOnce observations; the same starts for any
-//      thread count).
-//    - otherwise both the factorization and the rigid starts are refined and
-//      the lower refined cost is kept (a usable solution before an unusable
-//      one). A start's own reprojection error does not tell which basin it
-//      is in: the start that fits the tracks better can refine to the worse
-//      result (measured in docs/factorization.md, section 7). The two
-//      refinements run side by side in lockstep, at once with num_threads ≥
-//      2 (each on num_threads / 2 threads) or in turns with one; once one has
-//      converged after n LM iterations, the other is abandoned when it has
-//      run 2n + 10 iterations without reaching a lower cost
-//      (solvers/pipeline/two_starts.h; inputs above
-//      kMaxObservationsForTwoAtOnce: one after the other, the factorization
-//      start's to its end, the rigid start's abandoned by the same rule when
-//      the first converged). Progress reports and stop requests reach the
-//      caller's thread, the factorization refinement's reports first.
-//    With a shape prior the camera stage stops at
-//    prior_rule.camera_function_tolerance: its rotations settle first, and
-//    the slow decrease after them is the basis absorbing rotation, which
-//    moves the camera away from the truth (how long it runs on drink:
-//    docs/priors.md); result->camera_refine is its summary.
-// 2. Shape stage, with a shape prior and K_cam > K: the camera stage's
-//    shapes reduced to K bases by ReduceNumBases (core/model.h), refined
-//    with the camera stage's rotations held and the same shape prior
-//    (result->refine), to the solver's own tolerance. The rotations of the
-//    result are the camera stage's. With K_cam = K there is no shape stage:
-//    the camera stage's result is the answer (result->refine, and
-//    result->camera_stage is false); a shape stage would only polish it with
-//    the rotations held, which measured no more accurate and up to 12× the
-//    LM steps on noisy tracks (docs/performance.md).
-// With priors = manual: the given start (auto: both starts, as above) with
-// K bases refined with exactly the given terms, one stage.
-// result->start.method says which start was kept.
-// Points and frames with too few observations for the model with K bases
-// are first left out (solvers/pipeline/drop_unobserved.h; observation_weights
-// and smoothness_edges.reference_frame follow the kept ones, a left-out
-// reference frame becomes the default choice): the rest is reconstructed as
-// above and the left-out ones are NaN in result->model, listed in
-// result->dropped_points / dropped_frames and named in a warning.
-// Units: everything above runs on the tracks divided by their spread
-// (Measurements::ImageSpreadRms), with robust_scale and the λ of terms
-// whose weight is in (input units)² divided likewise, and the result is
-// scaled back: shapes, translations, RMS values, costs, noise_rms and those
-// λ are in input units (a λ that was given is returned as given). The
-// solvers' damping floor and gradient tolerance are absolute, so without
-// this the same tracks in millimetres and in metres would refine
-// differently (docs/priors.md, units). Only the
-// progress callback's cost is in input units too; the solver's own reports
-// (result->refine.ceres_report) describe the normalised problem.
+// The pipeline (docs/priors.md derives each step and has its measurements).
+// With priors = auto the rule of solvers/pipeline/prior_rule.h chooses the
+// terms and K_cam ≥ K, the bases the camera is estimated with:
+// 1. Camera stage: the start with K_cam bases and its refinement. A video
+//    with temporal_shape starts from the corrective triple alone (its
+//    weight and the path prior decided on that start, the path measured on
+//    a start with at most CameraBasesCap bases, computed beside it); a path
+//    prior candidate is refined with and without the prior side by side and
+//    kept when the tracks are fitted within max_path_fit_ratio with it.
+//    Otherwise the factorization and rigid starts are refined side by side
+//    (solvers/pipeline/two_starts.h) and the lower cost kept. With a shape
+//    prior the stage stops at prior_rule.camera_function_tolerance.
+// 2. Shape stage, when K_cam > K: the shapes reduced to K bases
+//    (ReduceNumBases), refined with the rotations held.
+// 3. Repair: the result is checked against the tool's own rigid answer
+//    (K = 1, rigid start, no term): usable, ended by a tolerance, no deeper
+//    than max(kLargeDepthRatio, the rigid answer's DepthRatio), fitting the
+//    tracks no worse. One that fails is re-solved with the shape prior
+//    kRepairStrengths times stronger; when none passes, the rigid answer is
+//    returned with K bases (weights 1, 0, …). result->repair_strength and a
+//    warning say which.
+// With priors = manual: the given start (auto: both starts) with exactly the
+// given terms, one stage, no repair. Points and frames with too few
+// observations are left out first (solvers/pipeline/drop_unobserved.h) and
+// are NaN in result->model. Everything runs on the tracks divided by their
+// spread and is scaled back: shapes, translations, RMS values, costs,
+// noise_rms and the λ in input units (a λ that was given is returned as
+// given); the solver's own reports describe the normalised problem.
 // Errors on invalid options or measurements and when the start fails (see
 // ComputeStart); a refinement that is not usable is reported in
 // result->refine.usable, with result->model left at the start.
