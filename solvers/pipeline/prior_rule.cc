@@ -224,7 +224,9 @@ Status AnalyseTrackRank(const PriorRuleOptions& options,
   const bool complete = measurements.IsComplete();
   int largest = LargestSupportedBases(measurements);
   largest = std::min(largest, kMaxCameraBases + 1);
-  if (largest <= num_bases) return Status::OK();
+  // A rank-3K fit needs that many bases supported (the start fails
+  // otherwise, with its own message).
+  if (largest < num_bases) return Status::OK();
 
   // RSS(r), what a rank-r affine fit of the tracks leaves on the visible
   // entries: from the singular values of the row-centred tracks, or, with
@@ -265,12 +267,19 @@ Status AnalyseTrackRank(const PriorRuleOptions& options,
   };
   // Noise-free data: no residual below round-off is asked for, nor, with
   // missing entries, below what the completion itself reaches on exact data
-  // (its ridge and ALS leave ~10⁻⁵ of the spread: 7·10⁻⁶ on the shoe).
+  // (its ridge and ALS leave 10⁻⁵–10⁻⁴ of the spread: 7·10⁻⁶ on the shoe,
+  // 1.0·10⁻⁴ on its first 100 frames with rarely seen points left out).
   const double floor_rms = (complete ? 1e-6 : 1e-4) * std::sqrt(2.0 * spread2);
+  // Exact low rank: within camera_fit_threshold of that floor (10⁻⁴ of the
+  // spread) with every entry, 5· that with missing ones: real tracks, whose
+  // noise is 1 px or more over a spread of hundreds, are far above both.
+  const double exact_rms =
+      (complete ? 1.0 : 5.0) * options.camera_fit_threshold * floor_rms;
   const auto fit_rms = [&](int k) {
     return std::sqrt(2.0 * rss(3 * k) / n_total);
   };
-  decision->exactly_low_rank = fit_rms(num_bases) <= floor_rms;
+  decision->exactly_low_rank = fit_rms(num_bases) <= exact_rms;
+  if (largest <= num_bases) return failed.WithContext("rank of the tracks");
   // With missing entries the completion's residual is no unbiased reading
   // of the misfit (its ridge and unconverged rounds leave about the same
   // excess at every rank: on the seed's shoe 1.28–1.38× the noise from rank

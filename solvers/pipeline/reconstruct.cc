@@ -164,7 +164,9 @@ Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
         }
       });
   NRSFM_RETURN_IF_ERROR(with_status);
-  if (!free_status.ok() || !free_summary.usable) return Status::OK();
+  if (result->refine.stopped || !free_status.ok() || !free_summary.usable) {
+    return Status::OK();  // a stop asked for, or no fit to compare with
+  }
   if (result->refine.usable && free_summary.reprojection_rms > 0.0) {
     result->priors.path_fit_ratio =
         result->refine.reprojection_rms / free_summary.reprojection_rms;
@@ -175,8 +177,8 @@ Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
     if (free_summary.stopped) {
       // Abandoned by the race rule: refined on to its end, the answer.
       RefineSummary rest;
-      NRSFM_RETURN_IF_ERROR(Refine(free_path, options.solver, measurements,
-                                   &free_model, &rest));
+      NRSFM_RETURN_IF_ERROR(
+          Refine(free_path, options.solver, measurements, &free_model, &rest));
       if (rest.usable) {
         rest.initial_cost = free_summary.initial_cost;
         rest.initial_reprojection_rms = free_summary.initial_reprojection_rms;
@@ -463,10 +465,15 @@ Model RigidWithBases(const Model& rigid, int num_bases) {
 Status Repair(const ReconstructOptions& options,
               const Measurements& measurements, const PriorDecision& rule,
               StartCache* cache, ReconstructResult* result) {
+  if (result->refine.stopped ||
+      (options.solver.stop_requested && options.solver.stop_requested())) {
+    return Status::OK();  // the caller asked to stop: no further solve
+  }
   ReconstructOptions rigid_options = options;
   rigid_options.start.num_bases = 1;
   rigid_options.priors = PriorMode::kManual;
   rigid_options.problem.term_weights.clear();
+  rigid_options.solver.progress = nullptr;  // reports are of the answer's
   ReconstructResult rigid;
   const Status rigid_status =
       StartAndRefine(rigid_options, StartMethod::kRigid, measurements,

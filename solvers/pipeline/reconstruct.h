@@ -116,7 +116,8 @@ inline constexpr int kMaxObservationsForTwoAtOnce = 1000000;
 //    weight and the path prior decided on that start, the path measured on
 //    a start with at most CameraBasesCap bases, computed beside it); a path
 //    prior candidate is refined with and without the prior side by side and
-//    kept when the tracks are fitted within max_path_fit_ratio with it.
+//    kept when the tracks are fitted within max_path_fit_ratio with it
+//    (progress reports are the refinement's with the prior).
 //    Otherwise the factorization and rigid starts are refined side by side
 //    (solvers/pipeline/two_starts.h) and the lower cost kept. With a shape
 //    prior the stage stops at prior_rule.camera_function_tolerance.

@@ -342,8 +342,13 @@ TEST_F(CliTest, YogaWithDefaultOptions) {
       nlohmann::json::parse(ReadFile(Path("y/result.json")));
   EXPECT_EQ(result["start_used"], "triple");
   EXPECT_EQ(result["options"]["priors"], "auto");
-  EXPECT_EQ(result["term_weights"]["temporal_shape"].get<double>(), 1.0);
+  // λ = (10⁻⁴)^((1 − c)⁴) with the start's coherence c = 0.998: 1 − 10⁻¹⁰.
+  EXPECT_NEAR(result["term_weights"]["temporal_shape"].get<double>(), 1.0,
+              1e-6);
+  EXPECT_GT(result["diagnostics"]["deformation_coherence"].get<double>(), 0.99);
   EXPECT_EQ(result["term_weights"]["rotation_acceleration"].get<double>(), 1e6);
+  // The path prior kept: measured 1.08 (with it over without it).
+  EXPECT_LT(result["diagnostics"]["path_fit_ratio"].get<double>(), 1.2);
   EXPECT_LT(result["diagnostics"]["track_step"].get<double>(), 0.1);
   EXPECT_LT(result["diagnostics"]["path_acceleration_deg"].get<double>(), 0.05);
   EXPECT_GT(result["diagnostics"]["largest_view_angle_deg"].get<double>(),

@@ -109,7 +109,10 @@ TEST(PriorRule, LargestViewAngle) {
 }
 
 TEST(PriorRule, DecisionsFollowTheThresholds) {
-  const PriorRuleOptions options;
+  // The path threshold at 0.1 °/frame², between the constant path (0) and the
+  // shaking one (about 0.5 · 0.25 · 2 °/frame² at its peaks).
+  PriorRuleOptions options;
+  options.max_path_acceleration_deg = 0.1;
   PriorDecision video;
   // P = 2 points, K = 1: 3K ≥ P / 2.
   ASSERT_TRUE(DecidePriors(options, Translating(12, 0.05), 1, &video).ok());
@@ -124,12 +127,14 @@ TEST(PriorRule, DecisionsFollowTheThresholds) {
                       2.0 * std::sin(0.5 * t));  // a real, varying path
   }
   PriorDecision smooth = video;
-  DecidePathPrior(options, PathModel(constant), &smooth);
+  DecideStartPriors(options, PathModel(constant), PathModel(constant), 1.0,
+                    &smooth);
   EXPECT_EQ(smooth.term_weights.at("rotation_acceleration"),
             options.rotation_acceleration_weight);
 
   PriorDecision shaky = video;
-  DecidePathPrior(options, PathModel(shaking), &shaky);
+  DecideStartPriors(options, PathModel(shaking), PathModel(shaking), 1.0,
+                    &shaky);
   EXPECT_GT(shaky.path_acceleration_deg, options.max_path_acceleration_deg);
   EXPECT_EQ(shaky.term_weights.count("rotation_acceleration"), 0u);
 
@@ -138,12 +143,14 @@ TEST(PriorRule, DecisionsFollowTheThresholds) {
   PriorRuleOptions never = options;
   never.max_path_acceleration_deg = 0.0;
   PriorDecision smooth_never = video;
-  DecidePathPrior(never, PathModel(constant), &smooth_never);
+  DecideStartPriors(never, PathModel(constant), PathModel(constant), 1.0,
+                    &smooth_never);
   EXPECT_EQ(smooth_never.term_weights.count("rotation_acceleration"), 0u);
   PriorRuleOptions lenient = options;
   lenient.max_path_acceleration_deg = 2.0 * shaky.path_acceleration_deg;
   PriorDecision shaky_lenient = video;
-  DecidePathPrior(lenient, PathModel(shaking), &shaky_lenient);
+  DecideStartPriors(lenient, PathModel(shaking), PathModel(shaking), 1.0,
+                    &shaky_lenient);
   EXPECT_EQ(shaky_lenient.term_weights.count("rotation_acceleration"), 1u);
 
   // Frames in no order get the deformation prior instead of a temporal
@@ -152,14 +159,15 @@ TEST(PriorRule, DecisionsFollowTheThresholds) {
   ASSERT_TRUE(DecidePriors(options, Translating(7, 0.05), 1, &unordered)
                   .ok());  // too short to tell
   EXPECT_FALSE(unordered.video);
-  DecidePathPrior(options, PathModel(constant), &unordered);
+  DecideStartPriors(options, PathModel(constant), PathModel(constant), 1.0,
+                    &unordered);
   ASSERT_EQ(unordered.term_weights.size(), 1u);
   EXPECT_EQ(unordered.term_weights.at("deformation"),
             options.deformation_weight);
   EXPECT_EQ(unordered.path_acceleration_deg, -1.0);
 }
 
-TEST(PriorRule, NoTermWhenTheModelExplainsTheTracksAndFixesTheRotations) {
+TEST(PriorRule, NoTermOnlyForExactLowRankTracksThatFixTheRotations) {
   // 40 points, K = 6: 3K = 18 < 0.5 · 40, the rotations are fixed by the
   // data, and the tracks (rank 2 after centring) are explained exactly; a
   // video all the same, but no term and no path prior.
@@ -179,7 +187,9 @@ TEST(PriorRule, NoTermWhenTheModelExplainsTheTracksAndFixesTheRotations) {
   EXPECT_TRUE(decision.model_explains_tracks);
   EXPECT_EQ(decision.camera_num_bases, 6);
   EXPECT_TRUE(decision.term_weights.empty());
-  DecidePathPrior(options, PathModel({0, 5, 10, 15, 20, 25}), &decision);
+  EXPECT_TRUE(decision.exactly_low_rank);
+  const Model path = PathModel({0, 5, 10, 15, 20, 25});
+  DecideStartPriors(options, path, path, 1.0, &decision);
   EXPECT_TRUE(decision.term_weights.empty());
   // K = 7: 3K = 21 ≥ 20.
   ASSERT_TRUE(DecidePriors(options, m, 7, &decision).ok());
@@ -192,6 +202,71 @@ TEST(PriorRule, NoTermWhenTheModelExplainsTheTracksAndFixesTheRotations) {
   PriorDecision lowered;
   ASSERT_TRUE(DecidePriors(lower, m, 6, &lowered).ok());
   EXPECT_EQ(lowered.term_weights.at("temporal_shape"), 2.5);
+}
+
+// The same tracks with noise of 10⁻³ of their spread are no longer exactly
+// of low rank: the shape prior is on, at K = 6 too.
+TEST(PriorRule, NoisyTracksAlwaysGetTheShapePrior) {
+  Eigen::MatrixXd w(2 * 12, 40);
+  std::mt19937 random(5);
+  std::normal_distribution<double> noise(0.0, 1e-3);
+  for (int t = 0; t < 12; ++t) {
+    for (int p = 0; p < 40; ++p) {
+      w(2 * t, p) = std::cos(p) + 0.01 * t + noise(random);
+      w(2 * t + 1, p) = std::sin(p) + noise(random);
+    }
+  }
+  Measurements m;
+  ASSERT_TRUE(Measurements::FromMatrixWithNaN(w, 1, "test", &m).ok());
+  PriorDecision decision;
+  ASSERT_TRUE(DecidePriors(PriorRuleOptions(), m, 6, &decision).ok());
+  EXPECT_FALSE(decision.exactly_low_rank);
+  EXPECT_EQ(decision.term_weights.count("temporal_shape"), 1u);
+}
+
+// K = 2, basis 1 fixed (weight 1), basis 2 of squared norm g: with weights
+// l_t2 = 0, 1, 2, 3 the deviations from the mean (−1.5 … 1.5) sum to 5g,
+// the changes to 3g, so c = 1 − 3g / (2 · 3/4 · 5g) = 0.6; with ±1
+// alternating, 4g and 12g: 1 − 12 / 6 = −1, clamped to 0.
+Model TwoBasisModel(const std::vector<double>& second_weights) {
+  Model model;
+  model.Resize(static_cast<int>(second_weights.size()), 1, 3, 2);
+  model.basis.setZero();
+  model.basis.topRows(3) << 1, 0, -1, 0, 1, 0, 0, 0, 1;
+  model.basis.bottomRows(3) << 0.5, -0.5, 0, 0, 0, 2, 1, 0, 0;
+  for (int t = 0; t < model.num_frames; ++t) {
+    model.weights(0, t) = 1.0;
+    model.weights(1, t) = second_weights[t];
+  }
+  return model;
+}
+
+TEST(PriorRule, DeformationCoherenceByHand) {
+  EXPECT_NEAR(DeformationCoherence(TwoBasisModel({0, 1, 2, 3})), 0.6, 1e-12);
+  EXPECT_EQ(DeformationCoherence(TwoBasisModel({1, -1, 1, -1})), 0.0);
+  EXPECT_EQ(DeformationCoherence(TwoBasisModel({2, 2, 2})), 1.0);  // rigid
+  EXPECT_EQ(DeformationCoherence(TwoBasisModel({2})), -1.0);       // F < 2
+}
+
+TEST(PriorRule, TemporalShapeWeightFollowsTheCoherence) {
+  PriorRuleOptions options;
+  options.max_path_acceleration_deg = 0.0;  // no path prior here
+  PriorDecision decision;
+  decision.video = true;
+  decision.term_weights["temporal_shape"] = options.temporal_shape_weight;
+  PriorDecision smooth = decision, alternating = decision, strong = decision;
+  const Model ramp = TwoBasisModel({0, 1, 2, 3});
+  DecideStartPriors(options, ramp, ramp, 1.0, &smooth);
+  // 1 · (10⁻⁴)^(0.4⁴) = 10^(−0.1024) = 0.78995.
+  EXPECT_NEAR(smooth.term_weights.at("temporal_shape"), 0.78995, 1e-5);
+  EXPECT_NEAR(smooth.deformation_coherence, 0.6, 1e-12);
+  const Model flip = TwoBasisModel({1, -1, 1, -1});
+  DecideStartPriors(options, flip, flip, 1.0, &alternating);
+  EXPECT_NEAR(alternating.term_weights.at("temporal_shape"),
+              options.min_temporal_shape_weight, 1e-15);
+  // A repair's strength multiplies it.
+  DecideStartPriors(options, ramp, ramp, 10.0, &strong);
+  EXPECT_NEAR(strong.term_weights.at("temporal_shape"), 7.8995, 1e-4);
 }
 
 // Tracks x = a + b t + c t² per coordinate have third differences 0; white

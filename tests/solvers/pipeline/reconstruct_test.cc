@@ -373,6 +373,9 @@ TEST(Reconstruct, TooFewBasesEstimateTheCameraWithMore) {
 TEST(Reconstruct, StopRequestEndsTheRefinementAndSkipsTheNextStart) {
   const SyntheticSequence s = Sequence(0.01, 0.0);
   ReconstructOptions options = Options();
+  // The data term alone: auto then refines two starts (with the rule's
+  // shape prior this video would take the triple start alone).
+  options.priors = PriorMode::kManual;
   options.start.method = StartMethod::kFactorization;
   int iterations = 0;
   options.solver.progress = [&iterations](const IterationReport&) {
@@ -408,6 +411,7 @@ TEST(Reconstruct, TwoStartsAtOnceGiveTheSequentialResultAndReports) {
   for (int threads : {1, 2}) {
     Run& run = runs[threads - 1];
     ReconstructOptions options = Options();
+    options.priors = PriorMode::kManual;  // two starts (as above)
     options.solver.num_threads = threads;
     const std::thread::id caller = std::this_thread::get_id();
     options.solver.progress = [&run, caller](const IterationReport& report) {
@@ -430,6 +434,7 @@ TEST(Reconstruct, TwoStartsAtOnceGiveTheSequentialResultAndReports) {
 
   // A stop request during the first ends both.
   ReconstructOptions options = Options();
+  options.priors = PriorMode::kManual;
   options.solver.num_threads = 2;
   int reports = 0;
   options.solver.progress = [&reports](const IterationReport&) { ++reports; };
