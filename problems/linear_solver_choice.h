@@ -47,7 +47,7 @@ enum class LinearSolverChoice {
   kDenseQr,               // dense QR of J (tiny problems only)
   kStructured,            // points eliminated, CG over the frame chain with a
                           // block-band preconditioner: not a Ceres linear
-                // solver but a minimiser (solvers/refine/minimizer_choice.h)
+  // solver but a minimiser (solvers/refine/minimizer_choice.h)
 };
 // "auto", "dense_schur", "sparse_schur", "iterative_schur",
 // "sparse_normal_cholesky", "cgnr", "dense_qr", "structured"; an error lists

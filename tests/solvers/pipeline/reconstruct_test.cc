@@ -25,14 +25,15 @@ constexpr int kFrames = 200;
 constexpr int kPoints = 60;
 constexpr int kBases = 3;
 
-SyntheticSequence Sequence(double noise, double missing) {
+SyntheticSequence Sequence(double noise, double missing, std::uint64_t seed = 1,
+                           int frames = kFrames, int points = kPoints) {
   RandomBasisOptions options;
-  options.num_frames = kFrames;
-  options.num_points = kPoints;
+  options.num_frames = frames;
+  options.num_points = points;
   options.num_bases = kBases;
   options.noise_stddev = noise;
   options.missing_fraction = missing;
-  options.seed = 1;
+  options.seed = seed;
   SyntheticSequence sequence;
   EXPECT_TRUE(GenerateRandomBasis(options, &sequence).ok());
   return sequence;
@@ -455,16 +456,7 @@ TEST(Reconstruct, TwoStartsAtOnceGiveTheSequentialResultAndReports) {
 // than its image extent, e3D 308. Noisy tracks now get the shape prior (a
 // weak one: the start's frames deform independently).
 SyntheticSequence NoisyRandom(std::uint64_t seed, double noise) {
-  RandomBasisOptions options;
-  options.num_frames = 100;
-  options.num_points = 30;
-  options.num_bases = 3;
-  options.noise_stddev = noise;
-  options.missing_fraction = 0.1;
-  options.seed = seed;
-  SyntheticSequence sequence;
-  EXPECT_TRUE(GenerateRandomBasis(options, &sequence).ok());
-  return sequence;
+  return Sequence(noise, 0.1, seed, 100, 30);  // K = kBases = 3
 }
 
 TEST(Reconstruct, NoisyRandomBasisGetsAWeakPriorNotTheDataAlone) {
