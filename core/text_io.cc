@@ -368,8 +368,9 @@ Status ReadObservationList(const std::string& path,
           std::to_string(points) + " points would need a W of " +
           MegaBytes(DenseBytes(frames, num_cameras, points)) +
           ", more than a list of its size may take (" + MegaBytes(budget) +
-          ", 64 MB + 1032 bytes per byte of the file): too sparse for nrsfm's "
-          "dense W");
+          ", " + std::to_string(kInputBudgetSlackBytes >> 20) + " MB + " +
+          std::to_string(kMaxDeflateRatio) +
+          " bytes per byte of the file): too sparse for nrsfm's dense W");
     }
     num_frames = frames;
     num_points = points;

@@ -70,7 +70,7 @@ struct FlagType<int> {
   static py::object ToPython(int value) { return py::int_(value); }
   static int FromPython(py::handle value, const std::string& name) {
     const long long v = IntegerFromPython(value, name);
-    if (v < -1000000000LL || v > 1000000000LL) {
+    if (v < -tools::kMaxFlagInteger || v > tools::kMaxFlagInteger) {
       throw py::value_error(name + " is out of range, got " +
                             std::to_string(v));
     }

@@ -33,13 +33,16 @@ const char* TypeName() {
   return "int";
 }
 
-// Parses a whole string as an integer in ±1e9; false on anything else.
+// Parses a whole string as an integer in ±kMaxFlagInteger; false on
+// anything else.
 bool ParseInt(const std::string& s, int* value) {
   if (s.empty()) return false;
   size_t used = 0;
   try {
     const long v = std::stol(s, &used);
-    if (used != s.size() || v < -1000000000L || v > 1000000000L) return false;
+    if (used != s.size() || v < -kMaxFlagInteger || v > kMaxFlagInteger) {
+      return false;
+    }
     *value = static_cast<int>(v);
   } catch (...) {
     return false;

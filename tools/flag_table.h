@@ -50,6 +50,9 @@ struct FlagInfo {
   std::string HelpFor(Command command) const;
 };
 
+// The range of an integer flag or keyword: ±kMaxFlagInteger.
+inline constexpr long kMaxFlagInteger = 1000000000L;
+
 // Every flag: NRSFM_COMMAND_FLAGS in order, then the extra terms' weights
 // (role kOption, reconstruct only).
 const std::vector<FlagInfo>& CommandFlagTable();

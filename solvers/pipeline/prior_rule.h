@@ -23,6 +23,7 @@
 #include "core/measurements.h"
 #include "core/model.h"
 #include "core/status.h"
+#include "problems/reprojection_cost_function.h"
 #include "solvers/start/low_rank_completion.h"
 
 namespace nrsfm {
@@ -105,7 +106,7 @@ double PathAccelerationDeg(const Model& model);
 
 // The bases the camera stage may use at most (fact 4): the reprojection
 // cost's compile-time sizes (problems/reprojection_cost_function.h).
-inline constexpr int kMaxCameraBases = 16;
+inline constexpr int kMaxCameraBases = kMaxStaticBases;
 
 // Facts 1, 2 and 4 for K = num_bases: the shape prior's weight
 // (decision->term_weights), model_explains_tracks, camera_num_bases and
