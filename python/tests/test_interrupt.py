@@ -21,11 +21,13 @@ def long_sequence():
 def test_the_callback_sees_every_iteration():
     s = nrsfm.synth(dataset="random", frames=60, points=20, K=2, noise=0.01, seed=3)
     seen = []
-    # No path prior candidate (rule_max_path_acceleration_deg=0): with one,
-    # the reports are of the refinement with the prior, which the tracks of a
-    # random-basis sequence do not keep (docs/priors.md).
+    # One refinement: no path prior candidate and no weaker temporal weight
+    # beside the full one (with them the reports are of the full priors'
+    # refinement, which the tracks of a random-basis sequence do not keep:
+    # docs/priors.md).
     r = nrsfm.reconstruct(s.W, 2, init="factorization",
                           rule_max_path_acceleration_deg=0,
+                          rule_min_temporal_shape_weight=1,
                           progress=lambda *report: seen.append(report))
     assert [report[0] for report in seen] == list(range(len(seen)))
     assert len(seen) == r.summary["stages"][1]["iterations"] + 1

@@ -110,7 +110,7 @@ Status PriorRuleOptions::Check() const {
   check.FinitePositive("rigidity_weight", rigidity_weight);
   check.FiniteAtLeast("max_path_acceleration_deg", max_path_acceleration_deg,
                       0.0);
-  check.FiniteAtLeast("max_path_fit_ratio", max_path_fit_ratio, 1.0);
+  check.FiniteAtLeast("max_prior_fit_ratio", max_prior_fit_ratio, 1.0);
   check.FinitePositive("rotation_acceleration_weight",
                        rotation_acceleration_weight);
   check.Require(camera_rank_fraction > 0.0 && camera_rank_fraction < 1.0,
@@ -364,12 +364,14 @@ void DecideStartPriors(const PriorRuleOptions& options, const Model& start,
   const auto temporal = decision->term_weights.find(kTemporalShapeTerm);
   if (temporal == decision->term_weights.end()) return;
   decision->deformation_coherence = DeformationCoherence(start);
+  decision->temporal_shape_alternative = temporal->second;
   if (decision->deformation_coherence >= 0.0) {
     const double full = options.temporal_shape_weight;
     const double c = decision->deformation_coherence;
-    temporal->second = strength * full *
-                       std::pow(options.min_temporal_shape_weight / full,
-                                std::pow(1.0 - c, 4));
+    decision->temporal_shape_alternative =
+        strength * full *
+        std::pow(options.min_temporal_shape_weight / full,
+                 std::pow(1.0 - c, 4));
   }
   decision->path_acceleration_deg = PathAccelerationDeg(path_start);
   if (decision->path_acceleration_deg >= 0.0 &&

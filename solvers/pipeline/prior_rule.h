@@ -6,10 +6,11 @@
 //    such tracks, with 3K < min_basis_fraction · P, are refined with the
 //    data term alone; every other input gets a shape prior — temporal_shape
 //    for a video, deformation otherwise;
-// 3. on the start: temporal_shape's weight from how smoothly the start
-//    deforms (DeformationCoherence), and whether the camera path is a
-//    candidate for the constant-angular-velocity prior (PathAccelerationDeg;
-//    Reconstruct() keeps it only when the tracks are fitted as well with it);
+// 3. on the start: whether the camera path is a candidate for the
+//    constant-angular-velocity prior (PathAccelerationDeg), and a weaker
+//    temporal_shape weight from how smoothly the start deforms
+//    (DeformationCoherence); Reconstruct() keeps the full weight and the path
+//    prior only when the tracks are fitted about as well with them;
 // 4. how many bases explain the tracks (AnalyseTrackRank): the camera is
 //    estimated with K_cam ≥ K bases;
 // 5. several cameras: they are taken to be a rig, held by rigidity.
@@ -35,9 +36,9 @@ struct PriorRuleOptions {
   // > 0, λ of temporal_shape for a video whose start deforms smoothly
   // (deformation coherence 1).
   double temporal_shape_weight = 1.0;
-  // In (0, temporal_shape_weight]: λ of temporal_shape when consecutive
-  // frames of the start deform independently (coherence 0); in between
-  // λ = temporal_shape_weight · (this / temporal_shape_weight)^((1 − c)⁴).
+  // In (0, temporal_shape_weight]: the alternative λ of temporal_shape when
+  // consecutive frames of the start deform independently (coherence 0); in
+  // between λ = temporal_shape_weight · (this / it)^((1 − c)⁴).
   double min_temporal_shape_weight = 1e-4;
   double deformation_weight = 1.0;  // > 0, λ of deformation otherwise
   // > 0, λ of rigidity with several cameras (a rig), in (spread / rad)²:
@@ -47,9 +48,10 @@ struct PriorRuleOptions {
   // acceleration is below it; 0 = never.
   double max_path_acceleration_deg = 1.0;
   double rotation_acceleration_weight = 1e6;  // > 0, λ of rotation_acceleration
-  // ≥ 1: the path prior is kept when the refinement with it fits the tracks
-  // within this factor (reprojection RMS) of the refinement without it.
-  double max_path_fit_ratio = 1.5;
+  // ≥ 1: the full priors (temporal_shape at its full weight, the path
+  // prior) are kept when the refinement with them fits the tracks within
+  // this factor (reprojection RMS) of the alternative's.
+  double max_prior_fit_ratio = 1.5;
   double camera_rank_fraction = 0.75;  // in (0, 1): 3K_cam ≤ this · min(P, 2FM)
   double camera_fit_threshold = 1.1;  // ≥ 1, factor over the noise residual
   // The camera stage's function tolerance (relative cost decrease of an
@@ -82,9 +84,13 @@ struct PriorDecision {
   // DeformationCoherence of the start (-1 when not measured): how smoothly
   // the start's object-frame shape deforms from frame to frame.
   double deformation_coherence = -1;
-  // The reprojection RMS of the refinement with the path prior over the one
-  // without it (-1 when the path prior was not tried).
-  double path_fit_ratio = -1;
+  // temporal_shape's weight from the coherence (DecideStartPriors), the
+  // alternative to the full weight in term_weights; -1 when not decided.
+  double temporal_shape_alternative = -1;
+  // The reprojection RMS of the refinement with the full priors (temporal
+  // shape at its full weight, the path prior) over the alternative's (the
+  // coherence weight, no path prior); -1 when they were not compared.
+  double prior_fit_ratio = -1;
   // The weights chosen: temporal_shape (a video) or deformation (fact 2),
   // rotation_acceleration when a video's path has constant angular velocity
   // (fact 3).
@@ -142,14 +148,15 @@ Status AnalyseTrackRank(const PriorRuleOptions& options,
 // of every point visible in four consecutive frames; -1 when there is none.
 double TemporalNoiseRms(const Measurements& measurements);
 // The weights decided on the start `start` (with temporal_shape on, from
-// DecidePriors): temporal_shape's from the start's DeformationCoherence
-// (continuous in it; PriorRuleOptions), and rotation_acceleration at its
-// weight when PathAccelerationDeg of `path_start` is below
-// max_path_acceleration_deg: a candidate that Reconstruct() keeps only when
-// the tracks are fitted within max_path_fit_ratio with it. `strength` (≥ 1)
-// multiplies the shape prior's weight: a re-solve of a result the data did not
-// determine (solvers/pipeline/reconstruct.h). `path_start` is the start the
-// path is measured on (solvers/pipeline/ reconstruct.h: one with at most
+// DecidePriors): temporal_shape at its full weight, with the path prior
+// (rotation_acceleration) when PathAccelerationDeg of `path_start` is below
+// max_path_acceleration_deg, and the alternative (temporal_shape_alternative)
+// from the start's DeformationCoherence, continuous in it. Reconstruct()
+// keeps the full priors when the tracks are fitted within
+// max_prior_fit_ratio with them, else the alternative without the path
+// prior. `strength` (≥ 1) multiplies the shape prior's weight: a re-solve of
+// a result the data did not determine (solvers/pipeline/reconstruct.h).
+// `path_start` is the start the path is measured on (one with at most
 // CameraBasesCap bases).
 void DecideStartPriors(const PriorRuleOptions& options, const Model& start,
                        const Model& path_start, double strength,

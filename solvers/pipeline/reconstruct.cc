@@ -119,21 +119,27 @@ Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
     return Refine(problem, options.solver, measurements, &result->model,
                   &result->refine, kept);
   }
+  const double alternative = result->priors.temporal_shape_alternative;
+  const auto temporal = problem.term_weights.find(kTemporalShapeTerm);
+  const bool weaker = temporal != problem.term_weights.end() &&
+                      alternative >= 0.0 && alternative < temporal->second;
   if (options.priors != PriorMode::kAuto ||
-      problem.term_weights.count(kRotationAccelerationTerm) == 0) {
+      (problem.term_weights.count(kRotationAccelerationTerm) == 0 && !weaker)) {
     return Refine(problem, options.solver, measurements, &result->model,
                   &result->refine);
   }
-  // The path prior is a candidate: refined with it and without it, side by
-  // side when there are threads for both (the one without reports no
-  // progress and asks for no stop of the caller's); it is kept when the
-  // tracks are fitted within max_path_fit_ratio with it. The one without
-  // stops once it has run as many iterations as the one with it took to
-  // converge (its fit then is no better than at its end, so the test leans
-  // to keeping the prior), and goes on to its end only when it is the
-  // answer.
+  // The full priors (temporal_shape at its full weight, the path prior when
+  // a candidate) against the alternative (the coherence weight, no path
+  // prior): refined side by side when there are threads for both (the
+  // alternative reports no progress and asks for no stop of the caller's);
+  // the full priors are kept when the tracks are fitted within
+  // max_prior_fit_ratio with them. The alternative stops once it has run as
+  // many iterations as the full priors took to converge (its fit then is no
+  // better than at its end, so the test leans to the full priors), and goes
+  // on to its end only when it is the answer.
   ProblemOptions free_path = problem;
   free_path.term_weights.erase(kRotationAccelerationTerm);
+  if (weaker) free_path.term_weights[kTemporalShapeTerm] = alternative;
   std::atomic<int> with_iterations{-1};  // set once the one with it ends
   SolverOptions quiet = options.solver;
   int free_iteration = 0;
@@ -168,12 +174,12 @@ Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
     return Status::OK();  // a stop asked for, or no fit to compare with
   }
   if (result->refine.usable && free_summary.reprojection_rms > 0.0) {
-    result->priors.path_fit_ratio =
+    result->priors.prior_fit_ratio =
         result->refine.reprojection_rms / free_summary.reprojection_rms;
   }
   if (!result->refine.usable ||
-      result->priors.path_fit_ratio > options.prior_rule.max_path_fit_ratio) {
-    result->priors.term_weights.erase(kRotationAccelerationTerm);
+      result->priors.prior_fit_ratio > options.prior_rule.max_prior_fit_ratio) {
+    result->priors.term_weights = free_path.term_weights;
     if (free_summary.stopped) {
       // Abandoned by the race rule: refined on to its end, the answer.
       RefineSummary rest;

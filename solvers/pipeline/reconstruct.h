@@ -114,10 +114,11 @@ inline constexpr int kMaxObservationsForTwoAtOnce = 1000000;
 // 1. Camera stage: the start with K_cam bases and its refinement. A video
 //    with temporal_shape starts from the corrective triple alone (its
 //    weight and the path prior decided on that start, the path measured on
-//    a start with at most CameraBasesCap bases, computed beside it); a path
-//    prior candidate is refined with and without the prior side by side and
-//    kept when the tracks are fitted within max_path_fit_ratio with it
-//    (progress reports are the refinement's with the prior).
+//    a start with at most CameraBasesCap bases, computed beside it): the full
+//    priors (temporal_shape at its full weight, the path prior when a
+//    candidate) are refined beside the alternative (the coherence weight, no
+//    path prior) and kept when the tracks are fitted within
+//    max_prior_fit_ratio with them (progress reports are the full priors').
 //    Otherwise the factorization and rigid starts are refined side by side
 //    (solvers/pipeline/two_starts.h) and the lower cost kept. With a shape
 //    prior the stage stops at prior_rule.camera_function_tolerance.

@@ -348,7 +348,7 @@ TEST_F(CliTest, YogaWithDefaultOptions) {
   EXPECT_GT(result["diagnostics"]["deformation_coherence"].get<double>(), 0.99);
   EXPECT_EQ(result["term_weights"]["rotation_acceleration"].get<double>(), 1e6);
   // The path prior kept: measured 1.08 (with it over without it).
-  EXPECT_LT(result["diagnostics"]["path_fit_ratio"].get<double>(), 1.2);
+  EXPECT_LT(result["diagnostics"]["prior_fit_ratio"].get<double>(), 1.2);
   EXPECT_LT(result["diagnostics"]["track_step"].get<double>(), 0.1);
   EXPECT_LT(result["diagnostics"]["path_acceleration_deg"].get<double>(), 0.05);
   EXPECT_GT(result["diagnostics"]["largest_view_angle_deg"].get<double>(),

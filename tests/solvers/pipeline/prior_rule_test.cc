@@ -248,7 +248,7 @@ TEST(PriorRule, DeformationCoherenceByHand) {
   EXPECT_EQ(DeformationCoherence(TwoBasisModel({2})), -1.0);       // F < 2
 }
 
-TEST(PriorRule, TemporalShapeWeightFollowsTheCoherence) {
+TEST(PriorRule, TheAlternativeTemporalShapeWeightFollowsTheCoherence) {
   PriorRuleOptions options;
   options.max_path_acceleration_deg = 0.0;  // no path prior here
   PriorDecision decision;
@@ -257,16 +257,21 @@ TEST(PriorRule, TemporalShapeWeightFollowsTheCoherence) {
   PriorDecision smooth = decision, alternating = decision, strong = decision;
   const Model ramp = TwoBasisModel({0, 1, 2, 3});
   DecideStartPriors(options, ramp, ramp, 1.0, &smooth);
+  // The full weight stays the candidate; the alternative is
   // 1 · (10⁻⁴)^(0.4⁴) = 10^(−0.1024) = 0.78995.
-  EXPECT_NEAR(smooth.term_weights.at("temporal_shape"), 0.78995, 1e-5);
+  EXPECT_EQ(smooth.term_weights.at("temporal_shape"),
+            options.temporal_shape_weight);
+  EXPECT_NEAR(smooth.temporal_shape_alternative, 0.78995, 1e-5);
   EXPECT_NEAR(smooth.deformation_coherence, 0.6, 1e-12);
   const Model flip = TwoBasisModel({1, -1, 1, -1});
   DecideStartPriors(options, flip, flip, 1.0, &alternating);
-  EXPECT_NEAR(alternating.term_weights.at("temporal_shape"),
+  EXPECT_NEAR(alternating.temporal_shape_alternative,
               options.min_temporal_shape_weight, 1e-15);
-  // A repair's strength multiplies it.
+  // A repair's strength multiplies both.
   DecideStartPriors(options, ramp, ramp, 10.0, &strong);
-  EXPECT_NEAR(strong.term_weights.at("temporal_shape"), 7.8995, 1e-4);
+  EXPECT_EQ(strong.term_weights.at("temporal_shape"),
+            10.0 * options.temporal_shape_weight);
+  EXPECT_NEAR(strong.temporal_shape_alternative, 7.8995, 1e-4);
 }
 
 // Tracks x = a + b t + c t² per coordinate have third differences 0; white
