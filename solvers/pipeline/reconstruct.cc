@@ -153,7 +153,10 @@ Status StartAndRefine(const ReconstructOptions& options, StartMethod method,
   Model free_model = result->model;
   RefineSummary free_summary;
   Status with_status, free_status;
-  const bool side_by_side = threads >= 2;
+  // Inputs above kMaxObservationsForTwoAtOnce refine one after the other
+  // (the two problems would not both fit in memory).
+  const bool side_by_side =
+      threads >= 2 && measurements.NumVisible() <= kMaxObservationsForTwoAtOnce;
   ParallelForWorker(
       2, side_by_side ? 2 : 1, /*grain=*/1, [&](int begin, int end, int) {
         for (int i = begin; i < end; ++i) {
