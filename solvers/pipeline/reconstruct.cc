@@ -478,6 +478,16 @@ Status Repair(const ReconstructOptions& options,
       (options.solver.stop_requested && options.solver.stop_requested())) {
     return Status::OK();  // the caller asked to stop: no further solve
   }
+  // The rigid answer is computed only for a result that is not usable, ended
+  // at its iteration limit or is deeper than kLargeDepthRatio: every other
+  // passes the check against any rigid answer but by its fit, which a
+  // refinement from a start with K ≥ 1 bases does not lose.
+  if (result->refine.usable && !AtIterationLimit(options, result->refine) &&
+      !(result->camera_stage &&
+        AtIterationLimit(options, result->camera_refine)) &&
+      DepthRatio(result->model) <= kLargeDepthRatio) {
+    return Status::OK();
+  }
   ReconstructOptions rigid_options = options;
   rigid_options.start.num_bases = 1;
   rigid_options.priors = PriorMode::kManual;

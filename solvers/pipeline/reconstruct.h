@@ -67,9 +67,9 @@ struct ReconstructResult {
   double depth_ratio = 0;
   std::vector<std::string> warnings;
   // priors = auto: the rigid answer's reprojection RMS and depth ratio
-  // (K = 1, the rigid start, no extra term; -1 when it failed), against
-  // which the result was checked, and the repair: 1 = none, s > 1 = the
-  // shape prior s times stronger, 0 = the rigid answer returned (see
+  // (K = 1, the rigid start, no extra term; -1 when it was not needed or
+  // failed), against which the result was checked, and the repair: 1 = none, s
+  // > 1 = the shape prior s times stronger, 0 = the rigid answer returned (see
   // Reconstruct()).
   double rigid_reprojection_rms = -1;
   double rigid_depth_ratio = -1;
@@ -124,12 +124,13 @@ inline constexpr int kMaxObservationsForTwoAtOnce = 1000000;
 //    prior the stage stops at prior_rule.camera_function_tolerance.
 // 2. Shape stage, when K_cam > K: the shapes reduced to K bases
 //    (ReduceNumBases), refined with the rotations held.
-// 3. Repair: the result is checked against the tool's own rigid answer
-//    (K = 1, rigid start, no term): usable, ended by a tolerance, no deeper
-//    than max(kLargeDepthRatio, the rigid answer's DepthRatio), fitting the
-//    tracks no worse. One that fails is re-solved with the shape prior
-//    kRepairStrengths times stronger; when none passes, the rigid answer is
-//    returned with K bases (weights 1, 0, …). result->repair_strength and a
+// 3. Repair: a result that is not usable, ended at its iteration limit or
+//    is deeper than kLargeDepthRatio is checked against the tool's own rigid
+//    answer (K = 1, rigid start, no term): usable, ended by a tolerance, no
+//    deeper than max(kLargeDepthRatio, the rigid answer's DepthRatio),
+//    fitting the tracks no worse. One that fails is re-solved with the shape
+//    prior kRepairStrengths times stronger; when none passes, the rigid answer
+//    is returned with K bases (weights 1, 0, …). result->repair_strength and a
 //    warning say which.
 // With priors = manual: the given start (auto: both starts) with exactly the
 // given terms, one stage, no repair. Points and frames with too few
