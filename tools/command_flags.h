@@ -392,9 +392,9 @@ struct SetsNothing {};
         {kReconstruct,                                                         \
          "(--priors auto) the start's camera-path acceleration, deg/frame^2, " \
          "below which the rotation prior is tried; 0 = never."}))              \
-  X(double, rule_max_prior_fit_ratio,                                           \
-    ::nrsfm::PriorRuleOptions().max_prior_fit_ratio, kStart,                    \
-    NRSFM_SETS(reconstruct, prior_rule.max_prior_fit_ratio),                    \
+  X(double, rule_max_prior_fit_ratio,                                          \
+    ::nrsfm::PriorRuleOptions().max_prior_fit_ratio, kStart,                   \
+    NRSFM_SETS(reconstruct, prior_rule.max_prior_fit_ratio),                   \
     NRSFM_HELP({kReconstruct,                                                  \
                 "(--priors auto) the path prior is kept when the tracks are "  \
                 "fitted within this factor (RMS) of the fit without it."}))    \
