@@ -484,6 +484,30 @@ TEST(Reconstruct, NoisyRandomBasisGetsAWeakPriorNotTheDataAlone) {
   }
 }
 
+// The full priors and the alternative refine side by side with two threads
+// and one after the other with one, in lockstep: the same bits either way
+// (seed 11: the alternative is kept, refined on after the lockstep stopped
+// it; drink-like sequences keep the full priors).
+TEST(Reconstruct, PriorComparisonGivesTheBitsOfOneThread) {
+  const SyntheticSequence s = NoisyRandom(11, 0.01);
+  ReconstructResult one, two;
+  for (int threads : {1, 2}) {
+    ReconstructOptions options;
+    options.start.num_bases = 3;
+    options.solver.num_threads = threads;
+    ASSERT_TRUE(
+        Reconstruct(options, s.measurements, threads == 1 ? &one : &two).ok());
+  }
+  EXPECT_GT(one.priors.prior_fit_ratio, 0.0);
+  EXPECT_EQ(std::memcmp(&one.priors.prior_fit_ratio,
+                        &two.priors.prior_fit_ratio, sizeof(double)),
+            0);
+  EXPECT_EQ(one.refine.iterations, two.refine.iterations);
+  EXPECT_TRUE(one.model.rotations == two.model.rotations &&
+              one.model.weights == two.model.weights &&
+              one.model.basis == two.model.basis);
+}
+
 // A prior too weak to fix the depth (the rule's weights set 10¹² times
 // below its own) from the factorization start, whose metric upgrade is
 // indefinite on these tracks: the answer is deep, so is its re-solve 10 and
