@@ -3,6 +3,7 @@
 #include <glog/logging.h>
 
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "problems/deformation_error.h"
@@ -32,11 +33,12 @@ Status AddSmoothness(double weight, const ProblemOptions& options,
       coefficients.push_back(-stencil.weights[q]);
       blocks.push_back(builder->BasisBlock(stencil.neighbours[q]));
     }
+    // One cost function for the stencil's blocks in every frame.
+    ceres::CostFunction* cost = builder->Own(std::make_unique<SmoothnessError>(
+        model.num_bases, scale, std::move(coefficients)));
     for (int t = 0; t < model.num_frames; ++t) {
       blocks[0] = builder->WeightsBlock(t);
-      builder->problem()->AddResidualBlock(
-          new SmoothnessError(model.num_bases, scale, coefficients), nullptr,
-          blocks);
+      builder->problem()->AddResidualBlock(cost, nullptr, blocks);
       ++*num_blocks;
     }
   }
@@ -46,11 +48,14 @@ Status AddSmoothness(double weight, const ProblemOptions& options,
 Status AddRigidity(double weight, const ProblemOptions&,
                    ProblemBuilder* builder, int* num_blocks) {
   const Model& model = *builder->model();
-  const double sqrt_weight = std::sqrt(weight);
+  // The terms' cost functions hold no per-block data: one serves every
+  // block of the term (problems/problem_builder.h owns it).
+  ceres::CostFunction* cost = builder->Own(std::unique_ptr<ceres::CostFunction>(
+      RigidityError::Create(std::sqrt(weight))));
   for (int t = 0; t < model.num_frames; ++t) {
     for (int c = 1; c < model.num_cameras; ++c) {
       builder->problem()->AddResidualBlock(
-          RigidityError::Create(sqrt_weight), nullptr,
+          cost, nullptr,
           {builder->RotationBlock(t, c), builder->RotationBlock(t, 0),
            builder->RigRotationBlock(c), builder->ScaleBlock(t, c),
            builder->RigScaleBlock(c)});
@@ -66,11 +71,11 @@ Status AddRigidity(double weight, const ProblemOptions&,
 Status AddTemporalWeights(double weight, const ProblemOptions&,
                           ProblemBuilder* builder, int* num_blocks) {
   const Model& model = *builder->model();
-  const double sqrt_weight = std::sqrt(weight);
+  ceres::CostFunction* cost = builder->Own(std::unique_ptr<ceres::CostFunction>(
+      WeightsTemporalError::Create(model.num_bases, std::sqrt(weight))));
   for (int t = 1; t < model.num_frames; ++t) {
     builder->problem()->AddResidualBlock(
-        WeightsTemporalError::Create(model.num_bases, sqrt_weight), nullptr,
-        builder->WeightsBlock(t), builder->WeightsBlock(t - 1));
+        cost, nullptr, builder->WeightsBlock(t), builder->WeightsBlock(t - 1));
     ++*num_blocks;
   }
   return Status::OK();
@@ -79,12 +84,13 @@ Status AddTemporalWeights(double weight, const ProblemOptions&,
 Status AddTemporalRotations(double weight, const ProblemOptions&,
                             ProblemBuilder* builder, int* num_blocks) {
   const Model& model = *builder->model();
-  const double sqrt_weight = std::sqrt(weight);
+  ceres::CostFunction* cost = builder->Own(std::unique_ptr<ceres::CostFunction>(
+      RotationTemporalError::Create(std::sqrt(weight))));
   for (int t = 1; t < model.num_frames; ++t) {
     for (int c = 0; c < model.num_cameras; ++c) {
-      builder->problem()->AddResidualBlock(
-          RotationTemporalError::Create(sqrt_weight), nullptr,
-          builder->RotationBlock(t, c), builder->RotationBlock(t - 1, c));
+      builder->problem()->AddResidualBlock(cost, nullptr,
+                                           builder->RotationBlock(t, c),
+                                           builder->RotationBlock(t - 1, c));
       ++*num_blocks;
     }
   }
@@ -94,11 +100,12 @@ Status AddTemporalRotations(double weight, const ProblemOptions&,
 Status AddTemporalShape(double weight, const ProblemOptions&,
                         ProblemBuilder* builder, int* num_blocks) {
   const Model& model = *builder->model();
-  const double sqrt_weight = std::sqrt(weight);
+  ceres::CostFunction* cost = builder->Own(
+      std::make_unique<ShapeTemporalError>(model.num_bases, std::sqrt(weight)));
   for (int t = 1; t < model.num_frames; ++t) {
     for (int p = 0; p < model.num_points; ++p) {
       builder->problem()->AddResidualBlock(
-          new ShapeTemporalError(model.num_bases, sqrt_weight), nullptr,
+          cost, nullptr,
           {builder->WeightsBlock(t), builder->WeightsBlock(t - 1),
            builder->BasisBlock(p)});
       ++*num_blocks;
@@ -113,7 +120,8 @@ Status AddDeformation(double weight, const ProblemOptions&,
   // The residual leaves basis shape 1 free; starting with basis shape 1 the
   // mean shape puts the start's rigid part there (the shapes are unchanged).
   model.MakeFirstBasisTheMean();
-  const double sqrt_weight = std::sqrt(weight);
+  ceres::CostFunction* cost = builder->Own(
+      std::make_unique<DeformationError>(model.num_bases, std::sqrt(weight)));
   for (int t = 0; t < model.num_frames; ++t) {
     if (!builder->problem()->HasParameterBlock(builder->WeightsBlock(t)))
       continue;
@@ -121,8 +129,7 @@ Status AddDeformation(double weight, const ProblemOptions&,
       if (!builder->problem()->HasParameterBlock(builder->BasisBlock(p)))
         continue;
       builder->problem()->AddResidualBlock(
-          new DeformationError(model.num_bases, sqrt_weight), nullptr,
-          builder->WeightsBlock(t), builder->BasisBlock(p));
+          cost, nullptr, builder->WeightsBlock(t), builder->BasisBlock(p));
       ++*num_blocks;
     }
   }
@@ -134,10 +141,12 @@ Status AddRotationAcceleration(double weight, const ProblemOptions&,
   const Model& model = *builder->model();
   const double scale =
       std::sqrt(weight) * builder->measurements().ImageSpreadRms();
+  ceres::CostFunction* cost = builder->Own(std::unique_ptr<ceres::CostFunction>(
+      RotationAccelerationError::Create(scale)));
   for (int t = 1; t + 1 < model.num_frames; ++t) {
     for (int c = 0; c < model.num_cameras; ++c) {
       builder->problem()->AddResidualBlock(
-          RotationAccelerationError::Create(scale), nullptr,
+          cost, nullptr,
           {builder->RotationBlock(t + 1, c), builder->RotationBlock(t, c),
            builder->RotationBlock(t - 1, c)});
       ++*num_blocks;

@@ -13,31 +13,33 @@ namespace nrsfm {
 namespace {
 
 template <int K>
-ceres::CostFunction* CreateFixedK(bool with_scale,
-                                  const Eigen::Vector2d& observation,
-                                  double sqrt_weight) {
-  return new ReprojectionCostFunction<K>(K, with_scale, observation,
-                                         sqrt_weight);
+std::unique_ptr<ceres::CostFunction> CreateFixedK(
+    bool with_scale, const Eigen::Vector2d& observation, double sqrt_weight) {
+  return std::make_unique<ReprojectionCostFunction<K>>(
+      K, with_scale, observation, sqrt_weight);
 }
 
 ceres::Problem::Options MakeProblemOptions() {
   ceres::Problem::Options options;
+  options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-  // The blocks are the model's storage; the caller owns them.
+  // The blocks are the model's storage; the caller owns them. The builder
+  // owns the cost functions and losses.
   return options;
 }
 
 }  // namespace
 
-ceres::CostFunction* CreateReprojectionCostFunction(
+std::unique_ptr<ceres::CostFunction> CreateReprojectionCostFunction(
     int num_bases, bool with_scale, bool autodiff,
     const Eigen::Vector2d& observation, double sqrt_weight) {
   CHECK_GE(num_bases, 1);
   const Eigen::Vector2d& o = observation;
   const double w = sqrt_weight;
   if (autodiff)
-    return DynamicReprojectionError::Create(num_bases, with_scale, o, w);
+    return std::unique_ptr<ceres::CostFunction>(
+        DynamicReprojectionError::Create(num_bases, with_scale, o, w));
   static_assert(kMaxStaticBases == 16, "update the switch below");
   switch (num_bases) {
     case 1:
@@ -73,8 +75,8 @@ ceres::CostFunction* CreateReprojectionCostFunction(
     case 16:
       return CreateFixedK<16>(with_scale, o, w);
     default:
-      return new ReprojectionCostFunction<Eigen::Dynamic>(num_bases, with_scale,
-                                                          o, w);
+      return std::make_unique<ReprojectionCostFunction<Eigen::Dynamic>>(
+          num_bases, with_scale, o, w);
   }
 }
 
@@ -170,6 +172,18 @@ Status ProblemBuilder::CheckInputs(const ProblemOptions& options,
   return Status::OK();
 }
 
+ceres::CostFunction* ProblemBuilder::Own(
+    std::unique_ptr<ceres::CostFunction> cost) {
+  cost_functions_.push_back(std::move(cost));
+  return cost_functions_.back().get();
+}
+
+ceres::ResidualBlockId ProblemBuilder::AddResidualBlock(
+    std::unique_ptr<ceres::CostFunction> cost, ceres::LossFunction* loss,
+    const std::vector<double*>& blocks) {
+  return problem_.AddResidualBlock(Own(std::move(cost)), loss, blocks);
+}
+
 Status ProblemBuilder::AddReprojectionTerms(const ProblemOptions& options) {
   CHECK_EQ(num_reprojection_terms_, 0) << "AddReprojectionTerms called twice";
   NRSFM_RETURN_IF_ERROR(CheckInputs(options, *measurements_, *model_));
@@ -187,14 +201,16 @@ Status ProblemBuilder::AddReprojectionTerms(const ProblemOptions& options) {
         const double weight =
             weighted ? options.observation_weights(view, p) : 1.0;
         if (weight == 0.0) continue;
-        ceres::CostFunction* cost = CreateReprojectionCostFunction(
-            num_bases, with_scale, options.autodiff, m.Observation(t, c, p),
-            std::sqrt(weight));
+        std::unique_ptr<ceres::CostFunction> cost =
+            CreateReprojectionCostFunction(
+                num_bases, with_scale, options.autodiff, m.Observation(t, c, p),
+                std::sqrt(weight));
         std::vector<double*> blocks = {RotationBlock(t, c),
                                        TranslationBlock(t, c), WeightsBlock(t),
                                        BasisBlock(p)};
         if (with_scale) blocks.push_back(ScaleBlock(t, c));
-        problem_.AddResidualBlock(cost, LossForWeight(options, weight), blocks);
+        AddResidualBlock(std::move(cost), LossForWeight(options, weight),
+                         blocks);
         ++num_reprojection_terms_;
       }
     }

@@ -33,32 +33,50 @@ void FindGrids(StructuredBlocks* s) {
   // same form are never summed as one grid.
   std::map<std::pair<std::type_index, std::vector<double>>, Candidate>
       candidates;
+  // The last residual's cost function, its form and candidate: the blocks
+  // of one term usually share one cost function (problems/extra_terms.cc),
+  // so each form is asked for once per run of blocks.
+  const ceres::CostFunction* last_cost = nullptr;
+  bool last_has_form = false;
+  BilinearForm form;
+  Candidate* candidate = nullptr;
+  std::vector<std::pair<int, double>> row, column, last_row;
+  int last_row_index = -1;
   for (std::size_t i = 0; i < s->residuals.size(); ++i) {
     const Residual& r = s->residuals[i];
-    BilinearForm form;
-    if (r.product == nullptr || !r.product->GetBilinearForm(&form)) continue;
-    CHECK_EQ(form.signs.size(), r.slot_block.size());
-    CHECK_EQ(form.is_weights.size(), r.slot_block.size());
-    CHECK(form.mask.empty() ||
-          static_cast<int>(form.mask.size()) == form.num_bases);
-    std::vector<double> mask = form.mask;
-    if (mask.empty()) mask.assign(form.num_bases, 1.0);
-    // The columns keep their own points and signs (a smoothness stencil's
-    // count and weights vary from point to point), so only the rows' form
-    // is the pattern.
-    std::vector<double> pattern = {static_cast<double>(form.num_bases)};
-    pattern.insert(pattern.end(), mask.begin(), mask.end());
-    for (std::size_t k = 0; k < form.signs.size(); ++k) {
-      if (form.is_weights[k]) pattern.push_back(form.signs[k]);
+    if (r.cost != last_cost) {
+      last_cost = r.cost;
+      last_row.clear();
+      last_row_index = -1;
+      last_has_form = r.product != nullptr && r.product->GetBilinearForm(&form);
+      if (last_has_form) {
+        CHECK_EQ(form.signs.size(), r.slot_block.size());
+        CHECK_EQ(form.is_weights.size(), r.slot_block.size());
+        CHECK(form.mask.empty() ||
+              static_cast<int>(form.mask.size()) == form.num_bases);
+        std::vector<double> mask = form.mask;
+        if (mask.empty()) mask.assign(form.num_bases, 1.0);
+        // The columns keep their own points and signs (a smoothness
+        // stencil's count and weights vary from point to point), so only
+        // the rows' form is the pattern.
+        std::vector<double> pattern = {static_cast<double>(form.num_bases)};
+        pattern.insert(pattern.end(), mask.begin(), mask.end());
+        for (std::size_t k = 0; k < form.signs.size(); ++k) {
+          if (form.is_weights[k]) pattern.push_back(form.signs[k]);
+        }
+        candidate = &candidates[{std::type_index(typeid(*r.cost)), pattern}];
+        if (candidate->members.empty()) {
+          candidate->grid.num_bases = form.num_bases;
+          candidate->grid.mask = Eigen::Map<const Eigen::VectorXd>(
+              mask.data(), static_cast<Eigen::Index>(mask.size()));
+        }
+      }
     }
-    Candidate& c = candidates[{std::type_index(typeid(*r.cost)), pattern}];
+    if (!last_has_form || r.product == nullptr) continue;
+    Candidate& c = *candidate;
     if (!c.valid) continue;
-    if (c.members.empty()) {
-      c.grid.num_bases = form.num_bases;
-      c.grid.mask = Eigen::Map<const Eigen::VectorXd>(
-          mask.data(), static_cast<Eigen::Index>(mask.size()));
-    }
-    std::vector<std::pair<int, double>> row, column;
+    row.clear();
+    column.clear();
     for (std::size_t k = 0; k < r.slot_block.size() && c.valid; ++k) {
       const int block = r.slot_block[k];
       if (block < 0) {
@@ -77,12 +95,19 @@ void FindGrids(StructuredBlocks* s) {
       }
     }
     if (!c.valid) continue;
-    auto q = c.row_index.find(row);
-    if (q == c.row_index.end()) {
-      q = c.row_index.emplace(row, static_cast<int>(c.grid.rows.size())).first;
-      std::vector<BilinearGrid::Term> terms;
-      for (const auto& [block, sign] : row) terms.push_back({block, sign});
-      c.grid.rows.push_back(std::move(terms));
+    // Consecutive blocks of a term often share their row (one frame's
+    // points).
+    if (last_row_index < 0 || row != last_row) {
+      auto q = c.row_index.find(row);
+      if (q == c.row_index.end()) {
+        q = c.row_index.emplace(row, static_cast<int>(c.grid.rows.size()))
+                .first;
+        std::vector<BilinearGrid::Term> terms;
+        for (const auto& [block, sign] : row) terms.push_back({block, sign});
+        c.grid.rows.push_back(std::move(terms));
+      }
+      last_row = row;
+      last_row_index = q->second;
     }
     auto e = c.column_index.find(column);
     if (e == c.column_index.end()) {
@@ -99,7 +124,7 @@ void FindGrids(StructuredBlocks* s) {
       continue;
     }
     c.members.push_back(static_cast<int>(i));
-    c.cells.emplace_back(q->second, e->second);
+    c.cells.emplace_back(last_row_index, e->second);
   }
   for (auto& [pattern, c] : candidates) {
     std::sort(c.cells.begin(), c.cells.end());

@@ -269,13 +269,14 @@ bool SolveStructured(const StructuredSolverOptions& options,
     blocks = StructuredBlocks();
     return false;
   }
-  VLOG(2) << "structured layout: " << blocks.residuals.size()
-          << " residual blocks, " << blocks.grids.size()
-          << " grids (terms summed at once), "
+  VLOG(2) << "structured layout in " << SecondsSince(start)
+          << " s: " << blocks.residuals.size() << " residual blocks, "
+          << blocks.grids.size() << " grids (terms summed at once), "
           << blocks.coupling_residuals.size()
           << " other blocks that couple points";
   Solver solver(options, blocks);
   const double setup_seconds = SecondsSince(start);
+  VLOG(2) << "structured solver set up in " << setup_seconds << " s";
   const bool ran = solver.Run(summary);
   summary->setup_seconds = setup_seconds;
   return ran;

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -278,9 +279,10 @@ TEST(ProblemBuilder, ExtraTermsPlugInThroughTheBlockAccessors) {
   ProblemBuilder builder(&s.measurements, &s.truth);
   ASSERT_TRUE(builder.AddReprojectionTerms(ProblemOptions()).ok());
   EXPECT_TRUE(builder.PointBlocksAreIndependent());
-  builder.problem()->AddResidualBlock(
-      new ceres::AutoDiffCostFunction<Difference, 6, 6, 6>(new Difference),
-      nullptr, builder.BasisBlock(0), builder.BasisBlock(1));
+  builder.AddResidualBlock(
+      std::make_unique<ceres::AutoDiffCostFunction<Difference, 6, 6, 6>>(
+          new Difference),
+      nullptr, {builder.BasisBlock(0), builder.BasisBlock(1)});
   EXPECT_FALSE(builder.PointBlocksAreIndependent());
   // The points are still eliminated, together
   // (solvers/refine/schur_elimination.h).

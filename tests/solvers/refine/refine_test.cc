@@ -7,6 +7,7 @@
 #include <Eigen/LU>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <random>
 #include <string>
 #include <thread>
@@ -469,10 +470,10 @@ TEST(Refine, SolveProblemRunsACallerBuiltProblem) {
   hold_shape.constant_basis = true;
   hold_shape.constant_weights = true;
   ASSERT_TRUE(builder.AddReprojectionTerms(hold_shape).ok());
-  builder.problem()->AddResidualBlock(
-      new ceres::NormalPrior(100.0 * Eigen::Matrix2d::Identity(),
-                             Eigen::Vector2d(5, 5)),
-      nullptr, builder.TranslationBlock(0, 0));
+  builder.AddResidualBlock(
+      std::make_unique<ceres::NormalPrior>(100.0 * Eigen::Matrix2d::Identity(),
+                                           Eigen::Vector2d(5, 5)),
+      nullptr, {builder.TranslationBlock(0, 0)});
   RefineSummary summary;
   ASSERT_TRUE(SolveProblem(SolverOptions(), &builder, &summary).ok());
   EXPECT_TRUE(summary.usable);
