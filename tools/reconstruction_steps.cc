@@ -233,6 +233,14 @@ ReconstructionReport MakeReport(const CommandFlags& flags,
       {"start_rigid_rms", result.start.rigid_rms},
       {"start_triple_sign_segments",
        static_cast<double>(result.start.triple_sign_segments)}};
+  if (run.auto_k) {
+    // --K auto: the noise the curve was judged against and how many K were
+    // reconstructed for it (solvers/pipeline/select_num_bases.h).
+    report.diagnostics.emplace_back("k_selection_noise_stddev",
+                                    run.selection.noise_stddev);
+    report.diagnostics.emplace_back(
+        "k_selection_tried", static_cast<double>(run.selection.curve.size()));
+  }
   if (!result.refine.usable) {
     report.warnings.push_back("refinement not usable: " +
                               result.refine.message);

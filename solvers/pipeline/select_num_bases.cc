@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <sstream>
 #include <utility>
 
@@ -56,8 +57,8 @@ Status SelectNumBases(const ReconstructOptions& options,
   }
 
   SelectNumBasesResult out;
-  std::vector<ReconstructResult> reconstructions;
-  for (int k = 1; k <= k_max; ++k) {
+  // One point of the curve: K reconstructed, its reprojection RMS.
+  const auto curve_point = [&](int k, ReconstructResult* reconstruction) {
     ReconstructOptions k_options = options;
     k_options.start.num_bases = k;
     // The curve measures how well K bases fit the tracks: with priors = auto
@@ -74,59 +75,64 @@ Status SelectNumBases(const ReconstructOptions& options,
         std::min(options.solver.max_iterations, kCurveMaxIterations);
     NumBasesCandidate candidate;
     candidate.num_bases = k;
-    ReconstructResult reconstruction;
-    const Status status = Reconstruct(k_options, measurements, &reconstruction);
+    const Status status = Reconstruct(k_options, measurements, reconstruction);
     if (!status.ok()) {
       candidate.message = status.message();
-    } else if (!reconstruction.refine.usable) {
+    } else if (!reconstruction->refine.usable) {
       candidate.message =
-          "refinement not usable: " + reconstruction.refine.message;
+          "refinement not usable: " + reconstruction->refine.message;
     } else {
       candidate.ok = true;
-      candidate.reprojection_rms = reconstruction.refine.reprojection_rms;
-      candidate.seconds = reconstruction.total_seconds;
+      candidate.reprojection_rms = reconstruction->refine.reprojection_rms;
+      candidate.seconds = reconstruction->total_seconds;
     }
-    out.curve.push_back(candidate);
-    reconstructions.push_back(std::move(reconstruction));
-  }
+    return candidate;
+  };
 
-  // σ̂ from the best-fitting (largest successful) K.
+  // σ̂ from the best-fitting (largest successful) K, tried first: the rule
+  // keeps the smallest K that passes, so the curve below it stops there.
+  std::map<int, NumBasesCandidate> tried;
+  std::map<int, ReconstructResult> reconstructions;
   int reference = -1;
-  for (int i = k_max - 1; i >= 0; --i) {
-    if (out.curve[i].ok) {
-      reference = i;
-      break;
-    }
+  for (int k = k_max; k >= 1 && reference < 0; --k) {
+    tried[k] = curve_point(k, &reconstructions[k]);
+    if (tried[k].ok) reference = k;
   }
   if (reference < 0) {
     return Status::Error("K selection: no K in 1.." + std::to_string(k_max) +
-                         " reconstructed; K = 1: " + out.curve[0].message);
+                         " reconstructed; K = 1: " + tried[1].message);
   }
   const double n_obs = 2.0 * num_observations;
   const double rss =
-      n_obs * 0.5 * std::pow(out.curve[reference].reprojection_rms, 2);
-  const double dof = n_obs - NumFreeParameters(measurements, reference + 1);
+      n_obs * 0.5 * std::pow(tried[reference].reprojection_rms, 2);
+  const double dof = n_obs - NumFreeParameters(measurements, reference);
   out.noise_stddev = std::sqrt(rss / std::max(dof, 1.0));
   const double floor = kRelativeNoiseFloor * measurements.ImageSpreadRms();
-
-  out.num_bases = reference + 1;
-  for (auto& candidate : out.curve) {
-    const double dof_k =
-        n_obs - NumFreeParameters(measurements, candidate.num_bases);
-    candidate.expected_rms =
-        out.noise_stddev * std::sqrt(2.0 * std::max(dof_k, 0.0) / n_obs);
-  }
-  for (const auto& candidate : out.curve) {
-    if (!candidate.ok) continue;
-    if (candidate.reprojection_rms <=
-        select_options.threshold * std::max(candidate.expected_rms, floor)) {
-      out.num_bases = candidate.num_bases;
+  const auto expected_rms = [&](int k) {
+    const double dof_k = n_obs - NumFreeParameters(measurements, k);
+    return out.noise_stddev * std::sqrt(2.0 * std::max(dof_k, 0.0) / n_obs);
+  };
+  const auto passes = [&](const NumBasesCandidate& candidate) {
+    return candidate.ok && candidate.reprojection_rms <=
+                               select_options.threshold *
+                                   std::max(candidate.expected_rms, floor);
+  };
+  out.num_bases = reference;
+  for (int k = 1; k <= reference; ++k) {
+    if (tried.count(k) == 0) tried[k] = curve_point(k, &reconstructions[k]);
+    tried[k].expected_rms = expected_rms(k);
+    if (passes(tried[k])) {
+      out.num_bases = k;
       break;
     }
   }
+  for (auto& [k, candidate] : tried) {
+    candidate.expected_rms = expected_rms(k);
+    out.curve.push_back(candidate);
+  }
   // The chosen K once more with the solver's own iteration limit (and, with
   // priors = auto, the rule's terms), unless its curve solve already had both.
-  const ReconstructResult& curve_result = reconstructions[out.num_bases - 1];
+  const ReconstructResult& curve_result = reconstructions[out.num_bases];
   if (options.priors == PriorMode::kAuto ||
       (curve_result.refine.usable && !curve_result.refine.converged &&
        kCurveMaxIterations < options.solver.max_iterations)) {
@@ -136,7 +142,7 @@ Status SelectNumBases(const ReconstructOptions& options,
         Reconstruct(chosen, measurements, &out.reconstruction)
             .WithContext("K = " + std::to_string(out.num_bases)));
   } else {
-    out.reconstruction = std::move(reconstructions[out.num_bases - 1]);
+    out.reconstruction = std::move(reconstructions[out.num_bases]);
   }
   *result = std::move(out);
   return Status::OK();

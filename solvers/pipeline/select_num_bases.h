@@ -18,7 +18,9 @@
 // where noise_floor = 10⁻⁶ × (RMS spread of W) stops noise-free data from
 // demanding a residual below round-off. If no K passes (e.g. every K but the
 // largest is in a poor local minimum), K_max is kept.
-// The whole curve is returned so the caller can print it. With priors =
+// The largest K is reconstructed first (σ̂), then K = 1, 2, … up to the first
+// that passes: the curve returned, for the caller to print, holds the K
+// values tried, in increasing order. With priors =
 // auto (solvers/pipeline/reconstruct.h) the curve is of the data term alone and
 // the chosen K is reconstructed once more with the prior rule's terms; with
 // priors = manual every K uses the given terms. Each K of the curve runs at
@@ -55,7 +57,7 @@ struct NumBasesCandidate {
 struct SelectNumBasesResult {
   int num_bases = 0;                     // the chosen K
   double noise_stddev = 0;               // σ̂, per coordinate, input units
-  std::vector<NumBasesCandidate> curve;  // K = 1 … max_num_bases, in order
+  std::vector<NumBasesCandidate> curve;  // the K tried, increasing
   ReconstructResult reconstruction;      // of the chosen K
 };
 

@@ -26,8 +26,8 @@ SyntheticSequence Sequence(int num_bases, double noise) {
 }
 
 // With noise σ per coordinate the rule keeps the true K, estimates σ from
-// the largest K's residual, and returns the whole curve K = 1 … K_max with
-// the chosen K's reconstruction.
+// the largest K's residual, and returns the curve it tried (K = 1 … the
+// chosen K, and K_max) with the chosen K's reconstruction.
 TEST(SelectNumBases, KeepsTheTrueKAndEstimatesTheNoise) {
   for (int k : {2, 3}) {
     constexpr double kNoise = 0.01;
@@ -38,12 +38,12 @@ TEST(SelectNumBases, KeepsTheTrueKAndEstimatesTheNoise) {
     ASSERT_TRUE(
         SelectNumBases(ReconstructOptions(), select, s.measurements, &result)
             .ok());
-    ASSERT_EQ(result.curve.size(), 5u);
-    for (int i = 0; i < 5; ++i) {
-      EXPECT_EQ(result.curve[i].num_bases, i + 1);
+    ASSERT_EQ(result.curve.size(), static_cast<std::size_t>(k + 1));
+    for (int i = 0; i <= k; ++i) {
+      EXPECT_EQ(result.curve[i].num_bases, i < k ? i + 1 : 5);
       EXPECT_TRUE(result.curve[i].ok) << result.curve[i].message;
-      std::printf("true K %d: K %d rms %.5f expected %.5f\n", k, i + 1,
-                  result.curve[i].reprojection_rms,
+      std::printf("true K %d: K %d rms %.5f expected %.5f\n", k,
+                  result.curve[i].num_bases, result.curve[i].reprojection_rms,
                   result.curve[i].expected_rms);
     }
     EXPECT_EQ(result.num_bases, k);
