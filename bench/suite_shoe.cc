@@ -1,6 +1,6 @@
 // shoe suite (Torresani et al. 2001, Table 1 style): the shoe-style sequence of
-// core/synthetic.h (GenerateShoe: F = 500, P = 110, exact K = 4, yaw span
-// 120°, self-occlusion ~15 % of the entries), noise 0.002 (shoe length 1).
+// core/synthetic/synthetic.h (GenerateShoe: F = 500, P = 110, exact K = 4, yaw
+// span 120°, self-occlusion ~15 % of the entries), noise 0.002 (shoe length 1).
 // K = 2, 4 (--full: 2 … 8; the default run of every suite: K = 4 only): 3D
 // and z error (% of shape size), camera 0, default options plus the
 // smoothness term (kShoeSmoothnessWeight) and the --max_seconds cap, for
@@ -19,8 +19,8 @@
 #include "bench/plot.h"
 #include "bench/report.h"
 #include "bench/suites.h"
-#include "core/parallel_for.h"
-#include "core/synthetic.h"
+#include "core/math/parallel_for.h"
+#include "core/synthetic/synthetic.h"
 #include "problems/extra_terms.h"
 
 namespace nrsfm {
@@ -51,7 +51,7 @@ Status RunShoeSuite(const BenchConfig& config, Json* out) {
       rigidity ? "2 cams + rigidity" : "2 cams, NO rigidity";
 
   // The monocular and the two-camera sweeps run side by side (--jobs;
-  // core/parallel_for.h runs a sweep's own loop inside this one on its
+  // core/math/parallel_for.h runs a sweep's own loop inside this one on its
   // calling thread, so at most two reconstructions run at once here).
   std::vector<SweepResult> results(2);
   ParallelFor(2, config.jobs, /*grain=*/1, [&](int begin, int end) {

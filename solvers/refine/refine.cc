@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "core/metrics.h"
+#include "core/eval/metrics.h"
 #include "problems/extra_terms.h"
 #include "solvers/refine/minimizer_choice.h"
 #include "solvers/refine/structured_layout.h"

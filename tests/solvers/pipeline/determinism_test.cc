@@ -19,8 +19,8 @@
 #include <string>
 #include <vector>
 
-#include "core/result_writer.h"
-#include "core/synthetic.h"
+#include "core/io/result_writer.h"
+#include "core/synthetic/synthetic.h"
 #include "solvers/pipeline/reconstruct.h"
 #include "solvers/refine/refine.h"
 #include "solvers/start/start.h"
@@ -165,7 +165,7 @@ TEST(Determinism, TwoThreadsAreBitIdentical) { CheckRunsAgree(2); }
 
 // The thread count does not change the answer (the default is every core):
 // the structured solver adds its sums in pieces fixed by the problem, not by
-// the threads (core/parallel_for.h ParallelForPieces), and the two starts
+// the threads (core/math/parallel_for.h ParallelForPieces), and the two starts
 // give the same result at once or in turns.
 TEST(Determinism, OneThreadGivesTheBitsOfTwo) {
   const SyntheticSequence s = Sequence();

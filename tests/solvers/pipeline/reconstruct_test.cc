@@ -13,9 +13,9 @@
 #include <utility>
 #include <vector>
 
-#include "core/metrics.h"
-#include "core/random.h"
-#include "core/synthetic.h"
+#include "core/eval/metrics.h"
+#include "core/math/random.h"
+#include "core/synthetic/synthetic.h"
 #include "problems/extra_terms.h"
 
 namespace nrsfm {

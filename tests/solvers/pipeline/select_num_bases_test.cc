@@ -7,8 +7,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/metrics.h"
-#include "core/synthetic.h"
+#include "core/eval/metrics.h"
+#include "core/synthetic/synthetic.h"
 
 namespace nrsfm {
 namespace {

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "core/synthetic.h"
+#include "core/synthetic/synthetic.h"
 #include "problems/problem_builder.h"
 #include "problems/problem_options.h"
 

@@ -12,8 +12,8 @@
 #include <thread>
 #include <vector>
 
-#include "core/metrics.h"
-#include "core/synthetic.h"
+#include "core/eval/metrics.h"
+#include "core/synthetic/synthetic.h"
 #include "problems/extra_terms.h"
 
 namespace nrsfm {

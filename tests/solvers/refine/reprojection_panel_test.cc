@@ -10,7 +10,7 @@
 
 #include <random>
 
-#include "core/synthetic.h"
+#include "core/synthetic/synthetic.h"
 #include "problems/extra_terms.h"
 #include "problems/problem_builder.h"
 #include "solvers/refine/band_preconditioner.h"

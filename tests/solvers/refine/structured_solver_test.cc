@@ -11,8 +11,8 @@
 #include <cstdio>
 #include <random>
 
-#include "core/metrics.h"
-#include "core/synthetic.h"
+#include "core/eval/metrics.h"
+#include "core/synthetic/synthetic.h"
 #include "problems/extra_terms.h"
 #include "problems/problem_builder.h"
 #include "solvers/refine/refine.h"

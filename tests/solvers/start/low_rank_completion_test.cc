@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "core/synthetic.h"
+#include "core/synthetic/synthetic.h"
 
 namespace nrsfm {
 namespace {

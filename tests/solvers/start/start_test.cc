@@ -13,11 +13,11 @@
 #include <random>
 #include <vector>
 
-#include "core/mat_io.h"
-#include "core/metrics.h"
-#include "core/read_measurements.h"
-#include "core/rotation.h"
-#include "core/synthetic.h"
+#include "core/eval/metrics.h"
+#include "core/io/mat_io.h"
+#include "core/io/read_measurements.h"
+#include "core/math/rotation.h"
+#include "core/synthetic/synthetic.h"
 #include "solvers/start/low_rank_completion.h"
 #include "solvers/start/triple_start.h"
 #include "tests/test_util.h"
