@@ -22,6 +22,7 @@
 #include "problems/problem_builder.h"
 #include "problems/problem_options.h"
 #include "solvers/refine/solver_options.h"
+#include "solvers/refine/structured_solver.h"
 
 namespace nrsfm {
 
@@ -114,6 +115,12 @@ Status Refine(const ProblemOptions& problem, const SolverOptions& solver,
 // the solution is not usable.
 Status SolveProblem(const SolverOptions& solver, ProblemBuilder* builder,
                     RefineSummary* summary);
+
+// The blocks of the builder's problem as Refine() gives them to the
+// structured solver: one group per frame (its views' rotations, translations
+// and scales, then its weights), the rig blocks shared, the points
+// eliminated.
+StructuredLayout MakeStructuredLayout(ProblemBuilder* builder);
 
 }  // namespace nrsfm
 
