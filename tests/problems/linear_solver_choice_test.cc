@@ -4,18 +4,13 @@
 
 #include "core/synthetic/synthetic.h"
 #include "problems/problem_builder.h"
+#include "tests/synthetic_sequences.h"
 
 namespace nrsfm {
 namespace {
 
 SyntheticSequence Sequence(int frames, int points, int bases) {
-  RandomBasisOptions options;
-  options.num_frames = frames;
-  options.num_points = points;
-  options.num_bases = bases;
-  SyntheticSequence sequence;
-  EXPECT_TRUE(GenerateRandomBasis(options, &sequence).ok());
-  return sequence;
+  return testing_util::RandomBasisSequence(frames, points, bases);
 }
 
 TEST(LinearSolverChoice, NamesRoundTripAndBadNamesAreErrors) {

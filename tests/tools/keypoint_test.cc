@@ -246,8 +246,9 @@ TEST_F(KeypointTest, PickupAsCocoResultsAndOpenPoseFolder) {
             << ", reprojection RMS " << result["reprojection_rms"] << " px\n";
   EXPECT_EQ(result["metrics"]["e3d_frame"], "camera");
   if (testing_util::kSanitizedBuild) return;
-  // Measured 0.0273 (2026-11-27).
-  EXPECT_LT(e3d, 0.035);
+  // Measured 0.02707 (this test's output line "pickup as keypoints"); the
+  // bound about 13 % above.
+  EXPECT_LT(e3d, 0.0305);
   // About the noise (0.5 px per coordinate, 0.71 px per point) and what the
   // default pipeline's temporal prior leaves of noise-free pixels (0.55 px,
   // measured): 0.92 px (the first 60 frames: 0.90 px).

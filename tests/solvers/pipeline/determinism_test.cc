@@ -24,6 +24,7 @@
 #include "solvers/pipeline/reconstruct.h"
 #include "solvers/refine/refine.h"
 #include "solvers/start/start.h"
+#include "tests/synthetic_sequences.h"
 #include "tests/test_util.h"
 
 namespace nrsfm {
@@ -32,16 +33,7 @@ namespace {
 namespace fs = std::filesystem;
 
 SyntheticSequence Sequence() {
-  RandomBasisOptions options;
-  options.num_frames = 60;
-  options.num_points = 30;
-  options.num_bases = 2;
-  options.noise_stddev = 0.01;
-  options.missing_fraction = 0.2;
-  options.seed = 5;
-  SyntheticSequence sequence;
-  EXPECT_TRUE(GenerateRandomBasis(options, &sequence).ok());
-  return sequence;
+  return testing_util::RandomBasisSequence(60, 30, 2, 0.01, 0.2, 5);
 }
 
 ReconstructOptions Options(int num_threads) {
