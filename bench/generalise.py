@@ -79,7 +79,7 @@ def read_mat5(path):
     return out
 
 
-# --- the metric (core/metrics.h, ComputeE3D), for truths made here
+# --- the metric (core/eval/metrics.h, ComputeE3D), for truths made here
 def e3d(truth, estimate):
     """e3D of Akhter et al.: F x 3 x P arrays, one global alignment."""
     x = truth - truth.mean(axis=2, keepdims=True)

@@ -2,7 +2,7 @@
 
 #include "bench/report.h"
 #include "bench/run_evaluate.h"
-#include "core/parallel_for.h"
+#include "core/math/parallel_for.h"
 
 namespace nrsfm {
 namespace bench {

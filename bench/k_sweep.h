@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "bench/bench_config.h"
-#include "core/status.h"
-#include "core/synthetic.h"
+#include "core/model/status.h"
+#include "core/synthetic/synthetic.h"
 #include "solvers/pipeline/reconstruct.h"
 
 namespace nrsfm {
@@ -29,7 +29,7 @@ struct SweepResult {
   std::vector<SweepPoint> points;
   Json runs = Json::array();  // every run
 };
-// The (K, run) reconstructions run `jobs` at a time (core/parallel_for.h);
+// The (K, run) reconstructions run `jobs` at a time (core/math/parallel_for.h);
 // results are collected in order, so the output does not depend on `jobs`
 // (the times do: runs that share the machine take longer).
 SweepResult SweepK(

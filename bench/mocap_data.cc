@@ -5,7 +5,7 @@
 #include <iostream>
 #include <utility>
 
-#include "core/read_measurements.h"
+#include "core/io/read_measurements.h"
 
 namespace nrsfm {
 namespace bench {

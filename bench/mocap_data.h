@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "bench/bench_config.h"
-#include "core/ground_truth.h"
-#include "core/measurements.h"
+#include "core/io/ground_truth.h"
+#include "core/model/measurements.h"
 
 namespace nrsfm {
 namespace bench {

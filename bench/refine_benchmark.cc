@@ -25,10 +25,10 @@
 #include <string>
 #include <vector>
 
-#include "core/ground_truth.h"
-#include "core/metrics.h"
-#include "core/read_measurements.h"
-#include "core/synthetic.h"
+#include "core/eval/metrics.h"
+#include "core/io/ground_truth.h"
+#include "core/io/read_measurements.h"
+#include "core/synthetic/synthetic.h"
 #include "problems/linear_solver_choice.h"
 #include "problems/problem_builder.h"
 #include "solvers/pipeline/reconstruct.h"

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "bench/bench_config.h"
-#include "core/metrics.h"
+#include "core/eval/metrics.h"
 
 namespace nrsfm {
 namespace bench {
@@ -31,7 +31,7 @@ class Table {
 };
 
 // Sets (*j)[name] = value for every metric of `errors` (MetricList,
-// core/metrics.h: the names result.json and `nrsfm evaluate` use).
+// core/eval/metrics.h: the names result.json and `nrsfm evaluate` use).
 void AddMetrics(const ShapeErrors& errors, Json* j);
 
 // Writes `json` to <output_dir>/<file>; returns the path or "" on failure

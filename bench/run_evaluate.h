@@ -1,5 +1,5 @@
 // One reconstruction of the nrsfm_bench suites scored against ground truth
-// (camera 0): Reconstruct() + core/metrics.h, never failing (problems go
+// (camera 0): Reconstruct() + core/eval/metrics.h, never failing (problems go
 // into the outcome's message).
 #ifndef NRSFM_BENCH_RUN_EVALUATE_H_
 #define NRSFM_BENCH_RUN_EVALUATE_H_
@@ -7,11 +7,11 @@
 #include <string>
 #include <vector>
 
-#include "core/ground_truth.h"
-#include "core/measurements.h"
-#include "core/metrics.h"
-#include "core/model.h"
-#include "core/status.h"
+#include "core/eval/metrics.h"
+#include "core/io/ground_truth.h"
+#include "core/model/measurements.h"
+#include "core/model/model.h"
+#include "core/model/status.h"
 #include "solvers/pipeline/reconstruct.h"
 
 namespace nrsfm {
@@ -21,7 +21,7 @@ namespace bench {
 struct RunOutcome {
   bool ok = false;      // Reconstruct() succeeded and the refinement is usable
   std::string message;  // why not
-  ShapeErrors errors;   // core/metrics.h
+  ShapeErrors errors;   // core/eval/metrics.h
   std::string start;    // StartMethodName of the start kept
   double init_seconds = 0;
   double refine_seconds = 0;
@@ -37,8 +37,8 @@ struct RunOutcome {
   Model model;                        // the reconstruction
 };
 
-// Scores `model` (camera 0) against `truth` (core/metrics.h EvaluateShapes:
-// the object frame when the truth has one).
+// Scores `model` (camera 0) against `truth` (core/eval/metrics.h
+// EvaluateShapes: the object frame when the truth has one).
 Status Evaluate(const Model& model, const GroundTruth& truth,
                 ShapeErrors* errors);
 

@@ -2,10 +2,10 @@
 // (drink, pickup, yoga: S + Rs; face: P3_gt), reconstructed at the K of the
 // published BMM numbers (drink 12, pickup 12, yoga 10, face 7; other files 8)
 // with each reconstruction strategy, then (with --full) a K sweep. Scored by
-// the field's protocol (core/metrics.h, docs/metrics.md): e3D in the object
-// frame against the world S when the truth has S + Rs, in the camera frame
-// otherwise; also the camera-frame e3D, the z-sign Frobenius error and the
-// rotation error against Rs, with the time of each stage.
+// the field's protocol (core/eval/metrics.h, docs/metrics.md): e3D in the
+// object frame against the world S when the truth has S + Rs, in the camera
+// frame otherwise; also the camera-frame e3D, the z-sign Frobenius error and
+// the rotation error against Rs, with the time of each stage.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -21,9 +21,9 @@
 #include "bench/report.h"
 #include "bench/run_evaluate.h"
 #include "bench/suites.h"
-#include "core/ground_truth.h"
-#include "core/parallel_for.h"
-#include "core/read_measurements.h"
+#include "core/io/ground_truth.h"
+#include "core/io/read_measurements.h"
+#include "core/math/parallel_for.h"
 #include "problems/extra_terms.h"
 #include "solvers/pipeline/prior_rule.h"
 

@@ -1,9 +1,9 @@
 // paper-random suite (Torresani et al. 2001, Fig. 5 a/b): data from N = 5, 10
-// and 20 random basis shapes (core/synthetic.h GenerateRandomBasis: points in
-// the unit cube, first basis dominant), F = 300, P = 100, rotations spanning up
-// to 90° about each axis, Gaussian noise 0.01 (unit-cube units); reconstruct
-// with K = 1 … N; median 3D error and z error (% of shape size) over R runs.
-// Default: R = 1 and K in {1, N/2, N}; --full: R = 30 and every K.
+// and 20 random basis shapes (core/synthetic/synthetic.h GenerateRandomBasis:
+// points in the unit cube, first basis dominant), F = 300, P = 100, rotations
+// spanning up to 90° about each axis, Gaussian noise 0.01 (unit-cube units);
+// reconstruct with K = 1 … N; median 3D error and z error (% of shape size)
+// over R runs. Default: R = 1 and K in {1, N/2, N}; --full: R = 30 and every K.
 #include <iostream>
 #include <string>
 #include <vector>
@@ -13,7 +13,7 @@
 #include "bench/plot.h"
 #include "bench/report.h"
 #include "bench/suites.h"
-#include "core/synthetic.h"
+#include "core/synthetic/synthetic.h"
 
 namespace nrsfm {
 namespace bench {

@@ -1,11 +1,11 @@
 // robustness suite: the real sequences' 3-D truth re-projected under other
-// camera paths (core/synthetic.h, GenerateReprojection): slow rotation (60°,
-// 90°, 120° in total, constant speed), uneven speed (ramp, stop-and-go over
-// 90°), noise of 1, 3, 5 % of the image size and 30 % of the entries
-// missing at random (both over 120°), each reconstructed with the default
-// pipeline at the published K. Scored in the camera frame by the relative
-// Frobenius error with a per-frame depth sign (Lee et al.'s protocol for
-// their slow-rotation experiments), next to a flat answer (the truth with
+// camera paths (core/synthetic/synthetic.h, GenerateReprojection): slow
+// rotation (60°, 90°, 120° in total, constant speed), uneven speed (ramp,
+// stop-and-go over 90°), noise of 1, 3, 5 % of the image size and 30 % of the
+// entries missing at random (both over 120°), each reconstructed with the
+// default pipeline at the published K. Scored in the camera frame by the
+// relative Frobenius error with a per-frame depth sign (Lee et al.'s protocol
+// for their slow-rotation experiments), next to a flat answer (the truth with
 // z = 0) and Lee et al.'s numbers (CVPR 2016, Table 2), and in the object
 // frame by e3D (the new truth keeps the source's object frame: its S, or its
 // camera-frame points for face). Also whether the result carries the little
@@ -21,9 +21,9 @@
 #include "bench/report.h"
 #include "bench/run_evaluate.h"
 #include "bench/suites.h"
-#include "core/metrics.h"
-#include "core/parallel_for.h"
-#include "core/synthetic.h"
+#include "core/eval/metrics.h"
+#include "core/math/parallel_for.h"
+#include "core/synthetic/synthetic.h"
 
 namespace nrsfm {
 namespace bench {

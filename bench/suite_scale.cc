@@ -27,7 +27,7 @@
 #include "bench/report.h"
 #include "bench/run_evaluate.h"
 #include "bench/suites.h"
-#include "core/synthetic.h"
+#include "core/synthetic/synthetic.h"
 
 namespace nrsfm {
 namespace bench {

@@ -1,6 +1,6 @@
 // shoe suite (Torresani et al. 2001, Table 1 style): the shoe-style sequence of
-// core/synthetic.h (GenerateShoe: F = 500, P = 110, exact K = 4, yaw span
-// 120°, self-occlusion ~15 % of the entries), noise 0.002 (shoe length 1).
+// core/synthetic/synthetic.h (GenerateShoe: F = 500, P = 110, exact K = 4, yaw
+// span 120°, self-occlusion ~15 % of the entries), noise 0.002 (shoe length 1).
 // K = 2, 4 (--full: 2 … 8; the default run of every suite: K = 4 only): 3D
 // and z error (% of shape size), camera 0, with the --max_seconds cap, for
 //   monocular   camera 0's tracks alone;
@@ -20,8 +20,8 @@
 #include "bench/plot.h"
 #include "bench/report.h"
 #include "bench/suites.h"
-#include "core/parallel_for.h"
-#include "core/synthetic.h"
+#include "core/math/parallel_for.h"
+#include "core/synthetic/synthetic.h"
 #include "problems/extra_terms.h"
 
 namespace nrsfm {
@@ -52,7 +52,7 @@ Status RunShoeSuite(const BenchConfig& config, Json* out) {
       rigidity ? "2 cams + rigidity" : "2 cams, NO rigidity";
 
   // Four sweeps: index = 2 · (default pipeline) + (cameras − 1); two run
-  // side by side (--jobs; core/parallel_for.h runs a sweep's own loop inside
+  // side by side (--jobs; core/math/parallel_for.h runs a sweep's own loop inside
   // this one on its calling thread, so at most two reconstructions run at
   // once here).
   std::vector<SweepResult> results(4);

@@ -1,8 +1,8 @@
 // superquadric suite (Torresani et al. 2001, Fig. 5c): the octant-deforming
-// superquadric (core/synthetic.h GenerateSuperquadric, exact model K = 4), F =
-// 300, P = 200 (default run: 100), rotations up to 90°, noise 0.005 (shape ~1
-// across); K = 1 … 8 (default run: 1, 4, 6), median 3D and z error (% of
-// shape size) over R runs (default 1, --full 30).
+// superquadric (core/synthetic/synthetic.h GenerateSuperquadric, exact model K
+// = 4), F = 300, P = 200 (default run: 100), rotations up to 90°, noise 0.005
+// (shape ~1 across); K = 1 … 8 (default run: 1, 4, 6), median 3D and z error (%
+// of shape size) over R runs (default 1, --full 30).
 #include <iostream>
 #include <string>
 #include <vector>
@@ -12,7 +12,7 @@
 #include "bench/plot.h"
 #include "bench/report.h"
 #include "bench/suites.h"
-#include "core/synthetic.h"
+#include "core/synthetic/synthetic.h"
 
 namespace nrsfm {
 namespace bench {

@@ -7,7 +7,7 @@
 #define NRSFM_BENCH_SUITES_H_
 
 #include "bench/bench_config.h"
-#include "core/status.h"
+#include "core/model/status.h"
 
 namespace nrsfm {
 namespace bench {
@@ -22,8 +22,8 @@ Status RunShoeSuite(const BenchConfig& config, Json* out);
 // Real motion capture: every .mat in config.datasets_dir with ground truth.
 Status RunMocapSuite(const BenchConfig& config, Json* out);
 // The real sequences' truth under other camera paths, noise and missing
-// entries (core/synthetic.h GenerateReprojection), against a flat answer
-// and Lee et al.'s slow-rotation numbers.
+// entries (core/synthetic/synthetic.h GenerateReprojection), against a flat
+// answer and Lee et al.'s slow-rotation numbers.
 Status RunRobustnessSuite(const BenchConfig& config, Json* out);
 // Synthetic (F, P, K) sweep: time per LM iteration, total time, peak memory.
 Status RunScaleSuite(const BenchConfig& config, Json* out);

@@ -7,7 +7,7 @@ function e = nrsfm_e3d(S_true, S_est)
 %   3 x 3 map Y for the whole sequence, the least-squares linear map from
 %   estimate to truth followed by its nearest orthogonal matrix (reflection
 %   allowed); e = mean_t mean_p ||X_tp - Y Xhat_tp|| / s (docs/metrics.md,
-%   core/metrics.h). Dimensionless.
+%   core/eval/metrics.h). Dimensionless.
 if ~isequal(size(S_true), size(S_est)) || mod(size(S_true, 1), 3) ~= 0
   error('nrsfm:e3d', 'nrsfm_e3d: S_true and S_est must both be 3F x P');
 end

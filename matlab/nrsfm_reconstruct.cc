@@ -53,8 +53,8 @@
 #include <utility>
 #include <vector>
 
-#include "core/result_writer.h"
-#include "core/rotation.h"
+#include "core/io/result_writer.h"
+#include "core/math/rotation.h"
 #include "mex.h"
 #include "tools/command_flags.h"
 #include "tools/flag_table.h"

@@ -11,7 +11,7 @@
 #include <string>
 #include <utility>
 
-#include "core/option_checker.h"
+#include "core/model/option_checker.h"
 
 extern "C" {
 #include <libqhull_r/qhull_ra.h>

@@ -18,8 +18,8 @@
 #include <array>
 #include <vector>
 
-#include "core/measurements.h"
-#include "core/status.h"
+#include "core/model/measurements.h"
+#include "core/model/status.h"
 
 namespace nrsfm {
 

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "core/status.h"
+#include "core/model/status.h"
 #include "problems/problem_builder.h"
 #include "problems/problem_options.h"
 

@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/enum_names.h"
+#include "core/model/enum_names.h"
 
 namespace nrsfm {
 namespace {

@@ -31,7 +31,7 @@
 
 #include <string>
 
-#include "core/status.h"
+#include "core/model/status.h"
 #include "problems/problem_builder.h"
 
 namespace nrsfm {

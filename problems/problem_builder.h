@@ -1,7 +1,7 @@
 // The one Ceres problem of a reconstruction (docs/problem.md).
 //
 // ProblemBuilder owns a ceres::Problem whose parameter blocks are the storage
-// of a Model (core/model.h), so solving the problem updates the model in
+// of a Model (core/model/model.h), so solving the problem updates the model in
 // place. AddReprojectionTerms() adds the data term; the extra terms are
 // added by AddExtraTerms (problems/extra_terms.h) through AddResidualBlock()
 // and the block accessors below — the builder does not need to know them.
@@ -39,9 +39,9 @@
 #include <string>
 #include <vector>
 
-#include "core/measurements.h"
-#include "core/model.h"
-#include "core/status.h"
+#include "core/model/measurements.h"
+#include "core/model/model.h"
+#include "core/model/status.h"
 #include "problems/problem_options.h"
 #include "problems/rotation_manifold.h"
 

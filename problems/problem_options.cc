@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "core/enum_names.h"
-#include "core/option_checker.h"
+#include "core/model/enum_names.h"
+#include "core/model/option_checker.h"
 #include "problems/extra_terms.h"
 
 namespace nrsfm {

@@ -9,7 +9,7 @@
 #include <map>
 #include <string>
 
-#include "core/status.h"
+#include "core/model/status.h"
 #include "problems/delaunay_edges.h"
 
 namespace nrsfm {

@@ -10,7 +10,8 @@
 // (ceres/rotation.h convention: axis · angle in radians), w_obs ≥ 0 the
 // observation's weight (its cost is multiplied by w_obs).
 //
-// Parameter blocks, in this order (the Model column of each, core/model.h):
+// Parameter blocks, in this order (the Model column of each,
+// core/model/model.h):
 //   rotation     ω_tc      3   Model::rotations.col(View(t, c))
 //   translation  T_tc      2   Model::translations.col(View(t, c))   (input
 //   units) weights      l_t       K   Model::weights.col(t) basis        b_p 3K

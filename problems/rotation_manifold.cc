@@ -4,7 +4,7 @@
 #include <Eigen/LU>
 #include <cmath>
 
-#include "core/rotation.h"
+#include "core/math/rotation.h"
 
 namespace nrsfm {
 namespace {

@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "core/measurements.h"
-#include "core/model.h"
-#include "core/status.h"
+#include "core/model/measurements.h"
+#include "core/model/model.h"
+#include "core/model/status.h"
 
 namespace nrsfm {
 namespace python {

@@ -19,7 +19,7 @@ struct Tracks {
   py::object W, mask;
   int cameras = 1;
   // read: the file's index of each frame and point when the reader
-  // renumbered them (core/text_io.h, a sparse observation list); else None.
+  // renumbered them (core/io/text_io.h, a sparse observation list); else None.
   py::object frame_ids = py::none();
   py::object point_ids = py::none();
   // read() of a keypoint input: the detector's score of each keypoint,

@@ -20,13 +20,13 @@
 #include <utility>
 #include <vector>
 
-#include "core/ground_truth.h"
-#include "core/mat_io.h"
-#include "core/metrics.h"
-#include "core/read_measurements.h"
-#include "core/result_reader.h"
-#include "core/result_writer.h"
-#include "core/rotation.h"
+#include "core/eval/metrics.h"
+#include "core/io/ground_truth.h"
+#include "core/io/mat_io.h"
+#include "core/io/read_measurements.h"
+#include "core/io/result_reader.h"
+#include "core/io/result_writer.h"
+#include "core/math/rotation.h"
 #include "problems/extra_terms.h"
 #include "python/convert.h"
 #include "solvers/refine/refine.h"

@@ -5,7 +5,7 @@
 //
 // Conventions (docs/guide.md, "Python"):
 //   W        (2FM, P), rows u, v of frame t, camera c at 2(tM + c) and
-//            2(tM + c) + 1 (core/measurements.h); NaN = missing.
+//            2(tM + c) + 1 (core/model/measurements.h); NaN = missing.
 //   mask     (FM, P) or (2FM, P), nonzero = visible.
 //   rotations (F, M, 3, 3) R_tc (camera from object); translations (F, M, 2);
 //   scales (F, M); weights (F, K); basis (K, 3, P); rig_rotations
@@ -38,13 +38,13 @@
 #include <utility>
 #include <vector>
 
-#include "core/ground_truth.h"
-#include "core/mat_io.h"
-#include "core/metrics.h"
-#include "core/read_measurements.h"
-#include "core/result_reader.h"
-#include "core/result_writer.h"
-#include "core/rotation.h"
+#include "core/eval/metrics.h"
+#include "core/io/ground_truth.h"
+#include "core/io/mat_io.h"
+#include "core/io/read_measurements.h"
+#include "core/io/result_reader.h"
+#include "core/io/result_writer.h"
+#include "core/math/rotation.h"
 #include "problems/extra_terms.h"
 #include "python/convert.h"
 #include "python/functions.h"
@@ -174,7 +174,8 @@ std::string ReadDoc() {
 std::string SynthDoc() {
   return "synth(**options) -> Tracks\n"
          "\n"
-         "A synthetic sequence, as `nrsfm synth` (core/synthetic.h): Tracks "
+         "A synthetic sequence, as `nrsfm synth` (core/synthetic/synthetic.h): "
+         "Tracks "
          "with W, mask,\n"
          "cameras, truth (a Reconstruction of the generating model) and P3_gt "
          "(camera\n"
@@ -190,7 +191,8 @@ std::string SynthDoc() {
 std::string EvaluateDoc() {
   return "evaluate(truth, result, **options) -> dict\n"
          "\n"
-         "The metrics of `nrsfm evaluate` (core/metrics.h, docs/metrics.md), "
+         "The metrics of `nrsfm evaluate` (core/eval/metrics.h, "
+         "docs/metrics.md), "
          "the same\n"
          "dict as its JSON line: e3d, e3d_camera, frob_zsign, error3d_pct, "
          "zerror_pct,\n"

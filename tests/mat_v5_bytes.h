@@ -1,6 +1,6 @@
 // MATLAB v5 .mat files built byte by byte (uncompressed, little-endian), for
 // tests and fuzz seeds of what the readers must handle: variables that
-// core/mat_io.h's WriteMat cannot write (other classes, an empty 3-D array,
+// core/io/mat_io.h's WriteMat cannot write (other classes, an empty 3-D array,
 // a cell, a struct with an empty field) and files that are corrupt in a
 // known way.
 //
@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "core/mat_v5_format.h"
+#include "core/io/mat_v5_format.h"
 
 namespace nrsfm {
 namespace testing_util {

@@ -15,10 +15,10 @@
 #include <string>
 #include <vector>
 
-#include "core/keypoint_io.h"
-#include "core/read_measurements.h"
-#include "core/status.h"
-#include "core/synthetic.h"
+#include "core/io/keypoint_io.h"
+#include "core/io/read_measurements.h"
+#include "core/model/status.h"
+#include "core/synthetic/synthetic.h"
 #include "problems/delaunay_edges.h"
 #include "problems/extra_terms.h"
 #include "problems/problem_options.h"

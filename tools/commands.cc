@@ -9,13 +9,13 @@
 #include <utility>
 #include <vector>
 
-#include "core/ground_truth.h"
-#include "core/mat_io.h"
-#include "core/metrics.h"
-#include "core/read_measurements.h"
-#include "core/result_reader.h"
-#include "core/result_writer.h"
-#include "core/synthetic.h"
+#include "core/eval/metrics.h"
+#include "core/io/ground_truth.h"
+#include "core/io/mat_io.h"
+#include "core/io/read_measurements.h"
+#include "core/io/result_reader.h"
+#include "core/io/result_writer.h"
+#include "core/synthetic/synthetic.h"
 #include "tools/flag_table.h"
 #include "tools/reconstruction_steps.h"
 #include "tools/synth_steps.h"

@@ -8,7 +8,7 @@
 #include <ostream>
 #include <string>
 
-#include "core/status.h"
+#include "core/model/status.h"
 #include "tools/command_flags.h"
 #include "tools/reconstruction_steps.h"  // VersionString()
 

@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/status.h"
+#include "core/model/status.h"
 #include "problems/extra_terms.h"
 #include "tools/command_flags.h"
 

@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "core/result_reader.h"
+#include "core/io/result_reader.h"
 #include "problems/extra_terms.h"
 #include "solvers/pipeline/drop_unobserved.h"
 #include "tools/flag_table.h"

@@ -12,11 +12,11 @@
 #include <string>
 #include <vector>
 
-#include "core/ground_truth.h"
-#include "core/measurements.h"
-#include "core/metrics.h"
-#include "core/result_writer.h"
-#include "core/status.h"
+#include "core/eval/metrics.h"
+#include "core/io/ground_truth.h"
+#include "core/io/result_writer.h"
+#include "core/model/measurements.h"
+#include "core/model/status.h"
 #include "solvers/pipeline/reconstruct.h"
 #include "solvers/pipeline/select_num_bases.h"
 #include "tools/command_flags.h"
@@ -67,7 +67,7 @@ Status ArrayReconstructOptions(const Measurements& measurements,
 Status CheckTermCameras(const CommandFlags& flags, const std::string& input,
                         int num_cameras);
 
-// Ground truth from a .mat file (core/ground_truth.h) or a result directory
+// Ground truth from a .mat file (core/io/ground_truth.h) or a result directory
 // (its points_camera.csv, camera 0), as --truth reads it.
 Status ReadTruth(const std::string& path, const std::string& variable,
                  GroundTruth* truth);

@@ -6,7 +6,7 @@
 #include <sstream>
 #include <string>
 
-#include "core/ground_truth.h"
+#include "core/io/ground_truth.h"
 #include "tools/reconstruction_steps.h"
 
 namespace nrsfm {

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "core/mat_io.h"
-#include "core/status.h"
-#include "core/synthetic.h"
+#include "core/io/mat_io.h"
+#include "core/model/status.h"
+#include "core/synthetic/synthetic.h"
 #include "tools/command_flags.h"
 
 namespace nrsfm {
@@ -26,8 +26,8 @@ Status Synthesize(const CommandFlags& flags, SyntheticSequence* sequence);
 // `nrsfm synth --dataset reproject` without its output: the truth of
 // --input (read as --truth is) under the camera path of --rotation, --axis,
 // --profile, with --noise_fraction, --missing, --occlusion and --seed
-// (core/synthetic.h GenerateReprojection), and the variables of its .mat
-// file, written like the Akhter et al. files: W (NaN where missing), S
+// (core/synthetic/synthetic.h GenerateReprojection), and the variables of its
+// .mat file, written like the Akhter et al. files: W (NaN where missing), S
 // (object frame, rows x_t, y_t, z_t), Rs (2F × 3), cameras, image_size,
 // noise_stddev and the source's skeleton `list` when it has one. Errors on
 // flags that do not apply (--K, --frames, --points, --noise) and bad values.

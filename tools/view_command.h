@@ -4,7 +4,7 @@
 
 #include <ostream>
 
-#include "core/status.h"
+#include "core/model/status.h"
 #include "tools/commands.h"
 
 namespace nrsfm {

@@ -10,14 +10,14 @@
 #include <sstream>
 #include <utility>
 
-#include "core/ground_truth.h"
-#include "core/mat_io.h"
-#include "core/measurements.h"
-#include "core/metrics.h"
-#include "core/procrustes.h"
-#include "core/read_measurements.h"
-#include "core/result_reader.h"
-#include "core/text_io.h"
+#include "core/eval/metrics.h"
+#include "core/io/ground_truth.h"
+#include "core/io/mat_io.h"
+#include "core/io/read_measurements.h"
+#include "core/io/result_reader.h"
+#include "core/io/text_io.h"
+#include "core/math/procrustes.h"
+#include "core/model/measurements.h"
 #include "problems/delaunay_edges.h"
 #include "tools/flag_table.h"
 #include "tools/reconstruction_steps.h"
@@ -201,7 +201,7 @@ Status ReadSkeleton(const std::string& path, int num_points,
 }
 
 // Scores the result against the truth as `nrsfm evaluate` does
-// (core/metrics.h EvaluateShapes: the object frame for S + Rs truth, the
+// (core/eval/metrics.h EvaluateShapes: the object frame for S + Rs truth, the
 // camera frame otherwise) and shows the shapes of that frame: the centred
 // estimate, the truth mapped onto it by the e3D alignment, each frame's error.
 Status AddTruth(const ViewDataOptions& options, const GroundTruth& estimate,
@@ -361,7 +361,7 @@ Status GatherViewData(const ViewDataOptions& options, ViewData* data) {
   ViewData result;
 
   // Camera-frame points of every camera and the translations: the
-  // reprojections w_tcp = Π X_tc[:, p] + T_tc (core/result_writer.h).
+  // reprojections w_tcp = Π X_tc[:, p] + T_tc (core/io/result_writer.h).
   GroundTruth camera0;
   NRSFM_RETURN_IF_ERROR(ReadPointsCameraCsv(dir, 0, &camera0));
   result.num_frames = camera0.NumFrames();

@@ -5,13 +5,13 @@
 //
 // Frames, units: everything is in the units of the measurements W. With a
 // truth the 3D shapes are in the frame that `nrsfm evaluate` scores in
-// (core/metrics.h EvaluateShapes: the object frame, points_object.csv, for
+// (core/eval/metrics.h EvaluateShapes: the object frame, points_object.csv, for
 // S + Rs truth; camera 0's frame, points_camera.csv, otherwise), without one
 // in camera 0's frame (x, y along the image's u, v, z the depth); the frame
 // is named in ViewData::scoring_frame,
 // each frame centred on the mean of its P points, as the metrics centre them
-// (core/metrics.h). The truth is mapped into the estimate's frame by Yᵀ, Y the
-// one global e3D alignment (estimate → truth), so distances between the two
+// (core/eval/metrics.h). The truth is mapped into the estimate's frame by Yᵀ, Y
+// the one global e3D alignment (estimate → truth), so distances between the two
 // are the ones e3D averages.
 #ifndef NRSFM_TOOLS_VIEW_DATA_H_
 #define NRSFM_TOOLS_VIEW_DATA_H_
@@ -21,9 +21,9 @@
 #include <string>
 #include <vector>
 
-#include "core/metrics.h"
-#include "core/read_measurements.h"
-#include "core/status.h"
+#include "core/eval/metrics.h"
+#include "core/io/read_measurements.h"
+#include "core/model/status.h"
 
 namespace nrsfm {
 namespace tools {
@@ -31,11 +31,11 @@ namespace tools {
 struct ViewDataOptions {
   std::string
       result_dir;  // required: a directory written by `nrsfm reconstruct`
-  // Ground truth: a .mat (S + Rs, P3_gt or X; core/ground_truth.h) or a result
-  // directory; "" = none. `truth_variable` as --truth_var.
+  // Ground truth: a .mat (S + Rs, P3_gt or X; core/io/ground_truth.h) or a
+  // result directory; "" = none. `truth_variable` as --truth_var.
   std::string truth_path, truth_variable;
   // The 2D tracks the result was reconstructed from (any input format of
-  // core/read_measurements.h, read with `input`); "" = none. Read with the
+  // core/io/read_measurements.h, read with `input`); "" = none. Read with the
   // result's M cameras (input.num_cameras is not used).
   std::string input_path;
   InputOptions input;

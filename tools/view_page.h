@@ -27,7 +27,7 @@
 
 #include <string>
 
-#include "core/status.h"
+#include "core/model/status.h"
 #include "tools/view_data.h"
 
 namespace nrsfm {

@@ -1,7 +1,8 @@
 % test_drink_matches_cli: nrsfm_demo (nrsfm_reconstruct(W, 12) on drink,
 % then e3D) gives the model that `nrsfm reconstruct --input drink.mat --K 12`
 % writes, to 1e-12 in every array, and the e3D that the tool computes with
-% --truth. Exit code 77 (skipped) without ../shared/datasets. Run by ctest
+% --truth. Exit code 77 (skipped) without ../shared/datasets, or 1 (failed)
+% when NRSFM_REQUIRE_SHARED=1 (as in CI; tests/test_util.h). Run by ctest
 % (matlab/CMakeLists.txt) with NRSFM_CLI naming the tool.
 shared = getenv('NRSFM_SHARED_DIR');
 if isempty(shared)
@@ -9,6 +10,10 @@ if isempty(shared)
 end
 drink = fullfile(shared, 'datasets', 'drink.mat');
 if isempty(shared) || ~exist(drink, 'file')
+  if strcmp(getenv('NRSFM_REQUIRE_SHARED'), '1')
+    fprintf(2, '%s not present and NRSFM_REQUIRE_SHARED=1: failed\n', drink);
+    exit(1);
+  end
   fprintf('%s not present: skipped\n', drink);
   exit(77);
 end

@@ -84,8 +84,8 @@ assert(i4.num_visible == F * P - (F - 1) - 3, 'num_visible');
 cases = {
   {{W, K, 'bogus', 1}, 'unknown option ''bogus''; the options are mask, cameras, observation_weights'}
   {{W, 0}, '--K: must be an integer >= 1 or ''auto'', got ''0'''}
-  {{W(1:end-1, :), K}, 'W: '}
-  {{W, K, 'init', 'nope'}, '--init: '}
+  {{W(1:end-1, :), K}, 'W: 119 rows is not a multiple of 2 (expected rows u, v per frame)'}
+  {{W, K, 'init', 'nope'}, '--init: start: unknown value "nope" (expected one of auto, factorization, rigid, triple)'}
   {{W, K, 'max_iterations', 'many'}, 'max_iterations must be an integer, got ''many'''}
   {{W, K, 'observation_weights', ones(3, 3)}, 'observation_weights is 3 x 3, expected 60 x 20'}
   {{W, K, 'observation_weights', -ones(F, P)}, 'weights must be finite and >= 0'}

@@ -69,26 +69,41 @@ def bad_data():
     inf = w.copy()
     inf[5, 2] = np.inf
     return [
-        ("one coordinate NaN", half_nan, {}, "only one coordinate of the observation"),
-        ("Inf", inf, {}, "W: infinite value at row 6, column 3 (1-based)"),
-        ("odd rows", w[:-1], {}, "19"),
-        ("rows not a multiple of 2M", w[:-2], {"cameras": 2}, "18"),
-        ("one frame", rotating_w(1, 8), {}, "initialize: needs at least 2 frames, got F = 1"),
-        ("two points", rotating_w(10, 2), {}, "K = 1 needs 3K + 1 = 4 points"),
-        ("K too large", w, {"K": 3}, "K = 3 needs 3K + 1 = 10 points"),
-        ("no rotation", np.tile(rotating_w(1, 12), (15, 1)), {}, "rotation"),
+        ("one coordinate NaN", half_nan, {},
+         "W: only one coordinate of the observation at rows 3-4, column 4 (1-based) is NaN; "
+         "mark a missing point with NaN in both"),
+        ("Inf", inf, {}, "W: infinite value at row 6, column 3 (1-based); use NaN to mark a missing entry"),
+        ("odd rows", w[:-1], {}, "W: 19 rows is not a multiple of 2 (expected rows u, v per frame)"),
+        ("rows not a multiple of 2M", w[:-2], {"cameras": 2},
+         "W: 18 rows is not a multiple of 2 x 2 cameras (expected rows u, v per frame and camera)"),
+        ("one frame", rotating_w(1, 8), {},
+         "both starts failed: factorization: initialize: needs at least 2 frames, got F = 1; "
+         "rigid: initialize: needs at least 2 frames, got F = 1"),
+        ("two points", rotating_w(10, 2), {},
+         "initialize: K = 1 needs 3K + 1 = 4 points and 2F >= 4; got P = 2, F = 10"),
+        ("K too large", w, {"K": 3},
+         "initialize: K = 3 needs 3K + 1 = 10 points and 2F >= 10; got P = 8, F = 10"),
+        # (σ₃/σ₁ is round-off, so the needle is the words after it.)
+        ("no rotation", np.tile(rotating_w(1, 12), (15, 1)), {},
+         "< 1e-06): the sequence shows no rotation (or the object is flat), so depth is "
+         "unobservable; rigid: initialize: rigid start: the centred 2D tracks have rank < 3"),
         ("1-D", w[0], {}, "W must be a 2-D array, got shape (8,)"),
         ("3-D", w[None], {}, "W must be a 2-D array, got shape (1, 20, 8)"),
-        ("empty", np.zeros((0, 0)), {}, "empty"),
-        ("strings", [["a", "b"], ["c", "d"]], {}, "W must be an array of numbers"),
-        ("mask shape", w, {"mask": np.ones((3, 8))}, "mask is 3 x 8; expected 20 x 8 or 10 x 8"),
-        ("mask NaN", w, {"mask": np.full((10, 8), np.nan)}, "mask holds NaN or Inf"),
-        ("mask u and v differ", w, {"mask": np.eye(20, 8)}, "u and v of one view"),
+        ("empty", np.zeros((0, 0)), {}, "W: matrix is empty (0 x 0)"),
+        ("strings", [["a", "b"], ["c", "d"]], {},
+         "W must be an array of numbers (convertible to float64), got list"),
+        ("mask shape", w, {"mask": np.ones((3, 8))},
+         "mask is 3 x 8; expected 20 x 8 or 10 x 8 (W is 20 x 8, M = 1)"),
+        ("mask NaN", w, {"mask": np.full((10, 8), np.nan)}, "mask holds NaN or Inf; expected 0/1"),
+        ("mask u and v differ", w, {"mask": np.eye(20, 8)},
+         "mask: rows 1 and 2 (u and v of one view) differ at column 1 (1-based)"),
         ("cameras 0", w, {"cameras": 0}, "cameras must be >= 1, got 0"),
         ("rigidity, one camera", w, {"rigidity": 1.0},
          "W: --rigidity: needs data from M >= 2 synchronised cameras, got M = 1"),
         ("too little left", np.where(np.arange(8) < 5, np.nan, w), {"K": 1},
-         "too few observations for K = 1"),
+         "initialize: too few observations for K = 1: leaving out the 8 points seen in fewer "
+         "than 2 views and the 10 frames whose views see fewer than 4 points leaves F = 0, "
+         "P = 0 (K = 1 needs F >= 2, 2F >= 4 and P >= 4)"),
     ]
 
 

@@ -40,7 +40,7 @@ def test_read_every_format_gives_the_same_tracks(tmp_path):
 
 def test_a_list_too_sparse_for_its_indices_keeps_the_frames_and_points_it_mentions(tmp_path):
     # Frame 1 300 000 would make a W of 2 GB: the list's two frames and two
-    # points are read, with their indices (core/text_io.h).
+    # points are read, with their indices (core/io/text_io.h).
     path = tmp_path / "two.obs"
     path.write_text("0 0 0 1 2\n1300000 0 99 1.0 2.0\n")
     t = nrsfm.read(path)

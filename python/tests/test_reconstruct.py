@@ -170,8 +170,8 @@ def test_refine_a_start_of_your_own():
     # Below the noise: sigma = 0.001 per coordinate is sqrt(2) sigma = 0.0014
     # of 2-D distance, less what the parameters absorb; measured 0.00123.
     assert summary["reprojection_rms"] < 0.0014
-    # Measured 0.0031 (2026-11-27).
-    assert nrsfm.evaluate(truth, r)["e3d"] < 0.004
+    # Measured 0.003115 (this refine, nrsfm.evaluate); the bound about 12 % above.
+    assert nrsfm.evaluate(truth, r)["e3d"] < 0.0035
     # A Reconstruction is a start too: refining the truth leaves it in place.
     again = nrsfm.refine(s.W, truth, max_iterations=5)
     assert np.max(np.abs(again.basis - truth.basis)) < 0.01

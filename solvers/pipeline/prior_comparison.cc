@@ -5,7 +5,7 @@
 #include <mutex>
 #include <utility>
 
-#include "core/parallel_for.h"
+#include "core/math/parallel_for.h"
 
 namespace nrsfm {
 

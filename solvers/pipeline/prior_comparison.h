@@ -3,9 +3,9 @@
 #ifndef NRSFM_SOLVERS_PIPELINE_PRIOR_COMPARISON_H_
 #define NRSFM_SOLVERS_PIPELINE_PRIOR_COMPARISON_H_
 
-#include "core/measurements.h"
-#include "core/model.h"
-#include "core/status.h"
+#include "core/model/measurements.h"
+#include "core/model/model.h"
+#include "core/model/status.h"
 #include "problems/problem_options.h"
 #include "solvers/refine/refine.h"
 #include "solvers/refine/solver_options.h"

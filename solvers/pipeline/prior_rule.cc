@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
-#include "core/option_checker.h"
-#include "core/rotation.h"
-#include "core/svd.h"
+#include "core/math/rotation.h"
+#include "core/math/svd.h"
+#include "core/model/option_checker.h"
 #include "problems/extra_terms.h"
 #include "solvers/start/low_rank_completion.h"
 

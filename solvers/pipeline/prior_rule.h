@@ -21,9 +21,9 @@
 #include <map>
 #include <string>
 
-#include "core/measurements.h"
-#include "core/model.h"
-#include "core/status.h"
+#include "core/model/measurements.h"
+#include "core/model/model.h"
+#include "core/model/status.h"
 #include "problems/reprojection_cost_function.h"
 #include "solvers/start/low_rank_completion.h"
 

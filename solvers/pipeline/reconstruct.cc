@@ -9,8 +9,8 @@
 #include <sstream>
 #include <string>
 
-#include "core/enum_names.h"
-#include "core/option_checker.h"
+#include "core/model/enum_names.h"
+#include "core/model/option_checker.h"
 #include "problems/extra_terms.h"
 #include "solvers/pipeline/drop_unobserved.h"
 #include "solvers/pipeline/stages.h"

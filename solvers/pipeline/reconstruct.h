@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "core/measurements.h"
-#include "core/model.h"
-#include "core/status.h"
+#include "core/model/measurements.h"
+#include "core/model/model.h"
+#include "core/model/status.h"
 #include "problems/problem_options.h"
 #include "solvers/pipeline/prior_rule.h"
 #include "solvers/refine/refine.h"

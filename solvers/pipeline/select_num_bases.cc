@@ -6,7 +6,7 @@
 #include <sstream>
 #include <utility>
 
-#include "core/option_checker.h"
+#include "core/model/option_checker.h"
 
 namespace nrsfm {
 namespace {

@@ -33,8 +33,8 @@
 
 #include <vector>
 
-#include "core/measurements.h"
-#include "core/status.h"
+#include "core/model/measurements.h"
+#include "core/model/status.h"
 #include "solvers/pipeline/reconstruct.h"
 
 namespace nrsfm {

@@ -4,7 +4,7 @@
 #include <string>
 #include <utility>
 
-#include "core/parallel_for.h"
+#include "core/math/parallel_for.h"
 #include "problems/extra_terms.h"
 #include "solvers/pipeline/prior_comparison.h"
 #include "solvers/pipeline/two_starts.h"

@@ -4,8 +4,8 @@
 #ifndef NRSFM_SOLVERS_PIPELINE_STAGES_H_
 #define NRSFM_SOLVERS_PIPELINE_STAGES_H_
 
-#include "core/measurements.h"
-#include "core/status.h"
+#include "core/model/measurements.h"
+#include "core/model/status.h"
 #include "solvers/pipeline/prior_rule.h"
 #include "solvers/pipeline/reconstruct.h"
 #include "solvers/refine/refine.h"

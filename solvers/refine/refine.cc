@@ -12,13 +12,35 @@
 #include <string>
 #include <vector>
 
-#include "core/metrics.h"
+#include "core/eval/metrics.h"
 #include "problems/extra_terms.h"
 #include "solvers/refine/minimizer_choice.h"
 #include "solvers/refine/structured_layout.h"
 #include "solvers/refine/structured_solver.h"
 
 namespace nrsfm {
+
+StructuredLayout MakeStructuredLayout(ProblemBuilder* builder) {
+  const Model& model = *builder->model();
+  StructuredLayout layout;
+  layout.groups.resize(model.num_frames);
+  for (int t = 0; t < model.num_frames; ++t) {
+    std::vector<double*>& group = layout.groups[t];
+    for (int c = 0; c < model.num_cameras; ++c) {
+      group.push_back(builder->RotationBlock(t, c));
+      group.push_back(builder->TranslationBlock(t, c));
+      if (c > 0) group.push_back(builder->ScaleBlock(t, c));
+    }
+    group.push_back(builder->WeightsBlock(t));
+  }
+  for (int c = 1; c < model.num_cameras; ++c) {
+    layout.globals.push_back(builder->RigRotationBlock(c));
+    layout.globals.push_back(builder->RigScaleBlock(c));
+  }
+  layout.eliminated = builder->PointBlocks();
+  return layout;
+}
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -73,30 +95,6 @@ class ProgressCallback : public ceres::IterationCallback {
   int last_reported_ = -1;
   bool stopped_ = false;
 };
-
-// The blocks of the builder's problem as the structured solver sees them: one
-// group per frame (its views' rotations, translations and scales, then its
-// weights), the rig blocks shared, the points eliminated.
-StructuredLayout MakeStructuredLayout(ProblemBuilder* builder) {
-  const Model& model = *builder->model();
-  StructuredLayout layout;
-  layout.groups.resize(model.num_frames);
-  for (int t = 0; t < model.num_frames; ++t) {
-    std::vector<double*>& group = layout.groups[t];
-    for (int c = 0; c < model.num_cameras; ++c) {
-      group.push_back(builder->RotationBlock(t, c));
-      group.push_back(builder->TranslationBlock(t, c));
-      if (c > 0) group.push_back(builder->ScaleBlock(t, c));
-    }
-    group.push_back(builder->WeightsBlock(t));
-  }
-  for (int c = 1; c < model.num_cameras; ++c) {
-    layout.globals.push_back(builder->RigRotationBlock(c));
-    layout.globals.push_back(builder->RigScaleBlock(c));
-  }
-  layout.eliminated = builder->PointBlocks();
-  return layout;
-}
 
 // Runs the structured solver; false when the layout does not fit the
 // problem (`error` says why).

@@ -16,12 +16,13 @@
 #include <memory>
 #include <string>
 
-#include "core/measurements.h"
-#include "core/model.h"
-#include "core/status.h"
+#include "core/model/measurements.h"
+#include "core/model/model.h"
+#include "core/model/status.h"
 #include "problems/problem_builder.h"
 #include "problems/problem_options.h"
 #include "solvers/refine/solver_options.h"
+#include "solvers/refine/structured_solver.h"
 
 namespace nrsfm {
 
@@ -36,7 +37,7 @@ struct RefineSummary {
   double initial_cost = 0.0;  // Ceres cost ½ Σ ρ(‖r‖²) at the start
   double final_cost = 0.0;    // … at the end (= initial_cost when not usable)
   double initial_reprojection_rms =
-      0.0;  // Measurements-vs-model RMS (core/metrics.h), input units
+      0.0;  // Measurements-vs-model RMS (core/eval/metrics.h), input units
   double reprojection_rms = 0.0;  // … of the final model
   int iterations = 0;             // LM iterations (successful and not)
   int num_residual_blocks = 0;    // reprojection residual blocks (observations)
@@ -114,6 +115,12 @@ Status Refine(const ProblemOptions& problem, const SolverOptions& solver,
 // the solution is not usable.
 Status SolveProblem(const SolverOptions& solver, ProblemBuilder* builder,
                     RefineSummary* summary);
+
+// The blocks of the builder's problem as Refine() gives them to the
+// structured solver: one group per frame (its views' rotations, translations
+// and scales, then its weights), the rig blocks shared, the points
+// eliminated.
+StructuredLayout MakeStructuredLayout(ProblemBuilder* builder);
 
 }  // namespace nrsfm
 

@@ -10,7 +10,7 @@
 
 #include <functional>
 
-#include "core/status.h"
+#include "core/model/status.h"
 #include "problems/linear_solver_choice.h"
 
 namespace nrsfm {

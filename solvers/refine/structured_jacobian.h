@@ -16,8 +16,8 @@
 // Evaluate(true).
 //
 // Determinism: sums over residual blocks are added in kReductionPieces
-// pieces fixed by the problem (core/parallel_for.h, ParallelForPieces), and
-// every other loop writes only its own rows, so the results are the same
+// pieces fixed by the problem (core/math/parallel_for.h, ParallelForPieces),
+// and every other loop writes only its own rows, so the results are the same
 // bits for any thread count.
 #ifndef NRSFM_SOLVERS_REFINE_STRUCTURED_JACOBIAN_H_
 #define NRSFM_SOLVERS_REFINE_STRUCTURED_JACOBIAN_H_
@@ -26,7 +26,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/parallel_for.h"
+#include "core/math/parallel_for.h"
 #include "solvers/refine/reprojection_panel.h"
 #include "solvers/refine/structured_layout.h"
 
@@ -36,11 +36,12 @@ namespace structured {
 using ConstRowMap = Eigen::Map<const RowMatrix, 0, Eigen::OuterStride<>>;
 
 // Loops are split over threads in pieces of at least this many items
-// (core/parallel_for.h): residual blocks are cheap.
+// (core/math/parallel_for.h): residual blocks are cheap.
 constexpr int kGrain = 64;
 // Sums over residuals (the cost, Jᵀr and Jᵀ products) are added in this many
 // fixed pieces, whatever the thread count, so that the result does not
-// depend on it (core/parallel_for.h); at most this many threads share them.
+// depend on it (core/math/parallel_for.h); at most this many threads share
+// them.
 constexpr int kReductionPieces = 16;
 
 class StructuredJacobian {

@@ -49,8 +49,8 @@
 // that also provides its Gram blocks (JacobianProduct::ProvidesGram, the
 // temporal shape term) has no stored Jacobian at all. Sums over residual blocks
 // are added in pieces fixed by the problem, not by the thread count
-// (core/parallel_for.h, ParallelForPieces), so results are the same bits for
-// any thread count.
+// (core/math/parallel_for.h, ParallelForPieces), so results are the same bits
+// for any thread count.
 #ifndef NRSFM_SOLVERS_REFINE_STRUCTURED_SOLVER_H_
 #define NRSFM_SOLVERS_REFINE_STRUCTURED_SOLVER_H_
 

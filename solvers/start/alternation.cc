@@ -5,11 +5,11 @@
 #include <cmath>
 #include <string>
 
-#include "core/metrics.h"
-#include "core/option_checker.h"
-#include "core/parallel_for.h"
-#include "core/random.h"
-#include "core/rotation.h"
+#include "core/eval/metrics.h"
+#include "core/math/parallel_for.h"
+#include "core/math/random.h"
+#include "core/math/rotation.h"
+#include "core/model/option_checker.h"
 #include "solvers/start/basis_weight_fit.h"
 #include "solvers/start/pose_fit.h"
 

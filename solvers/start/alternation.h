@@ -10,7 +10,7 @@
 //   1. Start model: R_t and l_t1 = s_t from the given rotations and scales,
 //      S_1 = the rigid shape; for k ≥ 2, S_k = 0 and
 //      l_tk ~ N(0, initial_deformation²), drawn from Random(seed)
-//      (core/random.h, NormalUnpaired()).
+//      (core/math/random.h, NormalUnpaired()).
 //   2. `rounds` rounds of: basis by linear least squares (then centred, the
 //      shift moved into δT; solvers/start/basis_weight_fit.h); weights and a
 //      per-frame translation correction δT_t jointly by linear least squares;
@@ -32,9 +32,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/measurements.h"
-#include "core/model.h"
-#include "core/status.h"
+#include "core/model/measurements.h"
+#include "core/model/model.h"
+#include "core/model/status.h"
 
 namespace nrsfm {
 

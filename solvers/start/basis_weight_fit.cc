@@ -5,7 +5,7 @@
 #include <Eigen/Cholesky>
 #include <vector>
 
-#include "core/parallel_for.h"
+#include "core/math/parallel_for.h"
 
 namespace nrsfm {
 namespace {

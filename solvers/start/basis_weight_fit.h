@@ -13,8 +13,8 @@
 #ifndef NRSFM_SOLVERS_START_BASIS_WEIGHT_FIT_H_
 #define NRSFM_SOLVERS_START_BASIS_WEIGHT_FIT_H_
 
-#include "core/measurements.h"
-#include "core/model.h"
+#include "core/model/measurements.h"
+#include "core/model/model.h"
 
 namespace nrsfm {
 

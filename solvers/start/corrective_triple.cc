@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "core/model.h"
-#include "core/parallel_for.h"
-#include "core/random.h"
-#include "core/svd.h"
+#include "core/math/parallel_for.h"
+#include "core/math/random.h"
+#include "core/math/svd.h"
+#include "core/model/model.h"
 #include "problems/orthonormality_error.h"
 #include "solvers/refine/solver_options.h"
 #include "solvers/start/basis_weight_fit.h"

@@ -40,8 +40,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/measurements.h"
-#include "core/status.h"
+#include "core/model/measurements.h"
+#include "core/model/status.h"
 
 namespace nrsfm {
 
@@ -66,7 +66,7 @@ struct CorrectiveTripleSummary {
 };
 
 // `q_hat` is 2F × 3K (F ≥ 2, K ≥ 1). Fills `g` (3K × 3) with the start of
-// lowest cost; `seed` seeds the random starts (core/random.h); the starts
+// lowest cost; `seed` seeds the random starts (core/math/random.h); the starts
 // run on up to `num_threads` threads (the result does not depend on it).
 // Errors on a matrix of the wrong shape and when no start converges.
 Status SolveCorrectiveTriple(const Eigen::MatrixXd& q_hat, std::uint64_t seed,

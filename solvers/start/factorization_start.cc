@@ -7,7 +7,7 @@
 #include <sstream>
 #include <vector>
 
-#include "core/svd.h"
+#include "core/math/svd.h"
 #include "solvers/start/metric_upgrade.h"
 #include "solvers/start/pose_fit.h"
 

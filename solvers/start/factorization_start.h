@@ -27,10 +27,10 @@
 #ifndef NRSFM_SOLVERS_START_FACTORIZATION_START_H_
 #define NRSFM_SOLVERS_START_FACTORIZATION_START_H_
 
-#include "core/measurements.h"
-#include "core/model.h"
-#include "core/status.h"
-#include "core/svd.h"
+#include "core/math/svd.h"
+#include "core/model/measurements.h"
+#include "core/model/model.h"
+#include "core/model/status.h"
 
 namespace nrsfm {
 

@@ -10,9 +10,9 @@
 #include <utility>
 #include <vector>
 
-#include "core/option_checker.h"
-#include "core/parallel_for.h"
-#include "core/svd.h"
+#include "core/math/parallel_for.h"
+#include "core/math/svd.h"
+#include "core/model/option_checker.h"
 
 namespace nrsfm {
 namespace {

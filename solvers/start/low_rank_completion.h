@@ -1,7 +1,7 @@
 // Affine low-rank completion of a measurement matrix with missing entries
 // (docs/factorization.md, section 1).
 //
-// Model: every row i of W (2·F·M rows, core/measurements.h layout) is
+// Model: every row i of W (2·F·M rows, core/model/measurements.h layout) is
 //   W[i, p] ≈ a_iᵀ b_p + t_i,   a_i ∈ R^r, b_p ∈ R^r, t_i ∈ R,
 // i.e. W ≈ A B + t 1ᵀ, rank r plus a per-row translation (rank r + 1 affine).
 // For NRSfM r = 3K: the motion factor Q of W = Q B (docs/factorization.md)
@@ -52,8 +52,8 @@
 #include <mutex>
 #include <vector>
 
-#include "core/measurements.h"
-#include "core/status.h"
+#include "core/model/measurements.h"
+#include "core/model/status.h"
 
 namespace nrsfm {
 

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "core/svd.h"
+#include "core/math/svd.h"
 
 namespace nrsfm {
 namespace {

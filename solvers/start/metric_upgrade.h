@@ -23,8 +23,8 @@
 
 #include <Eigen/Core>
 
-#include "core/status.h"
-#include "core/svd.h"
+#include "core/math/svd.h"
+#include "core/model/status.h"
 
 namespace nrsfm {
 

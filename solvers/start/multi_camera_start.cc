@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "core/rotation.h"
+#include "core/math/rotation.h"
 #include "solvers/start/pose_fit.h"
 
 namespace nrsfm {

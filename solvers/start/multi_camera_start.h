@@ -16,9 +16,9 @@
 #ifndef NRSFM_SOLVERS_START_MULTI_CAMERA_START_H_
 #define NRSFM_SOLVERS_START_MULTI_CAMERA_START_H_
 
-#include "core/measurements.h"
-#include "core/model.h"
-#include "core/status.h"
+#include "core/model/measurements.h"
+#include "core/model/model.h"
+#include "core/model/status.h"
 
 namespace nrsfm {
 

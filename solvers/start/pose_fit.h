@@ -3,7 +3,7 @@
 // (docs/factorization.md: the metric upgrade's nearest rotations, the
 // alternation's rotation updates, the extra cameras' poses).
 //
-// Camera model (core/model.h): w_p = s · Π · R · x_p with Π = [I_2 0],
+// Camera model (core/model/model.h): w_p = s · Π · R · x_p with Π = [I_2 0],
 // R ∈ SO(3), s > 0; w_p are centred 2D observations (translation removed),
 // x_p object-frame 3D points, both with corresponding columns.
 #ifndef NRSFM_SOLVERS_START_POSE_FIT_H_

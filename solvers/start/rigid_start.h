@@ -19,10 +19,10 @@
 
 #include <cstdint>
 
-#include "core/measurements.h"
-#include "core/model.h"
-#include "core/status.h"
-#include "core/svd.h"
+#include "core/math/svd.h"
+#include "core/model/measurements.h"
+#include "core/model/model.h"
+#include "core/model/status.h"
 #include "solvers/start/alternation.h"
 
 namespace nrsfm {

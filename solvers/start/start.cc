@@ -8,11 +8,11 @@
 #include <iomanip>
 #include <sstream>
 
-#include "core/enum_names.h"
-#include "core/metrics.h"
-#include "core/option_checker.h"
-#include "core/random.h"
-#include "core/svd.h"
+#include "core/eval/metrics.h"
+#include "core/math/random.h"
+#include "core/math/svd.h"
+#include "core/model/enum_names.h"
+#include "core/model/option_checker.h"
 #include "solvers/start/factorization_start.h"
 #include "solvers/start/low_rank_completion.h"
 #include "solvers/start/metric_upgrade.h"

@@ -20,8 +20,8 @@
 //                        (solvers/start/triple_start.h).
 //   4. M > 1: cameras c ≥ 1 posed against camera 0's shapes, rig rotation /
 //      scale estimated (solvers/start/multi_camera_start.h).
-// The model follows core/model.h: monocular s = 1 (projection scale in l_t);
-// with M > 1 camera 0 has s = 1 and cameras c ≥ 1 their own s_tc. Gauges
+// The model follows core/model/model.h: monocular s = 1 (projection scale in
+// l_t); with M > 1 camera 0 has s = 1 and cameras c ≥ 1 their own s_tc. Gauges
 // are left as they fall (docs/model.md).
 //
 // "No rotation in the sequence" is detected when the centred tracks of
@@ -42,10 +42,10 @@
 #include <utility>
 #include <vector>
 
-#include "core/measurements.h"
-#include "core/model.h"
-#include "core/status.h"
-#include "core/svd.h"
+#include "core/math/svd.h"
+#include "core/model/measurements.h"
+#include "core/model/model.h"
+#include "core/model/status.h"
 #include "solvers/start/alternation.h"
 #include "solvers/start/low_rank_completion.h"
 

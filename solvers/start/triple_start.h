@@ -12,9 +12,9 @@
 
 #include <cstdint>
 
-#include "core/measurements.h"
-#include "core/model.h"
-#include "core/status.h"
+#include "core/model/measurements.h"
+#include "core/model/model.h"
+#include "core/model/status.h"
 #include "solvers/start/alternation.h"
 #include "solvers/start/corrective_triple.h"
 

@@ -1,7 +1,7 @@
 // Synthesises a small rigid sequence, reconstructs it and checks e3D: proves
 // the installed headers, library and dependencies are complete.
-#include <nrsfm/core/metrics.h>
-#include <nrsfm/core/synthetic.h>
+#include <nrsfm/core/eval/metrics.h>
+#include <nrsfm/core/synthetic/synthetic.h>
 #include <nrsfm/solvers/pipeline/reconstruct.h>
 
 #include <iostream>

@@ -1,6 +1,6 @@
 // The allocation budget of the fuzz targets: while a target reads an input
 // of N bytes, one allocation of more than InputArrayBudget(N) = 64 MB +
-// 1032 · N bytes (core/input_budget.h: what a file of N bytes may make the
+// 1032 · N bytes (core/io/input_budget.h: what a file of N bytes may make the
 // readers hold) is a finding. The hook prints the sizes and the stack and
 // aborts, so libFuzzer keeps the input as a crash-* artifact.
 //
@@ -21,7 +21,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "core/input_budget.h"
+#include "core/io/input_budget.h"
 
 namespace nrsfm {
 namespace fuzz {

@@ -1,4 +1,4 @@
-// libFuzzer target: the keypoint readers (core/keypoint_io.h) on arbitrary
+// libFuzzer target: the keypoint readers (core/io/keypoint_io.h) on arbitrary
 // bytes: as one COCO results file, directly and through ReadMeasurements,
 // and split at form feeds into the three files of an OpenPose folder.
 // Whatever they accept must be valid measurements whose visible keypoints
@@ -9,8 +9,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "core/keypoint_io.h"
-#include "core/read_measurements.h"
+#include "core/io/keypoint_io.h"
+#include "core/io/read_measurements.h"
 #include "tests/fuzz/fuzz_input_file.h"
 
 namespace {

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "core/ground_truth.h"
-#include "core/mat_io.h"
-#include "core/read_measurements.h"
+#include "core/io/ground_truth.h"
+#include "core/io/mat_io.h"
+#include "core/io/read_measurements.h"
 #include "tests/fuzz/allocation_budget.h"
 #include "tests/fuzz/fuzz_input_file.h"
 

@@ -5,8 +5,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "core/read_measurements.h"
-#include "core/text_io.h"
+#include "core/io/read_measurements.h"
+#include "core/io/text_io.h"
 #include "tests/fuzz/allocation_budget.h"
 #include "tests/fuzz/fuzz_input_file.h"
 

@@ -9,10 +9,10 @@
 #include <cstdlib>
 #include <string>
 
-#include "core/ground_truth.h"
-#include "core/read_measurements.h"
-#include "core/result_reader.h"
-#include "core/text_io.h"
+#include "core/io/ground_truth.h"
+#include "core/io/read_measurements.h"
+#include "core/io/result_reader.h"
+#include "core/io/text_io.h"
 #include "tests/fuzz/allocation_budget.h"
 #include "tests/fuzz/fuzz_input_file.h"
 

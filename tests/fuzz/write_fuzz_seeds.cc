@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "core/mat_io.h"
-#include "core/measurements.h"
-#include "core/text_io.h"
+#include "core/io/mat_io.h"
+#include "core/io/text_io.h"
+#include "core/model/measurements.h"
 #include "tests/mat_v5_bytes.h"
 
 namespace {

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "core/synthetic.h"
+#include "core/synthetic/synthetic.h"
 #include "tests/problems/term_test_util.h"
 
 namespace nrsfm {

@@ -2,20 +2,15 @@
 
 #include <gtest/gtest.h>
 
-#include "core/synthetic.h"
+#include "core/synthetic/synthetic.h"
 #include "problems/problem_builder.h"
+#include "tests/synthetic_sequences.h"
 
 namespace nrsfm {
 namespace {
 
 SyntheticSequence Sequence(int frames, int points, int bases) {
-  RandomBasisOptions options;
-  options.num_frames = frames;
-  options.num_points = points;
-  options.num_bases = bases;
-  SyntheticSequence sequence;
-  EXPECT_TRUE(GenerateRandomBasis(options, &sequence).ok());
-  return sequence;
+  return testing_util::RandomBasisSequence(frames, points, bases);
 }
 
 TEST(LinearSolverChoice, NamesRoundTripAndBadNamesAreErrors) {

@@ -8,8 +8,8 @@
 #include <random>
 #include <vector>
 
-#include "core/metrics.h"
-#include "core/synthetic.h"
+#include "core/eval/metrics.h"
+#include "core/synthetic/synthetic.h"
 #include "problems/linear_solver_choice.h"
 
 namespace nrsfm {
@@ -27,7 +27,7 @@ SyntheticSequence SmallSequence(int cameras = 1) {
   EXPECT_TRUE(GenerateRandomBasis(options, &sequence).ok());
   if (cameras == 1) return sequence;
   // Two cameras: camera 1 sees the same frames through a second rotation
-  // and scale (rows interleaved per frame as in core/measurements.h).
+  // and scale (rows interleaved per frame as in core/model/measurements.h).
   const Model mono = sequence.truth;
   Model& truth = sequence.truth;
   truth.Resize(mono.num_frames, cameras, mono.num_points, mono.num_bases);
@@ -106,7 +106,7 @@ TEST(ProblemBuilder, MissingEntriesHaveNoResidual) {
   EXPECT_EQ(problem.NumParameters(), 3 * 3 + 3 * 2 + 3 * 2 + 5 * 6);
 
   // The cost is ½ Σ over the visible entries, consistent with
-  // core/metrics.h: ReprojectionRms = sqrt(2 · cost / N).
+  // core/eval/metrics.h: ReprojectionRms = sqrt(2 · cost / N).
   EXPECT_NEAR(std::sqrt(2.0 * Cost(&builder) / visible),
               ReprojectionRms(m, s.truth), 1e-12);
 }

@@ -11,7 +11,7 @@
 #include <random>
 #include <vector>
 
-#include "core/rotation.h"
+#include "core/math/rotation.h"
 #include "tests/problems/functor_test_util.h"
 #include "tests/problems/jacobian_product_test_util.h"
 #include "tests/problems/term_test_util.h"

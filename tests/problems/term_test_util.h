@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "core/synthetic.h"
+#include "core/synthetic/synthetic.h"
 #include "problems/extra_terms.h"
 #include "problems/problem_builder.h"
 #include "problems/problem_options.h"

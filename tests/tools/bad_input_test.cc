@@ -18,7 +18,7 @@
 #include <sstream>
 #include <string>
 
-#include "core/mat_io.h"
+#include "core/io/mat_io.h"
 #include "tests/mat_v5_bytes.h"
 #include "tests/test_util.h"
 #include "tests/tools/tool_test.h"

@@ -20,11 +20,11 @@
 #include <string>
 #include <vector>
 
-#include "core/ground_truth.h"
-#include "core/mat_io.h"
-#include "core/read_measurements.h"
-#include "core/result_reader.h"
-#include "core/synthetic.h"
+#include "core/io/ground_truth.h"
+#include "core/io/mat_io.h"
+#include "core/io/read_measurements.h"
+#include "core/io/result_reader.h"
+#include "core/synthetic/synthetic.h"
 #include "tests/test_util.h"
 #include "tests/tools/tool_test.h"
 
@@ -246,8 +246,9 @@ TEST_F(KeypointTest, PickupAsCocoResultsAndOpenPoseFolder) {
             << ", reprojection RMS " << result["reprojection_rms"] << " px\n";
   EXPECT_EQ(result["metrics"]["e3d_frame"], "camera");
   if (testing_util::kSanitizedBuild) return;
-  // Measured 0.0273 (2026-11-27).
-  EXPECT_LT(e3d, 0.035);
+  // Measured 0.02707 (this test's output line "pickup as keypoints"); the
+  // bound about 13 % above.
+  EXPECT_LT(e3d, 0.0305);
   // About the noise (0.5 px per coordinate, 0.71 px per point) and what the
   // default pipeline's temporal prior leaves of noise-free pixels (0.55 px,
   // measured): 0.92 px (the first 60 frames: 0.90 px).

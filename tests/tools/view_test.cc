@@ -16,10 +16,10 @@
 #include <string>
 #include <vector>
 
-#include "core/ground_truth.h"
-#include "core/mat_io.h"
-#include "core/read_measurements.h"
-#include "core/result_reader.h"
+#include "core/io/ground_truth.h"
+#include "core/io/mat_io.h"
+#include "core/io/read_measurements.h"
+#include "core/io/result_reader.h"
 #include "problems/delaunay_edges.h"
 #include "tests/test_util.h"
 #include "tests/tools/tool_test.h"

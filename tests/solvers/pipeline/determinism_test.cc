@@ -19,11 +19,12 @@
 #include <string>
 #include <vector>
 
-#include "core/result_writer.h"
-#include "core/synthetic.h"
+#include "core/io/result_writer.h"
+#include "core/synthetic/synthetic.h"
 #include "solvers/pipeline/reconstruct.h"
 #include "solvers/refine/refine.h"
 #include "solvers/start/start.h"
+#include "tests/synthetic_sequences.h"
 #include "tests/test_util.h"
 
 namespace nrsfm {
@@ -32,16 +33,7 @@ namespace {
 namespace fs = std::filesystem;
 
 SyntheticSequence Sequence() {
-  RandomBasisOptions options;
-  options.num_frames = 60;
-  options.num_points = 30;
-  options.num_bases = 2;
-  options.noise_stddev = 0.01;
-  options.missing_fraction = 0.2;
-  options.seed = 5;
-  SyntheticSequence sequence;
-  EXPECT_TRUE(GenerateRandomBasis(options, &sequence).ok());
-  return sequence;
+  return testing_util::RandomBasisSequence(60, 30, 2, 0.01, 0.2, 5);
 }
 
 ReconstructOptions Options(int num_threads) {
@@ -165,7 +157,7 @@ TEST(Determinism, TwoThreadsAreBitIdentical) { CheckRunsAgree(2); }
 
 // The thread count does not change the answer (the default is every core):
 // the structured solver adds its sums in pieces fixed by the problem, not by
-// the threads (core/parallel_for.h ParallelForPieces), and the two starts
+// the threads (core/math/parallel_for.h ParallelForPieces), and the two starts
 // give the same result at once or in turns.
 TEST(Determinism, OneThreadGivesTheBitsOfTwo) {
   const SyntheticSequence s = Sequence();

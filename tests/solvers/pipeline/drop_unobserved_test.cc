@@ -8,8 +8,8 @@
 #include <cmath>
 #include <string>
 
-#include "core/metrics.h"
-#include "core/synthetic.h"
+#include "core/eval/metrics.h"
+#include "core/synthetic/synthetic.h"
 #include "solvers/pipeline/reconstruct.h"
 
 namespace nrsfm {

@@ -9,8 +9,8 @@
 #include <cmath>
 #include <random>
 
-#include "core/rotation.h"
-#include "core/synthetic.h"
+#include "core/math/rotation.h"
+#include "core/synthetic/synthetic.h"
 #include "solvers/pipeline/reconstruct.h"
 
 namespace nrsfm {

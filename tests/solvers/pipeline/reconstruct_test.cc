@@ -13,10 +13,11 @@
 #include <utility>
 #include <vector>
 
-#include "core/metrics.h"
-#include "core/random.h"
-#include "core/synthetic.h"
+#include "core/eval/metrics.h"
+#include "core/math/random.h"
+#include "core/synthetic/synthetic.h"
 #include "problems/extra_terms.h"
+#include "tests/synthetic_sequences.h"
 
 namespace nrsfm {
 namespace {
@@ -27,16 +28,8 @@ constexpr int kBases = 3;
 
 SyntheticSequence Sequence(double noise, double missing, std::uint64_t seed = 1,
                            int frames = kFrames, int points = kPoints) {
-  RandomBasisOptions options;
-  options.num_frames = frames;
-  options.num_points = points;
-  options.num_bases = kBases;
-  options.noise_stddev = noise;
-  options.missing_fraction = missing;
-  options.seed = seed;
-  SyntheticSequence sequence;
-  EXPECT_TRUE(GenerateRandomBasis(options, &sequence).ok());
-  return sequence;
+  return testing_util::RandomBasisSequence(frames, points, kBases, noise,
+                                           missing, seed);
 }
 
 double E3D(const Model& truth, const Model& estimate) {

@@ -7,22 +7,15 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/metrics.h"
-#include "core/synthetic.h"
+#include "core/eval/metrics.h"
+#include "core/synthetic/synthetic.h"
+#include "tests/synthetic_sequences.h"
 
 namespace nrsfm {
 namespace {
 
 SyntheticSequence Sequence(int num_bases, double noise) {
-  RandomBasisOptions options;
-  options.num_frames = 60;
-  options.num_points = 30;
-  options.num_bases = num_bases;
-  options.noise_stddev = noise;
-  options.seed = 3;
-  SyntheticSequence sequence;
-  EXPECT_TRUE(GenerateRandomBasis(options, &sequence).ok());
-  return sequence;
+  return testing_util::RandomBasisSequence(60, 30, num_bases, noise, 0.0, 3);
 }
 
 // With noise σ per coordinate the rule keeps the true K, estimates σ from

@@ -2,21 +2,16 @@
 
 #include <gtest/gtest.h>
 
-#include "core/synthetic.h"
+#include "core/synthetic/synthetic.h"
 #include "problems/problem_builder.h"
 #include "problems/problem_options.h"
+#include "tests/synthetic_sequences.h"
 
 namespace nrsfm {
 namespace {
 
 SyntheticSequence Sequence() {
-  RandomBasisOptions options;
-  options.num_frames = 20;
-  options.num_points = 10;
-  options.num_bases = 2;
-  SyntheticSequence sequence;
-  EXPECT_TRUE(GenerateRandomBasis(options, &sequence).ok());
-  return sequence;
+  return testing_util::RandomBasisSequence(20, 10, 2);
 }
 
 TEST(MinimizerChoice, StructuredIsAMinimizerOfItsOwn) {

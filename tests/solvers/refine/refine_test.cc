@@ -13,25 +13,18 @@
 #include <thread>
 #include <vector>
 
-#include "core/metrics.h"
-#include "core/synthetic.h"
+#include "core/eval/metrics.h"
+#include "core/synthetic/synthetic.h"
 #include "problems/extra_terms.h"
+#include "tests/synthetic_sequences.h"
 
 namespace nrsfm {
 namespace {
 
 SyntheticSequence Sequence(int frames, int points, int bases, double noise,
                            double missing = 0.0, std::uint64_t seed = 5) {
-  RandomBasisOptions options;
-  options.num_frames = frames;
-  options.num_points = points;
-  options.num_bases = bases;
-  options.noise_stddev = noise;
-  options.missing_fraction = missing;
-  options.seed = seed;
-  SyntheticSequence sequence;
-  EXPECT_TRUE(GenerateRandomBasis(options, &sequence).ok());
-  return sequence;
+  return testing_util::RandomBasisSequence(frames, points, bases, noise,
+                                           missing, seed);
 }
 
 // Adds N(0, sigma²) to every rotation, weight and basis entry.

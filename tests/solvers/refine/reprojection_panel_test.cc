@@ -10,33 +10,17 @@
 
 #include <random>
 
-#include "core/synthetic.h"
+#include "core/synthetic/synthetic.h"
 #include "problems/extra_terms.h"
 #include "problems/problem_builder.h"
 #include "solvers/refine/band_preconditioner.h"
+#include "solvers/refine/refine.h"
 #include "solvers/refine/schur_elimination.h"
 #include "solvers/refine/structured_jacobian.h"
 #include "solvers/refine/structured_layout.h"
 
 namespace nrsfm {
 namespace {
-
-// The layout Refine() gives the structured solver (solvers/refine/refine.cc).
-StructuredLayout Layout(ProblemBuilder* builder) {
-  const Model& model = *builder->model();
-  StructuredLayout layout;
-  layout.groups.resize(model.num_frames);
-  for (int t = 0; t < model.num_frames; ++t) {
-    for (int c = 0; c < model.num_cameras; ++c) {
-      layout.groups[t].push_back(builder->RotationBlock(t, c));
-      layout.groups[t].push_back(builder->TranslationBlock(t, c));
-      if (c > 0) layout.groups[t].push_back(builder->ScaleBlock(t, c));
-    }
-    layout.groups[t].push_back(builder->WeightsBlock(t));
-  }
-  layout.eliminated = builder->PointBlocks();
-  return layout;
-}
 
 double RelativeDifference(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
   return (a - b).norm() / b.norm();
@@ -114,8 +98,8 @@ TEST(ReprojectionPanel, PassesEqualTheProductsResidualByResidual) {
     ASSERT_TRUE(AddExtraTerms(problem, &builder).ok());
     structured::StructuredBlocks blocks;
     std::string error;
-    ASSERT_TRUE(structured::LayOutBlocks(Layout(&builder), builder.problem(),
-                                         &blocks, &error))
+    ASSERT_TRUE(structured::LayOutBlocks(MakeStructuredLayout(&builder),
+                                         builder.problem(), &blocks, &error))
         << error;
     ASSERT_TRUE(blocks.grids.empty());
     for (const int threads : {1, 2}) {
@@ -318,8 +302,8 @@ TEST(ReprojectionPanel, NotBuiltForRobustResiduals) {
   ASSERT_TRUE(builder.AddReprojectionTerms(problem).ok());
   structured::StructuredBlocks blocks;
   std::string error;
-  ASSERT_TRUE(structured::LayOutBlocks(Layout(&builder), builder.problem(),
-                                       &blocks, &error))
+  ASSERT_TRUE(structured::LayOutBlocks(MakeStructuredLayout(&builder),
+                                       builder.problem(), &blocks, &error))
       << error;
   structured::ReprojectionPanel panel;
   EXPECT_FALSE(panel.Build(blocks));

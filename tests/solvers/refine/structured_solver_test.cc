@@ -11,14 +11,15 @@
 #include <cstdio>
 #include <random>
 
-#include "core/metrics.h"
-#include "core/synthetic.h"
+#include "core/eval/metrics.h"
+#include "core/synthetic/synthetic.h"
 #include "problems/extra_terms.h"
 #include "problems/problem_builder.h"
 #include "solvers/refine/refine.h"
 #include "solvers/refine/schur_elimination.h"
 #include "solvers/refine/structured_jacobian.h"
 #include "solvers/refine/structured_layout.h"
+#include "tests/solvers/refine/dense_oracle.h"
 
 namespace nrsfm {
 namespace {
@@ -147,21 +148,6 @@ TEST(StructuredSolver, EliminatesPointsThatTheSmoothnessTermCouples) {
   }
 }
 
-// The layout Refine() gives the structured solver: a group per frame, the
-// points eliminated.
-StructuredLayout Layout(ProblemBuilder* builder) {
-  const Model& model = *builder->model();
-  StructuredLayout layout;
-  layout.groups.resize(model.num_frames);
-  for (int t = 0; t < model.num_frames; ++t) {
-    layout.groups[t] = {builder->RotationBlock(t, 0),
-                        builder->TranslationBlock(t, 0),
-                        builder->WeightsBlock(t)};
-  }
-  layout.eliminated = builder->PointBlocks();
-  return layout;
-}
-
 // Terms() and the two other terms of bilinear form.
 ProblemOptions GridTerms() {
   ProblemOptions terms = Terms();
@@ -193,8 +179,8 @@ TEST(StructuredSolver, SumsTheTermsOfBilinearFormAsGrids) {
     }
     structured::StructuredBlocks blocks;
     std::string error;
-    ASSERT_TRUE(structured::LayOutBlocks(Layout(&builder), builder.problem(),
-                                         &blocks, &error))
+    ASSERT_TRUE(structured::LayOutBlocks(MakeStructuredLayout(&builder),
+                                         builder.problem(), &blocks, &error))
         << error;
     int in_grid = 0;
     for (const structured::Residual& r : blocks.residuals) in_grid += r.in_grid;
@@ -257,32 +243,13 @@ TEST(StructuredSolver, ColumnNormsOfTheGridsAreThoseOfTheJacobian) {
   ASSERT_TRUE(AddExtraTerms(terms, &builder).ok());
   structured::StructuredBlocks blocks;
   std::string error;
-  ASSERT_TRUE(structured::LayOutBlocks(Layout(&builder), builder.problem(),
-                                       &blocks, &error))
+  ASSERT_TRUE(structured::LayOutBlocks(MakeStructuredLayout(&builder),
+                                       builder.problem(), &blocks, &error))
       << error;
   ASSERT_EQ(blocks.grids.size(), 3u);
-  // Ceres' Jacobian with the columns in the layout's order: the reduced
-  // blocks, then the eliminated ones, each by its offset.
-  std::vector<std::pair<int, int>> order;  // (eliminated, offset), block
-  for (std::size_t i = 0; i < blocks.blocks.size(); ++i) {
-    const structured::Block& b = blocks.blocks[i];
-    order.push_back({(b.eliminated ? blocks.num_reduced : 0) + b.offset,
-                     static_cast<int>(i)});
-  }
-  std::sort(order.begin(), order.end());
-  ceres::Problem::EvaluateOptions evaluate;
-  for (const auto& [column, i] : order) {
-    evaluate.parameter_blocks.push_back(blocks.blocks[i].values);
-  }
-  double cost = 0.0;
-  ceres::CRSMatrix crs;
-  ASSERT_TRUE(
-      builder.problem()->Evaluate(evaluate, &cost, nullptr, nullptr, &crs));
-  ASSERT_EQ(crs.num_cols, blocks.num_reduced + blocks.num_eliminated);
-  Eigen::VectorXd expected = Eigen::VectorXd::Zero(crs.num_cols);
-  for (std::size_t k = 0; k < crs.values.size(); ++k) {
-    expected[crs.cols[k]] += crs.values[k] * crs.values[k];
-  }
+  const DenseJacobian dense = EvaluateDense(blocks, builder.problem());
+  const double cost = dense.cost;
+  const Eigen::VectorXd expected = dense.jacobian.colwise().squaredNorm();
   for (const bool panel : {true, false}) {
     structured::StructuredJacobian jacobian(blocks, 2, panel);
     EXPECT_EQ(jacobian.uses_panel(), panel);
@@ -294,7 +261,7 @@ TEST(StructuredSolver, ColumnNormsOfTheGridsAreThoseOfTheJacobian) {
     structured::SchurElimination schur(blocks, jacobian, 2);
     schur.ComputeGram();
     schur.AddGridColumnSquaredNorms(&reduced, &eliminated);
-    Eigen::VectorXd got(crs.num_cols);
+    Eigen::VectorXd got(dense.jacobian.cols());
     got << reduced, eliminated;
     EXPECT_LT((got - expected).cwiseAbs().maxCoeff(),
               1e-10 * expected.cwiseAbs().maxCoeff())

@@ -9,9 +9,9 @@
 #include <random>
 #include <vector>
 
-#include "core/metrics.h"
-#include "core/rotation.h"
-#include "core/synthetic.h"
+#include "core/eval/metrics.h"
+#include "core/math/rotation.h"
+#include "core/synthetic/synthetic.h"
 #include "solvers/refine/refine.h"
 #include "solvers/start/start.h"
 

@@ -2,8 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include "core/metrics.h"
-#include "core/synthetic.h"
+#include "core/eval/metrics.h"
+#include "core/synthetic/synthetic.h"
 
 namespace nrsfm {
 namespace {

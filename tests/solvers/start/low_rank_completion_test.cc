@@ -4,7 +4,8 @@
 
 #include <cmath>
 
-#include "core/synthetic.h"
+#include "core/synthetic/synthetic.h"
+#include "tests/synthetic_sequences.h"
 
 namespace nrsfm {
 namespace {
@@ -37,16 +38,8 @@ void MissingErrors(const SyntheticSequence& sequence,
 }
 
 SyntheticSequence RandomMissing(int num_bases, double noise, double missing) {
-  RandomBasisOptions options;
-  options.num_frames = 120;
-  options.num_points = 40;
-  options.num_bases = num_bases;
-  options.noise_stddev = noise;
-  options.missing_fraction = missing;
-  options.seed = 5;
-  SyntheticSequence sequence;
-  EXPECT_TRUE(GenerateRandomBasis(options, &sequence).ok());
-  return sequence;
+  return testing_util::RandomBasisSequence(120, 40, num_bases, noise, missing,
+                                           5);
 }
 
 TEST(LowRankCompletion, RecoversMissingEntriesOfNoiseFreeData) {

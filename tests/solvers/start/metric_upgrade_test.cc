@@ -6,7 +6,7 @@
 #include <Eigen/LU>
 #include <random>
 
-#include "core/rotation.h"
+#include "core/math/rotation.h"
 
 namespace nrsfm {
 namespace {

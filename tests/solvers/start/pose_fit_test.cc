@@ -5,7 +5,7 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 
-#include "core/rotation.h"
+#include "core/math/rotation.h"
 
 namespace nrsfm {
 namespace {

@@ -1,0 +1,42 @@
+// Reads back what core/io/result_writer.h writes, so that a result directory
+// can serve as ground truth or as the estimate (`nrsfm evaluate`).
+#ifndef NRSFM_CORE_IO_RESULT_READER_H_
+#define NRSFM_CORE_IO_RESULT_READER_H_
+
+#include <string>
+
+#include "core/io/ground_truth.h"
+#include "core/model/status.h"
+
+namespace nrsfm {
+
+// Reads the camera-frame points of camera `camera` from points_camera.csv
+// (header frame,camera,point,x,y,z). `path` is the CSV file or a result
+// directory that holds it. F and P are the largest frame and point index + 1;
+// every (frame, point) of that camera must appear exactly once. Sets
+// truth->source to "points_camera.csv". Fails on a missing file, a wrong
+// header or field, non-integer or negative indices, a duplicate or missing
+// (frame, point), coordinates of which some but not all are NaN (all three
+// NaN: a point or frame left out of the reconstruction, kept as NaN), or no
+// row for `camera`.
+Status ReadPointsCameraCsv(const std::string& path, int camera,
+                           GroundTruth* truth);
+
+// Reads a whole result directory `dir` as the estimate of an evaluation:
+// camera `camera`'s points (ReadPointsCameraCsv), the object-frame shapes
+// S_t of points_object.csv (header frame,point,x,y,z; every (frame, point)
+// of the camera's F and P exactly once) and camera `camera`'s rotations of
+// rotations.csv (header frame,camera,r11..r33; every frame once; each a
+// rotation to 1e-6, or all NaN for a left-out frame). Sets shapes->source
+// to "result". Fails, naming the file and row, like ReadPointsCameraCsv.
+Status ReadResultShapes(const std::string& dir, int camera,
+                        GroundTruth* shapes);
+
+// The number of basis shapes K of a result directory: result.json's
+// "num_bases". Fails, naming the file, when it is missing, not JSON, or has
+// no integer num_bases ≥ 1.
+Status ReadResultNumBases(const std::string& dir, int* num_bases);
+
+}  // namespace nrsfm
+
+#endif  // NRSFM_CORE_IO_RESULT_READER_H_
