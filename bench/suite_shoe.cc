@@ -52,9 +52,9 @@ Status RunShoeSuite(const BenchConfig& config, Json* out) {
       rigidity ? "2 cams + rigidity" : "2 cams, NO rigidity";
 
   // Four sweeps: index = 2 · (default pipeline) + (cameras − 1); two run
-  // side by side (--jobs; core/math/parallel_for.h runs a sweep's own loop inside
-  // this one on its calling thread, so at most two reconstructions run at
-  // once here).
+  // side by side (--jobs; core/math/parallel_for.h runs a sweep's own loop
+  // inside this one on its calling thread, so at most two reconstructions run
+  // at once here).
   std::vector<SweepResult> results(4);
   ParallelFor(4, config.jobs, /*grain=*/1, [&](int begin, int end) {
     for (int index = begin; index < end; ++index) {
