@@ -13,25 +13,14 @@
 //                          "face_keypoints_2d": …, "hand_left_keypoints_2d":
 //                          …, "hand_right_keypoints_2d": …}, …]}.
 //
-// Frames. COCO: the entries' value of KeypointOptions::frame_key orders the
-// frames. Integer values are frame numbers: every integer from the smallest
-// to the largest is a frame, and a number without an entry is a frame with
-// no person (the detector found none there), so that the frames keep their
-// spacing in time. Other numbers, and strings (compared in natural order:
-// "f2" < "f10"), give one frame per distinct value, in order. Several
-// entries of one frame: the one with the highest "score" is used (the first
-// of equal ones; an entry without "score" counts as 0), and a warning says
-// how many frames had several. OpenPose: one frame per .json file of the
-// folder, in the natural order of the file names; people[0] is the person,
-// and a warning says how many frames had more than one.
-// A frame with no person (COCO: no entry; OpenPose: "people" empty, or the
-// part's array empty because OpenPose did not compute it there) has all its
-// points missing, and a warning names how many frames (and the first ones).
-//
-// Points: the keypoints of an entry in their order, P = (number of values)
-// / 3, the same in every frame. A keypoint is visible when its score is
-// above 0 and at least KeypointOptions::min_confidence; otherwise it is
-// missing (OpenPose writes x = y = score = 0 for a keypoint it did not find).
+// Frames: COCO's KeypointOptions::frame_key orders the entries (integer
+// values are frame numbers, gaps are frames with no person; others give one
+// frame per distinct value in natural order), the highest "score" wins
+// within a frame; OpenPose: one frame per file in natural order, people[0].
+// A frame with no person has all its points missing; warnings count the
+// frames with several people and with none (docs/inputs.md has the rules).
+// Points: P = (values per entry) / 3, the same in every frame; a keypoint is
+// visible when its score is > 0 and ≥ KeypointOptions::min_confidence.
 //
 // Coordinates: W holds the files' pixel coordinates as they are, u = x to
 // the right and v = y down (the image convention), M = 1. The reconstruction

@@ -15,17 +15,10 @@
 //     MinPointsPerView(K) = max(4, ⌈(K + 5) / 2⌉) of the points that are
 //     kept; the whole frame goes (every camera), since the model's weights
 //     l_t are per frame.
-// The start asks more of the data: with entries missing, ComputeStart()
-// (solvers/start/start.h) fills them by the rank-3K' affine low-rank
-// completion (solvers/start/low_rank_completion.h), which needs every view to
-// see 3K' + 1 points and every point to be seen in ⌈3K' / 2⌉ views; it uses the
-// largest K' ≤ K the kept data allow (the refinement then fits all K
-// bases). So a point seen in too few views to be determined is left out
-// rather than lowering K' for the whole start (what a K' lowered by one
-// rarely seen point once cost on the shoe is in docs/factorization.md,
-// section 1), while data that are sparse everywhere (30 % of a 41-point
-// sequence missing at K = 12: each view sees ~29 < 37 points) still start with
-// K' < K.
+// The start asks more (a rank-3K' completion needs every view to see
+// 3K' + 1 points and every point ⌈3K' / 2⌉ views) and uses the largest
+// K' ≤ K the kept data allow, so a rarely seen point is left out rather
+// than lowering K' for the whole start (docs/factorization.md, section 1).
 // Leaving out a frame takes views away from the points and leaving out a
 // point takes points away from the views, so the two are applied in turn
 // (points first) until neither leaves out anything more. Complete

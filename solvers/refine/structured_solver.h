@@ -20,37 +20,17 @@
 // Ceres 2.1's own iterative Schur solver cannot use such a preconditioner
 // (its JACOBI and SCHUR_JACOBI ignore the chain).
 //
-// The parts, one file each (namespace nrsfm::structured):
-//   solvers/refine/structured_layout.h: the blocks as columns, residual blocks
-//   as
-//     rows;
-//   solvers/refine/structured_jacobian.h: evaluation, the stored Jacobian,
-//   products
-//     with it;
-//   solvers/refine/reprojection_panel.h: the reprojection residuals' products
-//   as
-//     matrix products over views × points;
-//   solvers/refine/schur_elimination.h: the points' elimination, products with
-//   S; solvers/refine/band_preconditioner.h: the block-band preconditioner;
-//   solvers/refine/conjugate_gradients.h: preconditioned conjugate gradients;
-//   this file's .cc: the LM loop and the trust-region update.
-//
-// Products with the Jacobian read the stored Jacobian in storage order, or,
-// for cost functions that provide them (problems/jacobian_product.h), are
-// formed from the parameters; when at least a fifth of the views × points
-// panel is observed, the reprojection residuals' products (with S, the
-// gradient, J_pᵀ J_p, the views' J_fᵀ J_f for the preconditioner, diag(JᵀJ),
-// the model's decrease) are matrix products over the panel
-// (solvers/refine/reprojection_panel.h) and their Jacobians are not stored;
-// otherwise the reprojection residuals (without a robust loss) keep only
-// the 2 × 3 factor A of their basis block's Jacobian l_k A
-// (problems/reprojection_cost_function.h), not the 2 × 3K block, and form its
-// other products, J_pᵀ J_p and diag from A and the weights; a cost function
-// that also provides its Gram blocks (JacobianProduct::ProvidesGram, the
-// temporal shape term) has no stored Jacobian at all. Sums over residual blocks
-// are added in pieces fixed by the problem, not by the thread count
-// (core/math/parallel_for.h, ParallelForPieces), so results are the same bits
-// for any thread count.
+// The parts, one file each (namespace nrsfm::structured): structured_layout
+// (blocks as columns, residual blocks as rows), structured_jacobian
+// (evaluation, stored Jacobian, products), reprojection_panel (the
+// reprojection residuals' products as matrix products over views × points),
+// schur_elimination, band_preconditioner, conjugate_gradients; this file's
+// .cc: the LM loop. Products with the Jacobian are formed from the
+// parameters where a cost function can (problems/jacobian_product.h; the
+// panel, the basis factor, the Gram blocks: docs/performance.md), else read
+// from the stored Jacobian. Sums over residual blocks are added in pieces
+// fixed by the problem (core/math/parallel_for.h, ParallelForPieces): the
+// same bits for any thread count.
 #ifndef NRSFM_SOLVERS_REFINE_STRUCTURED_SOLVER_H_
 #define NRSFM_SOLVERS_REFINE_STRUCTURED_SOLVER_H_
 

@@ -22,22 +22,15 @@
 //      (Bᵀ = Q R, B ← Qᵀ, A ← A Rᵀ), which leaves A B + t 1ᵀ unchanged and
 //      keeps both sub-problems well conditioned. With B centred, t_i is the
 //      mean over all P columns of the completed row.
-//   Ridge: the factors are fitted as a maximum a posteriori estimate with a
-//   Gaussian prior on A and B (not on t): with σ̂² the mean squared
-//   residual per coordinate of the previous round, floored at
-//   (ridge_floor · RMS of the row-centred data)², column solves add σ̂² · P
-//   (an entry of the orthonormal B has mean square 1/P) and row solves
-//   σ̂² / mean(a_ij²) to the diagonal. Without it, noise or an occlusion
-//   pattern that leaves some missing entries nearly undetermined (e.g.
-//   self-occlusion over long frame ranges) lets the missing entries drift
-//   far from the data while the visible residual barely moves; with it they
-//   stay near the smallest-norm completion. On noise-free data it biases an
-//   exactly determined completion by about ridge_floor² relative (measured
-//   in docs/factorization.md, section 1); ridge_floor = 0 gives an exact
-//   fit.
-//   Every normal matrix N also gets a Tikhonov term `1e-12 · tr(N) / n` on
-//   its diagonal so that a rank-deficient row or column cannot produce
-//   Inf/NaN.
+//   Ridge: a Gaussian prior on A and B (not on t), σ̂² (the previous round's
+//   mean squared residual, floored at (ridge_floor · RMS of the row-centred
+//   data)²) · P added to the column solves' diagonal and σ̂² / mean(a_ij²)
+//   to the rows': missing entries the pattern barely determines stay near
+//   the smallest-norm completion instead of drifting; on noise-free data a
+//   bias of about ridge_floor² relative (docs/factorization.md, section 1);
+//   ridge_floor = 0 gives an exact fit.
+//   Every normal matrix N also gets 1e-12 · tr(N) / n on its diagonal (no
+//   Inf/NaN from a rank-deficient row or column).
 //   Steps 1-3 repeat until the RMS fit residual over the visible entries
 //   decreases by less than 1e-12 of itself (an increase also stops), or
 //   falls below 1e-13 of the RMS of the row-centred data, or
