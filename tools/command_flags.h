@@ -279,15 +279,23 @@ struct SetsNothing {};
                 "solver threads (default: every core; the "                    \
                 "default solver gives the same bits for any "                  \
                 "count)."}))                                                   \
+  X(std::string, minimizer,                                                    \
+    ::nrsfm::MinimizerName(::nrsfm::SolverOptions().minimizer), kOption,       \
+    NRSFM_PARSES(reconstruct, solver.minimizer, ::nrsfm::ParseMinimizer),      \
+    NRSFM_HELP({kReconstruct,                                                  \
+                "auto|structured|ceres: our Levenberg-Marquardt on the "       \
+                "problem (auto where it fits) or ceres::Solve with "           \
+                "--linear_solver (docs/problem.md)."}))                        \
   X(std::string, linear_solver,                                                \
     ::nrsfm::LinearSolverName(::nrsfm::SolverOptions().linear_solver),         \
     kOption,                                                                   \
     NRSFM_PARSES(reconstruct, solver.linear_solver,                            \
                  ::nrsfm::ParseLinearSolver),                                  \
     NRSFM_HELP({kReconstruct,                                                  \
-                "auto|structured|dense_schur|sparse_schur|"                    \
-                "iterative_schur|sparse_normal_cholesky|cgnr|"                 \
-                "dense_qr."}))                                                 \
+                "Ceres' linear solver with --minimizer ceres: auto|"           \
+                "dense_schur|sparse_schur|iterative_schur|"                    \
+                "sparse_normal_cholesky|cgnr|dense_qr (auto also takes "       \
+                "structured: --minimizer structured)."}))                      \
   X(double, gradient_tolerance, ::nrsfm::SolverOptions().gradient_tolerance,   \
     kOption, NRSFM_SETS(reconstruct, solver.gradient_tolerance),               \
     NRSFM_HELP(                                                                \

@@ -24,4 +24,24 @@ MinimizerChoice ChooseMinimizer(LinearSolverChoice requested,
   return result;
 }
 
+MinimizerChoice ChooseMinimizer(MinimizerOption minimizer,
+                                LinearSolverChoice requested,
+                                ProblemBuilder* builder) {
+  switch (minimizer) {
+    case MinimizerOption::kAuto:
+      return ChooseMinimizer(requested, builder);
+    case MinimizerOption::kStructured:
+      return ChooseMinimizer(LinearSolverChoice::kStructured, builder);
+    case MinimizerOption::kCeres:
+      break;
+  }
+  MinimizerChoice choice = ChooseMinimizer(requested, builder);
+  if (choice.minimizer == Minimizer::kStructured) {
+    // auto's structured choice, on Ceres: its fallback linear solver.
+    choice.minimizer = Minimizer::kCeres;
+    choice.fallback = false;
+  }
+  return choice;
+}
+
 }  // namespace nrsfm

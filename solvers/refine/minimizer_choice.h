@@ -1,16 +1,19 @@
-// Which minimiser runs a refinement, decided apart from Ceres' linear solver.
+// Which minimiser runs a refinement (SolverOptions::minimizer), and Ceres'
+// linear solver when Ceres runs it (SolverOptions::linear_solver).
 //
-// SolverOptions::linear_solver names both: "structured" is not a Ceres
-// linear solver but a Levenberg–Marquardt minimiser of its own
-// (solvers/refine/structured_solver.h); every other name is a linear solver of
-// Ceres' trust-region minimiser (problems/linear_solver_choice.h). `auto`
-// resolves by the rule there (ChooseLinearSolver), from the problem's
-// structure.
+// minimizer = structured: the Levenberg–Marquardt minimiser of our own
+// (solvers/refine/structured_solver.h); ceres: Ceres' trust-region
+// minimiser with the linear solver named, or for auto the rule of
+// problems/linear_solver_choice.h (ChooseLinearSolver) with its structured
+// choice replaced by ITERATIVE_SCHUR (CGNR when points are coupled); auto:
+// the rule from the problem's structure, where "structured" names the
+// structured minimiser.
 #ifndef NRSFM_SOLVERS_REFINE_MINIMIZER_CHOICE_H_
 #define NRSFM_SOLVERS_REFINE_MINIMIZER_CHOICE_H_
 
 #include "problems/linear_solver_choice.h"
 #include "problems/problem_builder.h"
+#include "solvers/refine/solver_options.h"
 
 namespace nrsfm {
 
@@ -31,9 +34,13 @@ struct MinimizerChoice {
   bool fallback = false;
 };
 
-// `requested` is SolverOptions::linear_solver; the problem's structure is
-// looked at (DescribePointBlocks) only for kAuto.
+// `requested` is SolverOptions::linear_solver (with minimizer = auto); the
+// problem's structure is looked at (DescribePointBlocks) only for kAuto.
 MinimizerChoice ChooseMinimizer(LinearSolverChoice requested,
+                                ProblemBuilder* builder);
+// Both options; they have passed SolverOptions::Check().
+MinimizerChoice ChooseMinimizer(MinimizerOption minimizer,
+                                LinearSolverChoice requested,
                                 ProblemBuilder* builder);
 
 }  // namespace nrsfm

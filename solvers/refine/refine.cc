@@ -247,6 +247,7 @@ struct KeptProblem::State {
   std::unique_ptr<ProblemBuilder> builder;
   // The minimiser chosen for it and the structured solver's layout.
   bool chosen = false;
+  MinimizerOption requested_minimizer = MinimizerOption::kAuto;
   LinearSolverChoice requested = LinearSolverChoice::kAuto;
   MinimizerChoice choice;
   structured::StructuredBlocks blocks;
@@ -385,17 +386,22 @@ Status SolveProblemWith(const SolverOptions& caller, ProblemBuilder* builder,
       ReprojectionRms(measurements, *model, options.num_threads);
 
   // A kept problem is the same problem: its choice is kept with it (the
-  // solver options that decide it, linear_solver, are compared).
+  // solver options that decide it, minimizer and linear_solver, are
+  // compared).
   if (state != nullptr &&
-      !(state->chosen && state->requested == options.linear_solver)) {
-    state->choice = ChooseMinimizer(options.linear_solver, builder);
+      !(state->chosen && state->requested_minimizer == options.minimizer &&
+        state->requested == options.linear_solver)) {
+    state->choice =
+        ChooseMinimizer(options.minimizer, options.linear_solver, builder);
+    state->requested_minimizer = options.minimizer;
     state->requested = options.linear_solver;
     state->chosen = true;
     state->blocks = structured::StructuredBlocks();
   }
   const MinimizerChoice choice =
-      state != nullptr ? state->choice
-                       : ChooseMinimizer(options.linear_solver, builder);
+      state != nullptr
+          ? state->choice
+          : ChooseMinimizer(options.minimizer, options.linear_solver, builder);
   bool solved = false;
   if (choice.minimizer == Minimizer::kStructured) {
     std::string error;

@@ -6,9 +6,28 @@
 #include <string>
 #include <thread>
 
+#include "core/model/enum_names.h"
 #include "core/model/option_checker.h"
 
 namespace nrsfm {
+
+namespace {
+
+constexpr EnumName<MinimizerOption> kMinimizerNames[] = {
+    {MinimizerOption::kAuto, "auto"},
+    {MinimizerOption::kStructured, "structured"},
+    {MinimizerOption::kCeres, "ceres"},
+};
+
+}  // namespace
+
+Status ParseMinimizer(const std::string& name, MinimizerOption* option) {
+  return ParseName(kMinimizerNames, name, "minimizer", option);
+}
+
+const char* MinimizerName(MinimizerOption option) {
+  return NameOf(kMinimizerNames, option);
+}
 
 int DefaultNumThreads() {
   return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
@@ -29,6 +48,18 @@ Status SolverOptions::Check() const {
                 "cg_relative_tolerance must be in (0, 1), got " +
                     std::to_string(cg_relative_tolerance));
   check.AtLeast("max_cg_iterations", max_cg_iterations, 1);
+  check.Require(minimizer != MinimizerOption::kStructured ||
+                    linear_solver == LinearSolverChoice::kAuto ||
+                    linear_solver == LinearSolverChoice::kStructured,
+                std::string("linear_solver = ") +
+                    LinearSolverName(linear_solver) +
+                    " is one of Ceres' linear solvers: it applies with "
+                    "minimizer = ceres, not structured");
+  check.Require(minimizer != MinimizerOption::kCeres ||
+                    linear_solver != LinearSolverChoice::kStructured,
+                "linear_solver = structured is the structured minimizer: "
+                "with minimizer = ceres name one of Ceres' linear solvers "
+                "or auto");
   return check.status();
 }
 

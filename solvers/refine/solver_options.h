@@ -9,6 +9,7 @@
 #include <ceres/solver.h>
 
 #include <functional>
+#include <string>
 
 #include "core/model/status.h"
 #include "problems/linear_solver_choice.h"
@@ -21,6 +22,18 @@ struct IterationReport {
   double cost = 0.0;     // Ceres cost ½ Σ ρ(‖r‖²) after the iteration
   double seconds = 0.0;  // wall time since the solve started
 };
+
+// Which minimiser solves the problem (solvers/refine/minimizer_choice.h):
+// the structured one — Levenberg–Marquardt of our own on the same Ceres
+// problem, the points eliminated and conjugate gradients over the frame
+// chain with a preconditioner that is exact for the temporal terms; yoga 21
+// LM steps / 2.5 s against 113 / 885 s with Ceres' ITERATIVE_SCHUR
+// (docs/performance.md) — or ceres::Solve with `linear_solver`. auto: the
+// structured one where its layout fits the problem, else Ceres.
+enum class MinimizerOption { kAuto, kStructured, kCeres };
+// "auto", "structured", "ceres"; an error lists them.
+Status ParseMinimizer(const std::string& name, MinimizerOption* option);
+const char* MinimizerName(MinimizerOption option);
 
 // std::thread::hardware_concurrency(), or 1 when it is unknown.
 int DefaultNumThreads();
@@ -45,6 +58,10 @@ struct SolverOptions {
   // thread their runs agree only to rounding. 1 is bitwise deterministic
   // everywhere.
   int num_threads = DefaultNumThreads();
+  MinimizerOption minimizer = MinimizerOption::kAuto;
+  // Ceres' linear solver, for minimizer = ceres (auto: the rule of
+  // problems/linear_solver_choice.h; with minimizer = auto, "structured"
+  // still names the structured minimiser).
   LinearSolverChoice linear_solver = LinearSolverChoice::kAuto;
   // LM's first trust-region radius, > 0. Ceres' default is 1e4; the gauge
   // freedoms make its first, nearly undamped steps huge and rejected, so
@@ -68,8 +85,10 @@ struct SolverOptions {
   // called Refine()/Reconstruct().
   std::function<bool()> stop_requested;
 
-  // Errors on a negative count, tolerance or time, num_threads < 1 and an
-  // initial_trust_region_radius that is not positive and finite.
+  // Errors on a negative count, tolerance or time, num_threads < 1, an
+  // initial_trust_region_radius that is not positive and finite, and a
+  // linear solver the minimiser does not use (minimizer = structured with a
+  // Ceres linear solver, minimizer = ceres with linear_solver = structured).
   Status Check() const;
 };
 

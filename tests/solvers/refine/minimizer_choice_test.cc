@@ -42,6 +42,63 @@ TEST(MinimizerChoice, StructuredIsAMinimizerOfItsOwn) {
   }
 }
 
+TEST(MinimizerChoice, TheMinimizerOptionNamesTheMinimizer) {
+  SyntheticSequence s = Sequence();
+  ProblemBuilder builder(&s.measurements, &s.truth);
+  ASSERT_TRUE(builder.AddReprojectionTerms(ProblemOptions()).ok());
+  // structured: ours, no fallback; ceres with auto: Ceres with the
+  // structured choice's fallback solver (the points here are independent).
+  MinimizerChoice choice = ChooseMinimizer(MinimizerOption::kStructured,
+                                           LinearSolverChoice::kAuto, &builder);
+  EXPECT_EQ(choice.minimizer, Minimizer::kStructured);
+  EXPECT_FALSE(choice.fallback);
+  choice = ChooseMinimizer(MinimizerOption::kCeres, LinearSolverChoice::kAuto,
+                           &builder);
+  EXPECT_EQ(choice.minimizer, Minimizer::kCeres);
+  EXPECT_FALSE(choice.fallback);
+  EXPECT_EQ(choice.ceres_linear_solver, LinearSolverChoice::kIterativeSchur);
+  choice = ChooseMinimizer(MinimizerOption::kCeres,
+                           LinearSolverChoice::kDenseSchur, &builder);
+  EXPECT_EQ(choice.minimizer, Minimizer::kCeres);
+  EXPECT_EQ(choice.ceres_linear_solver, LinearSolverChoice::kDenseSchur);
+  // auto: the linear_solver option alone decides, as before.
+  choice = ChooseMinimizer(MinimizerOption::kAuto, LinearSolverChoice::kAuto,
+                           &builder);
+  EXPECT_EQ(choice.minimizer, Minimizer::kStructured);
+  EXPECT_TRUE(choice.fallback);
+}
+
+TEST(MinimizerChoice, ALinearSolverTheMinimizerDoesNotUseIsAnError) {
+  SolverOptions options;
+  options.minimizer = MinimizerOption::kStructured;
+  options.linear_solver = LinearSolverChoice::kDenseQr;
+  Status status = options.Check();
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.message().find(
+                "linear_solver = dense_qr is one of Ceres' linear solvers: it "
+                "applies with minimizer = ceres, not structured"),
+            std::string::npos)
+      << status.message();
+  options.minimizer = MinimizerOption::kCeres;
+  options.linear_solver = LinearSolverChoice::kStructured;
+  status = options.Check();
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("linear_solver = structured is the "
+                                  "structured minimizer"),
+            std::string::npos)
+      << status.message();
+  options.linear_solver = LinearSolverChoice::kAuto;
+  EXPECT_TRUE(options.Check().ok());
+  MinimizerOption parsed;
+  EXPECT_TRUE(ParseMinimizer("ceres", &parsed).ok());
+  EXPECT_EQ(parsed, MinimizerOption::kCeres);
+  status = ParseMinimizer("fast", &parsed);
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("expected one of auto, structured, ceres"),
+            std::string::npos)
+      << status.message();
+}
+
 TEST(MinimizerChoice, AutoWithoutFreePointsRunsCeres) {
   SyntheticSequence s = Sequence();
   ProblemBuilder builder(&s.measurements, &s.truth);
