@@ -18,19 +18,19 @@ using Json = nlohmann::ordered_json;
 struct BenchConfig {
   bool full = false;  // the paper-sized run (e.g. R = 30) instead of the
                       // reduced default
-  bool quick =
-      false;  // the default run of every suite (--suite=default): smaller still
+  // the default run of every suite (--suite=default): smaller still
+  bool quick = false;
   int runs = 0;  // R, random runs per setting; 0 = the suite's default
   std::string datasets_dir;     // folder with the mocap .mat files ("" = none)
   std::string output_dir;       // JSON and plots go here
   int threads = 1;              // Ceres threads
   bool plots = true;            // write plots when gnuplot is available
   std::string mocap_sequences;  // comma-separated file stems to run ("" = all)
-  double max_seconds =
-      0;         // wall-time cap of each shoe and mocap refinement, 0 = none
+  // wall-time cap of each shoe and mocap refinement, 0 = none
+  double max_seconds = 0;
   int jobs = 1;  // reconstructions run at once (the scale suite: always 1)
-  std::string strategy =
-      "default";  // mocap: default | plain | triple, ts joined by '+' | all
+  // mocap: default | plain | triple, ts joined by '+' | all
+  std::string strategy = "default";
 };
 
 // The options every suite uses unless it says otherwise: Reconstruct()'s

@@ -19,23 +19,24 @@ SweepResult SweepK(
   }
   // Outcome of K = ks[i], run r at index i * runs + r.
   std::vector<RunOutcome> outcomes(ks.size() * runs);
-  ParallelFor(
-      static_cast<int>(outcomes.size()), jobs, /*grain=*/1,
-      [&](int begin, int end) {
-        for (int index = begin; index < end; ++index) {
-          const int k = ks[index / runs];
-          const int r = index % runs;
-          RunOutcome& o = outcomes[index];
-          if (made[r].ok()) {
-            o = ReconstructAndEvaluate(options(k), sequences[r].measurements,
-                                       TruthShapes(sequences[r].truth));
-            o.model =
-                Model();  // not needed here; keeps the sweep's memory small
-          } else {
-            o.message = made[r].message();
-          }
-        }
-      });
+  ParallelFor(static_cast<int>(outcomes.size()), jobs, /*grain=*/1,
+              [&](int begin, int end) {
+                for (int index = begin; index < end; ++index) {
+                  const int k = ks[index / runs];
+                  const int r = index % runs;
+                  RunOutcome& o = outcomes[index];
+                  if (made[r].ok()) {
+                    o = ReconstructAndEvaluate(options(k),
+                                               sequences[r].measurements,
+                                               TruthShapes(sequences[r].truth));
+                    // The model is not needed here; dropping it keeps the
+                    // sweep's memory small.
+                    o.model = Model();
+                  } else {
+                    o.message = made[r].message();
+                  }
+                }
+              });
   for (size_t i = 0; i < ks.size(); ++i) {
     const int k = ks[i];
     SweepPoint point;

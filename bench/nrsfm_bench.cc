@@ -12,9 +12,9 @@
 //   --threads         Ceres threads
 //   --plots           write plots (gnuplot, SVG); skipped with a note if absent
 //   --mocap_sequences comma-separated .mat stems (default: every file)
-//   --max_seconds     wall-time cap of each shoe, mocap, robustness and scale
-//   refinement
-//                     (default run: 30; one suite alone or --full: none)
+//   --max_seconds     wall-time cap of each shoe, mocap, robustness and
+//                     scale refinement (default run: 30; one suite alone or
+//                     --full: none)
 //   --jobs            reconstructions run at once (default 2)
 //   --max_iterations  LM iterations per refinement (default: the library's)
 //   --strategy        mocap: default | plain | triple, ts joined by '+' | all

@@ -31,8 +31,8 @@ struct NeighbourEdge {
 struct DelaunayEdgesOptions {
   int reference_frame = -1;  // frame whose camera-0 view is triangulated; -1 =
                              // most visible points
-  int num_hidden_neighbours =
-      3;  // vertices each non-vertex point is joined to, ≥ 1
+  // vertices each non-vertex point is joined to, ≥ 1
+  int num_hidden_neighbours = 3;
 
   // Errors on reference_frame < -1 or num_hidden_neighbours < 1 (the frame
   // range is checked against the measurements by ComputeDelaunayEdges).

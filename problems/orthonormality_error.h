@@ -40,8 +40,8 @@ class OrthonormalityError final : public ceres::CostFunction {
                 double** jacobians) const override {
     const Eigen::Index n = rows_.cols();
     const Eigen::Map<const Eigen::MatrixXd> g(parameters[0], n, 3);
-    const Eigen::Matrix<double, Eigen::Dynamic, 3> a =
-        rows_ * g;  // rows a₁, a₂ per frame
+    // rows a₁, a₂ per frame
+    const Eigen::Matrix<double, Eigen::Dynamic, 3> a = rows_ * g;
     const bool with_jacobian = jacobians != nullptr && jacobians[0] != nullptr;
     for (Eigen::Index f = 0; f < rows_.rows() / 2; ++f) {
       const Eigen::RowVector3d a1 = a.row(2 * f), a2 = a.row(2 * f + 1);

@@ -11,13 +11,15 @@
 // problem() directly must come with a cost function its caller keeps alive.
 //
 // Parameter blocks (pointers into the model; sizes in brackets):
-//   RotationBlock(t, c)     ω_tc, angle-axis, radians [3] rotations.col(View(t,
-//   c)) TranslationBlock(t, c)  T_tc, input units        [2]
-//   translations.col(View(t, c)) WeightsBlock(t)         l_t [K] weights.col(t)
-//   BasisBlock(p)           b_p = [S_1[:,p]; …; S_K[:,p]]  [3K]  basis.col(p)
-//   ScaleBlock(t, c)        s_tc, c ≥ 1 of multi-camera data only  [1]
-//                           scales(View(t, c)); camera 0 has s = 1 and no
-//                           block, monocular data have no scale block at all.
+// clang-format off
+//   RotationBlock(t, c)     ω_tc, angle-axis, radians       [3]   rotations.col(View(t, c))
+//   TranslationBlock(t, c)  T_tc, input units               [2]   translations.col(View(t, c))
+//   WeightsBlock(t)         l_t                             [K]   weights.col(t)
+//   BasisBlock(p)           b_p = [S_1[:,p]; …; S_K[:,p]]   [3K]  basis.col(p)
+//   ScaleBlock(t, c)        s_tc, c ≥ 1 of multi-camera     [1]   scales(View(t, c))
+//                           data only; camera 0 has s = 1 and no block,
+//                           monocular data have no scale block at all.
+// clang-format on
 // A block is in the problem only once a residual uses it (a view that sees no
 // point has no rotation block; test with problem()->HasParameterBlock).
 //

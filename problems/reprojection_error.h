@@ -2,9 +2,10 @@
 // the data term of docs/problem.md, as an automatically differentiated
 // functor:
 //
+// clang-format off
 //   r = sqrt(w_obs) · ( s_tc · Π · R(ω_tc) · X + T_tc − w_tcp ),   2 residuals,
-//   X = Σ_k l_tk · b_p[3k : 3k+3]        (point p of the shape S_t, object
-//   frame)
+//   X = Σ_k l_tk · b_p[3k : 3k+3]     (point p of the shape S_t, object frame)
+// clang-format on
 //
 // Π = [I_2 0] (scaled orthographic), R(ω) the rotation of the angle-axis ω
 // (ceres/rotation.h convention: axis · angle in radians), w_obs ≥ 0 the
@@ -12,13 +13,15 @@
 //
 // Parameter blocks, in this order (the Model column of each,
 // core/model/model.h):
-//   rotation     ω_tc      3   Model::rotations.col(View(t, c))
-//   translation  T_tc      2   Model::translations.col(View(t, c))   (input
-//   units) weights      l_t       K   Model::weights.col(t) basis        b_p 3K
-//   Model::basis.col(p) = [S_1[:,p]; …; S_K[:,p]] scale        s_tc      1
-//   Model::scales(View(t, c))  — only for cameras c ≥ 1
-//                              of multi-camera data; otherwise s_tc = 1 and the
-//                              block does not exist.
+// clang-format off
+//   rotation     ω_tc   3    Model::rotations.col(View(t, c))
+//   translation  T_tc   2    Model::translations.col(View(t, c))  (input units)
+//   weights      l_t    K    Model::weights.col(t)
+//   basis        b_p    3K   Model::basis.col(p) = [S_1[:,p]; …; S_K[:,p]]
+//   scale        s_tc   1    Model::scales(View(t, c)), only for cameras c ≥ 1
+//                            of multi-camera data; otherwise s_tc = 1 and the
+//                            block does not exist.
+// clang-format on
 //
 // ReprojectionError<K> fixes K at compile time (fixed-size Jets);
 // DynamicReprojectionError takes K at run time (any K).

@@ -1,21 +1,13 @@
 #include "python/functions.h"
 
-#include <glog/logging.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <Eigen/Core>
-#include <Eigen/LU>
 #include <atomic>
-#include <cmath>
 #include <filesystem>
-#include <functional>
-#include <map>
-#include <memory>
 #include <optional>
-#include <set>
-#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -26,8 +18,6 @@
 #include "core/io/read_measurements.h"
 #include "core/io/result_reader.h"
 #include "core/io/result_writer.h"
-#include "core/math/rotation.h"
-#include "problems/extra_terms.h"
 #include "python/convert.h"
 #include "python/keywords.h"
 #include "solvers/refine/refine.h"

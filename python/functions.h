@@ -26,8 +26,8 @@ struct Tracks {
   // (FM, P), NaN in frames with no person; else None.
   py::object confidence = py::none();
   py::object truth = py::none();  // synth: a Reconstruction of the truth
-  py::object P3_gt =
-      py::none();  // synth: camera 0's truth, (3F, P) block layout
+  // synth: camera 0's truth, (3F, P) block layout
+  py::object P3_gt = py::none();
 };
 
 // nrsfm.NrsfmWarning, the category of the warnings about a result.

@@ -1,39 +1,18 @@
 #include "python/keywords.h"
 
 #include <glog/logging.h>
-#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include <Eigen/Core>
-#include <Eigen/LU>
-#include <atomic>
-#include <cmath>
-#include <filesystem>
-#include <functional>
-#include <map>
-#include <memory>
-#include <optional>
 #include <set>
 #include <sstream>
 #include <string>
-#include <utility>
 #include <vector>
 
-#include "core/eval/metrics.h"
-#include "core/io/ground_truth.h"
-#include "core/io/mat_io.h"
-#include "core/io/read_measurements.h"
-#include "core/io/result_reader.h"
-#include "core/io/result_writer.h"
-#include "core/math/rotation.h"
 #include "problems/extra_terms.h"
 #include "python/convert.h"
-#include "solvers/refine/refine.h"
 #include "tools/command_flags.h"
 #include "tools/flag_table.h"
-#include "tools/reconstruction_steps.h"
-#include "tools/synth_steps.h"
 
 namespace py = pybind11;
 

@@ -36,8 +36,8 @@ const std::vector<Flag>& Flags();
 // The keyword options of a function: the flags of a command of the tool in
 // the roles the function takes (tools/command_flags.h FlagRole).
 struct FunctionOptions {
-  tools::Command command =
-      tools::kReconstruct;         // the tool's command whose flags apply
+  // the tool's command whose flags apply
+  tools::Command command = tools::kReconstruct;
   std::vector<const Flag*> flags;  // the keywords, in --help order
 };
 

@@ -25,8 +25,8 @@ const char* CommandName(Command command);
 
 struct FlagInfo {
   std::string name;
-  const char* type =
-      "";  // the Python type of its value: "str", "int", "float", "bool"
+  // the Python type of its value: "str", "int", "float", "bool"
+  const char* type = "";
   FlagRole role = FlagRole::kTool;
   std::vector<CommandHelp> help;
   // The --help text: the parts of `help` with their commands named,

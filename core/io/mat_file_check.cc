@@ -258,8 +258,8 @@ class V5Walker {
       return Corrupt(what, "its array flags run past the end of its element");
     }
     left -= 16;
-    std::uint32_t array_class =
-        0;  // matio: empty when the flags' tag is not an integer
+    // matio: empty when the flags' tag is not an integer
+    std::uint32_t array_class = 0;
     const std::uint32_t flags_type = U32At(head, big_endian_);
     if (flags_type == kMiUint32 || flags_type == kMiInt32) {
       array_class = U32At(head + 8, big_endian_) & 0xff;

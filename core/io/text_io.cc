@@ -221,8 +221,8 @@ Status CheckNoRepeatedObservation(const std::string& path,
 // (saturating).
 std::uint64_t DenseBytes(std::int64_t frames, std::int64_t cameras,
                          std::int64_t points) {
-  const std::uint64_t views =
-      std::uint64_t(frames) * std::uint64_t(cameras);  // < 2^62
+  // views < 2^62
+  const std::uint64_t views = std::uint64_t(frames) * std::uint64_t(cameras);
   constexpr std::uint64_t kBytesPerEntry = 2 * sizeof(double) + sizeof(bool);
   if (points != 0 && views > std::numeric_limits<std::uint64_t>::max() /
                                  kBytesPerEntry / std::uint64_t(points)) {

@@ -13,8 +13,8 @@ namespace {
 // along +z at the lateral side, from above once pitched).
 constexpr double kHalfLength = 0.5;
 constexpr double kSoleY = -0.11;
-constexpr double kSuperExponent =
-    0.5;                           // e; the unit surface is Σ|u_i|^(2/e) = 1.
+// e; the unit surface is Σ|u_i|^(2/e) = 1.
+constexpr double kSuperExponent = 0.5;
 constexpr double kRigScale = 0.9;  // s_t1 / s_t0
 
 // Half height (heel raised, toe low) and half width (tapered toe) at x, and

@@ -176,14 +176,14 @@ Status ParseSpeedProfile(const std::string& name, SpeedProfile* profile);
 // such sequences in the camera frame (e3d_camera, frob_zsign).
 struct ReprojectOptions {
   double total_rotation_deg = 90.0;  // Θ, degrees, (0, 3600]
-  Eigen::Vector3d axis =
-      Eigen::Vector3d::UnitY();  // non-zero, R_0's camera frame
+  // non-zero, R_0's camera frame
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitY();
   SpeedProfile profile = SpeedProfile::kConstant;
   double noise_fraction = 0.0;  // noise std / image size, [0, 1)
-  double missing_fraction =
-      0.0;  // fraction of entries removed at random, [0, 1)
-  double occlusion_radius =
-      0.0;  // self-occlusion radius / image size, [0, 1); 0 = none
+  // fraction of entries removed at random, [0, 1)
+  double missing_fraction = 0.0;
+  // self-occlusion radius / image size, [0, 1); 0 = none
+  double occlusion_radius = 0.0;
   std::uint64_t seed = 1;  // noise and random missing entries
 
   // Errors name the field and value.

@@ -64,10 +64,10 @@ struct PriorRuleOptions {
 
 // What the rule measured and chose.
 struct PriorDecision {
-  double track_step =
-      -1;  // m_1 / spread; -1 when F < 2 or no frame pair shares a point
-  double track_order =
-      -1;  // max_L m_L / m_1; -1 when F < 8 or m_1 is not defined or 0
+  // m_1 / spread; -1 when F < 2 or no frame pair shares a point
+  double track_step = -1;
+  // max_L m_L / m_1; -1 when F < 8 or m_1 is not defined or 0
+  double track_order = -1;
   bool video = false;                 // track_order ≥ min_track_order
   double path_acceleration_deg = -1;  // a_4 − a_1 / 16 of the start; -1 when
                                       // not measured (no temporal_shape, F < 9)

@@ -223,8 +223,8 @@ Status ReconstructInUnits(const ReconstructOptions& options,
     if (reference >= 0) {
       const auto& dropped = unobserved.frames;
       if (std::binary_search(dropped.begin(), dropped.end(), reference)) {
-        reference =
-            -1;  // a left-out frame: the default choice among the kept ones
+        // a left-out frame: the default choice among the kept ones
+        reference = -1;
       } else {
         reference -= static_cast<int>(
             std::lower_bound(dropped.begin(), dropped.end(), reference) -

@@ -36,8 +36,8 @@ struct RefineSummary {
   bool stopped = false;
   double initial_cost = 0.0;  // Ceres cost ½ Σ ρ(‖r‖²) at the start
   double final_cost = 0.0;    // … at the end (= initial_cost when not usable)
-  double initial_reprojection_rms =
-      0.0;  // Measurements-vs-model RMS (core/eval/metrics.h), input units
+  // Measurements-vs-model RMS (core/eval/metrics.h), input units
+  double initial_reprojection_rms = 0.0;
   double reprojection_rms = 0.0;  // … of the final model
   int iterations = 0;             // LM iterations (successful and not)
   int num_residual_blocks = 0;    // reprojection residual blocks (observations)

@@ -46,10 +46,10 @@ struct SolverOptions {
   // itself (the reprojection RMS then changes by less than half of it), ≥ 0
   // (the choice of 1e-7 is measured in docs/performance.md).
   double function_tolerance = 1e-7;
-  double gradient_tolerance =
-      1e-12;  // stop when max|projected gradient| < this, ≥ 0
-  double parameter_tolerance =
-      1e-10;                 // stop when |Δx| < this · (|x| + this), ≥ 0
+  // stop when max|projected gradient| < this, ≥ 0
+  double gradient_tolerance = 1e-12;
+  // stop when |Δx| < this · (|x| + this), ≥ 0
+  double parameter_tolerance = 1e-10;
   double max_seconds = 0.0;  // wall-time limit of the solve, 0 = none, ≥ 0
   // Threads, ≥ 1; by default every core (DefaultNumThreads()). The
   // structured solver (the default) gives the same bits for any count (its

@@ -71,8 +71,8 @@ struct StructuredSolverOptions {
 struct StructuredSolverSummary {
   bool usable = false;
   std::string message;  // why the solve stopped
-  bool converged =
-      false;             // by a tolerance (not by the iteration or time limit)
+  // by a tolerance (not by the iteration or time limit)
+  bool converged = false;
   bool stopped = false;  // by options.stop_requested
   double initial_cost = 0.0, final_cost = 0.0;
   int iterations = 0;     // LM iterations (accepted and rejected)

@@ -40,15 +40,15 @@ namespace nrsfm {
 
 struct AlternationOptions {
   int rounds = 20;  // rounds of step 2, ≥ 0 (0 = the model of step 1)
-  double initial_deformation =
-      0.01;  // std of the random initial l_tk, k ≥ 2, finite, ≥ 0
+  // std of the random initial l_tk, k ≥ 2, finite, ≥ 0
+  double initial_deformation = 0.01;
 
   Status Check() const;
 };
 
 struct AlternationSummary {
-  double rigid_rms =
-      0.0;  // RMS over visible entries of the step-1 model, input units
+  // RMS over visible entries of the step-1 model, input units
+  double rigid_rms = 0.0;
 };
 
 // What every start built on the alternation needs: one camera (CHECKed),

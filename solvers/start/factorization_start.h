@@ -35,8 +35,8 @@
 namespace nrsfm {
 
 struct FactorizationStartSummary {
-  bool metric_upgrade_was_indefinite =
-      false;  // see solvers/start/metric_upgrade.h
+  // see solvers/start/metric_upgrade.h
+  bool metric_upgrade_was_indefinite = false;
   // Mean over frames of σ₂/σ₁ of q̄_t: 0 when every reordered block is
   // exactly rank 1, larger the more step 2 discards.
   double mean_subblock_rank1_defect = 0.0;

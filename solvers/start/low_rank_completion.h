@@ -52,8 +52,8 @@ namespace nrsfm {
 
 struct LowRankCompletionOptions {
   int max_iterations = 500;  // ALS rounds (steps 1-3 above)
-  double ridge_floor =
-      5e-4;  // floor of the ridge's noise RMS, relative to the data RMS, ≥ 0
+  // floor of the ridge's noise RMS, relative to the data RMS, ≥ 0
+  double ridge_floor = 5e-4;
 
   Status Check() const;
 };

@@ -28,8 +28,8 @@
 namespace nrsfm {
 
 struct RigidStartSummary {
-  bool metric_upgrade_was_indefinite =
-      false;                       // see solvers/start/metric_upgrade.h
+  // see solvers/start/metric_upgrade.h
+  bool metric_upgrade_was_indefinite = false;
   AlternationSummary alternation;  // RMS of the rigid and the returned model
 };
 

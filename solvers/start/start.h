@@ -59,8 +59,8 @@ const char* StartMethodName(StartMethod method);
 Status ParseStartMethod(const std::string& name, StartMethod* method);
 
 struct StartOptions {
-  StartMethod method =
-      StartMethod::kAuto;               // ComputeStart() needs a named start
+  // ComputeStart() needs a named start
+  StartMethod method = StartMethod::kAuto;
   int num_bases = 1;                    // K ≥ 1
   LowRankCompletionOptions completion;  // step 1 (its rank is 3K)
   AlternationOptions alternation;       // the rigid and triple starts
@@ -72,8 +72,8 @@ struct StartOptions {
 
 struct StartSummary {
   StartMethod method = StartMethod::kFactorization;  // the start computed
-  double reprojection_rms =
-      0;  // RMS 2-D distance over visible entries, input units
+  // RMS 2-D distance over visible entries, input units
+  double reprojection_rms = 0;
   double completion_rms = -1;  // fit residual RMS of the low-rank completion on
                                // visible entries, -1 if data complete
   // Factorization start: mean σ₂/σ₁ of the reordered per-frame blocks, how

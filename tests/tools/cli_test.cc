@@ -300,7 +300,7 @@ TEST_F(CliTest, ExtraTermFlags) {
   // The reconstruction with the terms: ~6 s in the release build (336 LM
   // iterations: the temporal-weights term is not invariant to the scale
   // gauge, docs/problem.md), so not under the sanitizers; the terms' code
-  // runs there in tests/solvers/extra_terms_test.
+  // runs there in tests/solvers/start/extra_terms_test.
   if (testing_util::kSanitizedBuild) return;
   const RunResult r =
       Run("reconstruct --input s.mat --cameras 2 --K 2 --rigidity 100 "

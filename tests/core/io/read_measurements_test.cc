@@ -111,8 +111,8 @@ TEST(ReadMeasurements, MaskAndNaNRoundTripInEveryVersion) {
 TEST(ReadMeasurements, LayoutsP3gtAndXAndVariableOverride) {
   const std::string dir = MakeTempDir("read_meas_layouts");
   const int num_frames = 4, num_points = 5;
-  const Eigen::MatrixXd x =
-      RandomMatrix(3, num_points * num_frames, 31);  // [X_0 … X_3]
+  // [X_0 … X_3]
+  const Eigen::MatrixXd x = RandomMatrix(3, num_points * num_frames, 31);
   Eigen::MatrixXd p3(3 * num_frames, num_points);
   for (int t = 0; t < num_frames; ++t) {
     for (int i = 0; i < 3; ++i)

@@ -39,8 +39,8 @@ SyntheticSequence Sequence() {
 ReconstructOptions Options(int num_threads) {
   ReconstructOptions options;
   options.start.num_bases = 2;
-  options.start.method =
-      StartMethod::kAuto;  // runs both starts (rigid uses the seed)
+  // runs both starts (rigid uses the seed)
+  options.start.method = StartMethod::kAuto;
   options.start.seed = 3;
   options.solver.num_threads = num_threads;
   options.solver.max_iterations = 30;

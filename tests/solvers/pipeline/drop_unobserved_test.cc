@@ -207,8 +207,8 @@ TEST(FindUnobserved, ExpandModelPutsTheKeptValuesBackAndNaNElsewhere) {
 // WithoutUnobserved keeps: value 100·view + point of the input lands where
 // that observation lands; an array of another size is left as it is.
 TEST(FindUnobserved, PerObservationValuesFollowTheKeptObservations) {
-  const SyntheticSequence s =
-      Sequence(10, 12, 2, 0.0, 2);  // F = 10, M = 2, P = 12
+  // F = 10, M = 2, P = 12
+  const SyntheticSequence s = Sequence(10, 12, 2, 0.0, 2);
   Unobserved unobserved;
   unobserved.num_bases = 2;
   unobserved.points = {0, 7};

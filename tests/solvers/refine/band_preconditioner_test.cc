@@ -64,8 +64,7 @@ TEST_P(BandPreconditionerOracle, InvertsTheReducedBlock) {
     structured::SchurElimination schur(blocks, jacobian, threads);
     schur.ComputeGram();
     Eigen::VectorXd d_f, d_p;
-    jacobian.ColumnSquaredNorms(&d_f, &d_p);
-    schur.AddGridColumnSquaredNorms(&d_f, &d_p);
+    ColumnScaling(jacobian, schur, &d_f, &d_p);
     structured::BandPreconditioner preconditioner(blocks, jacobian, threads);
     for (const double mu : {1e-4, 1.0}) {
       SCOPED_TRACE(testing::Message() << "mu " << mu);

@@ -21,6 +21,8 @@
 #include "problems/extra_terms.h"
 #include "problems/problem_builder.h"
 #include "solvers/refine/refine.h"
+#include "solvers/refine/schur_elimination.h"
+#include "solvers/refine/structured_jacobian.h"
 #include "solvers/refine/structured_layout.h"
 
 namespace nrsfm {
@@ -60,6 +62,16 @@ inline DenseJacobian EvaluateDense(const structured::StructuredBlocks& blocks,
   dense.residuals =
       Eigen::Map<const Eigen::VectorXd>(residuals.data(), residuals.size());
   return dense;
+}
+
+// D = diag(JᵀJ) as the structured solver forms it (its column norms plus
+// the grids' part), before its clamping; `schur` after ComputeGram().
+inline void ColumnScaling(const structured::StructuredJacobian& jacobian,
+                          const structured::SchurElimination& schur,
+                          Eigen::VectorXd* d_reduced,
+                          Eigen::VectorXd* d_eliminated) {
+  jacobian.ColumnSquaredNorms(d_reduced, d_eliminated);
+  schur.AddGridColumnSquaredNorms(d_reduced, d_eliminated);
 }
 
 // A problem at perturbed values of a synthetic sequence's truth, its

@@ -55,8 +55,7 @@ TEST_P(SchurEliminationOracle, IsTheDenseSchurComplement) {
     // The gradient and D as the solver forms them (structured_solver.cc).
     Eigen::VectorXd g_f, g_p, d_f, d_p;
     jacobian.Gradient(&g_f, &g_p);
-    jacobian.ColumnSquaredNorms(&d_f, &d_p);
-    schur.AddGridColumnSquaredNorms(&d_f, &d_p);
+    ColumnScaling(jacobian, schur, &d_f, &d_p);
     const Eigen::VectorXd gradient =
         dense.jacobian.transpose() * dense.residuals;
     EXPECT_LT(RelativeDifference(g_f, gradient.head(nf)), 1e-14);

@@ -51,8 +51,9 @@ TEST(PoseFit, RefineRotationConvergesAndNeverIncreasesTheCost) {
   const Eigen::Matrix3d r =
       AngleAxisToRotation(Eigen::Vector3d(0.5, 0.2, -0.4));
   const Eigen::Matrix2Xd observed = r.topRows<2>() * points;
+  // The start, ~5.5° from r.
   Eigen::Matrix3d rotation =
-      AngleAxisToRotation(Eigen::Vector3d(0.05, -0.08, 0.03)) * r;  // ~5.5°
+      AngleAxisToRotation(Eigen::Vector3d(0.05, -0.08, 0.03)) * r;
   const double start = PoseCost(observed, points, 1.0, rotation);
   const double one_step = RefineRotation(observed, points, 1.0, 1, &rotation);
   EXPECT_LT(one_step, start);
