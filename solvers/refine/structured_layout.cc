@@ -48,7 +48,10 @@ void FindGrids(StructuredBlocks* s) {
       last_cost = r.cost;
       last_row.clear();
       last_row_index = -1;
-      last_has_form = r.product != nullptr && r.product->GetBilinearForm(&form);
+      // The form is the cost function's (r.product is also null for a
+      // residual whose blocks have a manifold: tested per residual below).
+      const auto* product = dynamic_cast<const JacobianProduct*>(r.cost);
+      last_has_form = product != nullptr && product->GetBilinearForm(&form);
       if (last_has_form) {
         CHECK_EQ(form.signs.size(), r.slot_block.size());
         CHECK_EQ(form.is_weights.size(), r.slot_block.size());
