@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <sstream>
 #include <vector>
@@ -201,6 +202,48 @@ Status ApplyVisibilityMask(const Eigen::MatrixXd& mask, const std::string& name,
 
 namespace {
 
+// The Kcam variable of `path`: 3 × 3 or 3 × 3 × M upper-triangular pinhole
+// matrices, one for every camera or one per camera.
+Status ReadKcam(const std::string& path, int num_cameras,
+                Eigen::Matrix4Xd* intrinsics) {
+  const std::string name = path + ": Kcam";
+  std::vector<Eigen::MatrixXd> slices;
+  std::vector<std::size_t> dims;
+  NRSFM_RETURN_IF_ERROR(ReadMatArray3(path, "Kcam", &slices, &dims));
+  if (dims.size() < 2 || dims[0] != 3 || dims[1] != 3 ||
+      (slices.size() != 1 &&
+       slices.size() != static_cast<std::size_t>(num_cameras))) {
+    return Status::Error(name + " is " + MatDimsString(dims) +
+                         "; expected 3 x 3 or 3 x 3 x " +
+                         std::to_string(num_cameras) + " (one per camera)");
+  }
+  intrinsics->resize(4, num_cameras);
+  for (int c = 0; c < num_cameras; ++c) {
+    const Eigen::MatrixXd& k = slices[slices.size() == 1 ? 0 : c];
+    const std::string which =
+        slices.size() == 1 ? name
+                           : name + "(:, :, " + std::to_string(c + 1) + ")";
+    if (!k.allFinite() || k(1, 0) != 0.0 || k(2, 0) != 0.0 || k(2, 1) != 0.0 ||
+        !(k(2, 2) > 0.0)) {
+      return Status::Error(
+          which + " is not a pinhole matrix [fx s cx; 0 fy cy; 0 0 1]");
+    }
+    const Eigen::Matrix3d normalized = k / k(2, 2);
+    if (std::abs(normalized(0, 1)) > 1e-9 * std::abs(normalized(0, 0))) {
+      return Status::Error(which + " has a skew of " +
+                           std::to_string(normalized(0, 1)) +
+                           "; only zero skew is supported");
+    }
+    if (!(normalized(0, 0) > 0.0) || !(normalized(1, 1) > 0.0)) {
+      return Status::Error(which +
+                           ": the focal lengths fx, fy must be positive");
+    }
+    intrinsics->col(c) << normalized(0, 0), normalized(1, 1), normalized(0, 2),
+        normalized(1, 2);
+  }
+  return Status::OK();
+}
+
 Status ReadMatMeasurements(const std::string& path, const InputOptions& options,
                            Measurements* measurements) {
   std::string variable;
@@ -223,7 +266,15 @@ Status ReadMatMeasurements(const std::string& path, const InputOptions& options,
     NRSFM_RETURN_IF_ERROR(ApplyVisibilityMask(
         mask, path + ": mask " + options.mask_variable, num_cameras, &w));
   }
-  return Measurements::FromMatrixWithNaN(w, num_cameras, name, measurements);
+  NRSFM_RETURN_IF_ERROR(
+      Measurements::FromMatrixWithNaN(w, num_cameras, name, measurements));
+  std::vector<std::string> names;
+  NRSFM_RETURN_IF_ERROR(ListMatVariables(path, &names));
+  if (std::find(names.begin(), names.end(), "Kcam") != names.end()) {
+    NRSFM_RETURN_IF_ERROR(
+        ReadKcam(path, num_cameras, &measurements->intrinsics));
+  }
+  return Status::OK();
 }
 
 }  // namespace
@@ -245,6 +296,44 @@ Status InputOptions::Check() const {
                 "invalid format " + std::to_string(static_cast<int>(format)));
   check.Nested(keypoints.Check());
   return check.status();
+}
+
+Status ParseIntrinsics(const std::string& text, Eigen::Matrix4Xd* intrinsics) {
+  std::vector<double> values;
+  std::string item;
+  int groups = 1;
+  bool bad = false;
+  for (std::size_t i = 0; i <= text.size(); ++i) {
+    const char ch = i < text.size() ? text[i] : ',';
+    if (ch != ',' && ch != ';') {
+      item += ch;
+      continue;
+    }
+    char* end = nullptr;
+    const double value = std::strtod(item.c_str(), &end);
+    bad |= item.empty() || *end != '\0' || !std::isfinite(value);
+    values.push_back(value);
+    item.clear();
+    if (ch == ';') {
+      ++groups;
+      bad |= values.size() != static_cast<std::size_t>(4 * (groups - 1));
+    }
+  }
+  if (bad || values.size() != static_cast<std::size_t>(4 * groups)) {
+    return Status::Error("intrinsics \"" + text +
+                         "\": expected fx,fy,cx,cy (pixels), one group per "
+                         "camera joined by ';'");
+  }
+  Eigen::Matrix4Xd parsed(4, groups);
+  for (int c = 0; c < groups; ++c) {
+    for (int i = 0; i < 4; ++i) parsed(i, c) = values[4 * c + i];
+    if (!(parsed(0, c) > 0.0) || !(parsed(1, c) > 0.0)) {
+      return Status::Error("intrinsics \"" + text +
+                           "\": the focal lengths fx, fy must be positive");
+    }
+  }
+  *intrinsics = parsed;
+  return Status::OK();
 }
 
 Status ReadMeasurements(const std::string& path, const InputOptions& options,
@@ -290,6 +379,20 @@ Status ReadMeasurements(const std::string& path, const InputOptions& options,
                            std::to_string(m.num_cameras) +
                            " camera(s) but num_cameras is " +
                            std::to_string(options.num_cameras));
+    }
+  }
+  if (options.intrinsics.cols() != 0) {
+    if (options.intrinsics.cols() != 1 &&
+        options.intrinsics.cols() != m.num_cameras) {
+      return Status::Error(path + ": intrinsics were given for " +
+                           std::to_string(options.intrinsics.cols()) +
+                           " cameras, but the input has " +
+                           std::to_string(m.num_cameras));
+    }
+    m.intrinsics.resize(4, m.num_cameras);
+    for (int c = 0; c < m.num_cameras; ++c) {
+      m.intrinsics.col(c) =
+          options.intrinsics.col(options.intrinsics.cols() == 1 ? 0 : c);
     }
   }
   NRSFM_RETURN_IF_ERROR(m.Validate().WithContext(path));

@@ -70,6 +70,11 @@ struct InputOptions {
   // How keypoint inputs are read: frame order, OpenPose part, the least
   // score of a visible keypoint.
   KeypointOptions keypoints;
+  // Pinhole intrinsics, column c = (fx, fy, cx, cy) of camera c in pixels
+  // (one column: every camera); they replace a .mat file's Kcam. Empty
+  // (4 × 0): Kcam when the file has it (a 3 × 3 [fx s cx; 0 fy cy; 0 0 1]
+  // or 3 × 3 × M; skew s must be 0), else none.
+  Eigen::Matrix4Xd intrinsics = Eigen::Matrix4Xd(4, 0);
 
   // Errors on num_cameras < 0, a format not in the enum and invalid
   // keypoint options.
@@ -86,6 +91,10 @@ struct InputDetails {
   // person, frames with several); often empty.
   std::vector<std::string> warnings;
 };
+
+// Parses "fx,fy,cx,cy" (one camera) or several such groups joined by ';'
+// (camera 0 first) into a 4 × M matrix; fx, fy > 0. Errors quote the text.
+Status ParseIntrinsics(const std::string& text, Eigen::Matrix4Xd* intrinsics);
 
 // Reads `path` (header) into `measurements` and, when `details` is not
 // null, `details`. Errors name the file and what is wrong with it.

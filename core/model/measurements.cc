@@ -154,6 +154,22 @@ Status Measurements::Validate() const {
       }
     }
   }
+  if (intrinsics.cols() != 0) {
+    if (intrinsics.cols() != num_cameras) {
+      msg << "measurements: intrinsics for " << intrinsics.cols()
+          << " cameras, but the data have " << num_cameras;
+      return Status::Error(msg.str());
+    }
+    for (int c = 0; c < num_cameras; ++c) {
+      if (!intrinsics.col(c).allFinite() || !(intrinsics(0, c) > 0.0) ||
+          !(intrinsics(1, c) > 0.0)) {
+        msg << "measurements: intrinsics of camera " << c
+            << " need finite values and fx, fy > 0 (got "
+            << intrinsics.col(c).transpose() << ")";
+        return Status::Error(msg.str());
+      }
+    }
+  }
   return Status::OK();
 }
 

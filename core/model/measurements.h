@@ -34,6 +34,11 @@ struct Measurements {
   // the input's t and p. Otherwise of size F and P, strictly increasing.
   std::vector<int> frame_ids;
   std::vector<int> point_ids;
+  // Pinhole intrinsics of each camera when known (a .mat file's Kcam, or
+  // given): column c = (fx, fy, cx, cy) of camera c, input units (pixels),
+  // u = fx x / z + cx, v = fy y / z + cy. Empty (4 × 0) when unknown; only
+  // the perspective camera model uses them (docs/camera.md).
+  Eigen::Matrix4Xd intrinsics = Eigen::Matrix4Xd(4, 0);
 
   // Index of the (frame, camera) pair: the row of `visible`, the column of
   // Model::rotations / translations.
@@ -68,7 +73,8 @@ struct Measurements {
 
   // Checks sizes and values: F ≥ 1, M ≥ 1, P ≥ 1, matching W and mask sizes,
   // finite visible entries, frame_ids and point_ids empty or of size F and P
-  // and strictly increasing from 0 up. Does not judge whether the data can be
+  // and strictly increasing from 0 up, intrinsics empty or 4 × M, finite,
+  // with fx, fy > 0. Does not judge whether the data can be
   // reconstructed (see the solvers for that).
   Status Validate() const;
 };

@@ -10,8 +10,25 @@
 
 #include "core/math/rotation.h"
 #include "core/math/svd.h"
+#include "core/model/enum_names.h"
 
 namespace nrsfm {
+namespace {
+
+constexpr EnumName<CameraModel> kCameraModelNames[] = {
+    {CameraModel::kWeakPerspective, "weak_perspective"},
+    {CameraModel::kPerspective, "perspective"},
+};
+
+}  // namespace
+
+const char* CameraModelName(CameraModel camera) {
+  return NameOf(kCameraModelNames, camera);
+}
+
+Status ParseCameraModel(const std::string& name, CameraModel* camera) {
+  return ParseName(kCameraModelNames, name, "camera model", camera);
+}
 
 void Model::Resize(int frames, int cameras, int points, int bases) {
   CHECK_GE(frames, 0);
@@ -29,6 +46,9 @@ void Model::Resize(int frames, int cameras, int points, int bases) {
   scales = Eigen::RowVectorXd::Ones(NumViews());
   rig_rotations = Eigen::Matrix3Xd::Zero(3, cameras - 1);
   rig_scales = Eigen::RowVectorXd::Ones(cameras - 1);
+  camera = CameraModel::kWeakPerspective;
+  depths = Eigen::RowVectorXd::Zero(NumViews());
+  intrinsics.resize(4, 0);
 }
 
 Eigen::Matrix3d Model::Rotation(int frame, int camera) const {
@@ -57,12 +77,28 @@ Eigen::Matrix3Xd Model::ShapeInObject(int frame) const {
 }
 
 Eigen::Matrix3Xd Model::ShapeInCamera(int frame, int camera) const {
-  return scales(View(frame, camera)) * Rotation(frame, camera) *
-         ShapeInObject(frame);
+  const int view = View(frame, camera);
+  if (this->camera == CameraModel::kPerspective) {
+    Eigen::Matrix3Xd shape = Rotation(frame, camera) * ShapeInObject(frame);
+    shape.colwise() += Eigen::Vector3d(translations(0, view),
+                                       translations(1, view), depths(view));
+    return shape;
+  }
+  return scales(view) * Rotation(frame, camera) * ShapeInObject(frame);
 }
 
 Eigen::Matrix2Xd Model::Project(int frame, int camera) const {
-  Eigen::Matrix2Xd projected = ShapeInCamera(frame, camera).topRows<2>();
+  const Eigen::Matrix3Xd shape = ShapeInCamera(frame, camera);
+  if (this->camera == CameraModel::kPerspective) {
+    const Eigen::Vector4d k = intrinsics.col(camera);
+    Eigen::Matrix2Xd projected(2, shape.cols());
+    projected.row(0) = k(0) * shape.row(0).cwiseQuotient(shape.row(2));
+    projected.row(1) = k(1) * shape.row(1).cwiseQuotient(shape.row(2));
+    projected.row(0).array() += k(2);
+    projected.row(1).array() += k(3);
+    return projected;
+  }
+  Eigen::Matrix2Xd projected = shape.topRows<2>();
   projected.colwise() += translations.col(View(frame, camera));
   return projected;
 }
@@ -138,6 +174,16 @@ Status Model::Validate(bool allow_nan) const {
   NRSFM_RETURN_IF_ERROR(
       check("rig_rotations", rig_rotations, 3, num_cameras - 1));
   NRSFM_RETURN_IF_ERROR(check("rig_scales", rig_scales, 1, num_cameras - 1));
+  NRSFM_RETURN_IF_ERROR(check("depths", depths, 1, NumViews()));
+  if (camera == CameraModel::kPerspective) {
+    NRSFM_RETURN_IF_ERROR(check("intrinsics", intrinsics, 4, num_cameras));
+    if (!(intrinsics.row(0).array() > 0.0).all() ||
+        !(intrinsics.row(1).array() > 0.0).all()) {
+      return Status::Error(
+          "model: the focal lengths fx, fy of a perspective camera must be "
+          "positive");
+    }
+  }
   return Status::OK();
 }
 

@@ -16,15 +16,27 @@
 //   rig_rotations 3 × (M−1)  angle-axis of the fixed relative rotation
 //                            R_c R_0ᵀ of camera c ≥ 1 (rigidity term)
 //   rig_scales    1 × (M−1)  fixed scale ratio s_c / s_0 of camera c ≥ 1
+//   depths        1 × (F·M)  t_z,tc (perspective; zeros otherwise)
+//   intrinsics    4 × M      (fx, fy, cx, cy) of camera c (perspective only)
 #ifndef NRSFM_CORE_MODEL_MODEL_H_
 #define NRSFM_CORE_MODEL_MODEL_H_
 
 #include <Eigen/Core>
+#include <string>
 #include <vector>
 
 #include "core/model/status.h"
 
 namespace nrsfm {
+
+// How a view projects its camera-frame points (docs/camera.md).
+enum class CameraModel {
+  kWeakPerspective,  // scaled orthographic: w = s Π R S + T
+  kPerspective,      // calibrated pinhole: w = π(R S + [T; t_z])
+};
+// "weak_perspective" | "perspective"; the error lists them.
+const char* CameraModelName(CameraModel camera);
+Status ParseCameraModel(const std::string& name, CameraModel* camera);
 
 struct Model {
   int num_frames = 0;   // F
@@ -39,6 +51,9 @@ struct Model {
   Eigen::RowVectorXd scales;
   Eigen::Matrix3Xd rig_rotations;
   Eigen::RowVectorXd rig_scales;
+  CameraModel camera = CameraModel::kWeakPerspective;
+  Eigen::RowVectorXd depths;
+  Eigen::Matrix4Xd intrinsics;
 
   // Allocates every block for the given sizes: identity rotations, zero
   // translations, zero weights and basis, unit scales.
@@ -57,9 +72,10 @@ struct Model {
 
   // S_t, 3 × P, object frame.
   Eigen::Matrix3Xd ShapeInObject(int frame) const;
-  // X_tc = s_tc R_tc S_t, 3 × P, camera frame (no translation).
+  // X_tc, 3 × P, camera frame: s_tc R_tc S_t (weak perspective: no
+  // translation), R_tc S_t + [T_tc; t_z,tc] (perspective).
   Eigen::Matrix3Xd ShapeInCamera(int frame, int camera) const;
-  // Π X_tc + T_tc, 2 × P.
+  // The image points w_tcp of the model above, 2 × P.
   Eigen::Matrix2Xd Project(int frame, int camera) const;
 
   // Re-expresses weights and basis in the gauge where the mean of the
@@ -69,7 +85,8 @@ struct Model {
   // (and changes nothing) when the mean weights are zero or not finite.
   bool MakeFirstBasisTheMean();
 
-  // Checks that every block has the size Resize() gives and finite values.
+  // Checks that every block has the size Resize() gives and finite values;
+  // a perspective model needs 4 × M intrinsics with fx, fy > 0.
   // With allow_nan, NaN is accepted (never ±Inf): the mark of a point or
   // frame left out of a reconstruction (solvers/pipeline/drop_unobserved.h).
   Status Validate(bool allow_nan = false) const;

@@ -126,6 +126,7 @@ Measurements WithoutUnobserved(const Measurements& measurements,
   kept.num_frames = static_cast<int>(frames.size());
   kept.num_cameras = m.num_cameras;
   kept.num_points = static_cast<int>(points.size());
+  kept.intrinsics = m.intrinsics;
   kept.W.resize(2 * kept.NumViews(), kept.num_points);
   kept.visible.resize(kept.NumViews(), kept.num_points);
   for (int i = 0; i < kept.num_frames; ++i) {
@@ -174,6 +175,9 @@ Model ExpandModel(const Model& kept, const Measurements& measurements,
   model.rotations.setConstant(nan);
   model.translations.setConstant(nan);
   model.scales.setConstant(nan);
+  model.depths.setConstant(nan);
+  model.camera = kept.camera;
+  model.intrinsics = kept.intrinsics;
   model.weights.setConstant(nan);
   model.basis.setConstant(nan);
   model.rig_rotations = kept.rig_rotations;
@@ -190,6 +194,7 @@ Model ExpandModel(const Model& kept, const Measurements& measurements,
       model.translations.col(model.View(t, c)) =
           kept.translations.col(kept.View(k, c));
       model.scales(model.View(t, c)) = kept.scales(kept.View(k, c));
+      model.depths(model.View(t, c)) = kept.depths(kept.View(k, c));
     }
     model.weights.col(t) = kept.weights.col(k);
     ++k;

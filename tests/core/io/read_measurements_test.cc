@@ -108,6 +108,38 @@ TEST(ReadMeasurements, MaskAndNaNRoundTripInEveryVersion) {
   }
 }
 
+TEST(ReadMeasurements, KcamGivesTheIntrinsicsAndTheFlagReplacesThem) {
+  const std::string dir = MakeTempDir("read_meas_kcam");
+  const Eigen::MatrixXd w = RandomMatrix(6, 5, 41);
+  Eigen::MatrixXd kcam(3, 3);
+  kcam << 1056.0, 0.0, 640.0, 0.0, 1050.0, 360.0, 0.0, 0.0, 2.0;  // scaled
+  const std::string path = dir + "/kcam.mat";
+  ASSERT_TRUE(
+      WriteMat(path, MatVersion::kV5, {{"W", w, {}}, {"Kcam", kcam, {}}}).ok());
+  Measurements m;
+  ASSERT_EQ(Read(path, InputOptions(), &m), "OK");
+  ASSERT_EQ(m.intrinsics.cols(), 1);
+  EXPECT_EQ(m.intrinsics.col(0), Eigen::Vector4d(528.0, 525.0, 320.0, 180.0));
+  InputOptions given;
+  ASSERT_TRUE(ParseIntrinsics("500,501,10,20", &given.intrinsics).ok());
+  ASSERT_EQ(Read(path, given, &m), "OK");
+  EXPECT_EQ(m.intrinsics.col(0), Eigen::Vector4d(500.0, 501.0, 10.0, 20.0));
+  // Two groups for one camera, a skew, a bad text: one line naming them.
+  ASSERT_TRUE(ParseIntrinsics("1,1,0,0;2,2,0,0", &given.intrinsics).ok());
+  EXPECT_TRUE(Contains(Read(path, given, &m), "intrinsics were given for 2"));
+  Eigen::Matrix4Xd parsed;
+  EXPECT_TRUE(Contains(ParseIntrinsics("500,500,1", &parsed).message(),
+                       "intrinsics \"500,500,1\": expected fx,fy,cx,cy"));
+  EXPECT_TRUE(Contains(ParseIntrinsics("-5,500,1,1", &parsed).message(),
+                       "must be positive"));
+  kcam(0, 1) = 3.0;
+  const std::string skewed = dir + "/skew.mat";
+  ASSERT_TRUE(
+      WriteMat(skewed, MatVersion::kV5, {{"W", w, {}}, {"Kcam", kcam, {}}})
+          .ok());
+  EXPECT_TRUE(Contains(Read(skewed, InputOptions(), &m), "Kcam has a skew"));
+}
+
 TEST(ReadMeasurements, LayoutsP3gtAndXAndVariableOverride) {
   const std::string dir = MakeTempDir("read_meas_layouts");
   const int num_frames = 4, num_points = 5;
