@@ -6,6 +6,7 @@
 #include <sstream>
 #include <unordered_set>
 
+#include "problems/perspective_error.h"
 #include "problems/reprojection_cost_function.h"
 #include "problems/reprojection_error.h"
 
@@ -104,6 +105,10 @@ double* ProblemBuilder::BasisBlock(int point) {
   return model_->basis.col(point).data();
 }
 
+double* ProblemBuilder::DepthBlock(int frame, int camera) {
+  return model_->depths.data() + model_->View(frame, camera);
+}
+
 double* ProblemBuilder::ScaleBlock(int frame, int camera) {
   CHECK_GE(camera, 1) << "camera 0 has no scale block (s = 1)";
   return model_->scales.data() + model_->View(frame, camera);
@@ -192,23 +197,29 @@ Status ProblemBuilder::AddReprojectionTerms(const ProblemOptions& options) {
   const bool weighted = options.observation_weights.size() > 0;
 
   const int num_bases = model.num_bases;
+  const bool perspective = model.camera == CameraModel::kPerspective;
   for (int t = 0; t < m.num_frames; ++t) {
     for (int c = 0; c < m.num_cameras; ++c) {
       const int view = m.View(t, c);
-      const bool with_scale = c > 0;
+      const bool with_scale = c > 0 && !perspective;
       for (int p = 0; p < m.num_points; ++p) {
         if (!m.visible(view, p)) continue;
         const double weight =
             weighted ? options.observation_weights(view, p) : 1.0;
         if (weight == 0.0) continue;
-        std::unique_ptr<ceres::CostFunction> cost =
-            CreateReprojectionCostFunction(
-                num_bases, with_scale, options.autodiff, m.Observation(t, c, p),
-                std::sqrt(weight));
+        std::unique_ptr<ceres::CostFunction> cost(
+            perspective ? PerspectiveReprojectionError::Create(
+                              num_bases, model.intrinsics.col(c),
+                              m.Observation(t, c, p), std::sqrt(weight))
+                        : CreateReprojectionCostFunction(
+                              num_bases, with_scale, options.autodiff,
+                              m.Observation(t, c, p), std::sqrt(weight))
+                              .release());
         std::vector<double*> blocks = {RotationBlock(t, c),
                                        TranslationBlock(t, c), WeightsBlock(t),
                                        BasisBlock(p)};
         if (with_scale) blocks.push_back(ScaleBlock(t, c));
+        if (perspective) blocks.push_back(DepthBlock(t, c));
         AddResidualBlock(std::move(cost), LossForWeight(options, weight),
                          blocks);
         ++num_reprojection_terms_;
@@ -224,6 +235,25 @@ Status ProblemBuilder::AddReprojectionTerms(const ProblemOptions& options) {
     }
   }
   SetConstantBlocks(options);
+  if (perspective) {
+    // The gauges of pinhole views (docs/camera.md): per frame, the shape and
+    // the translation scale together (X_t → α_t X_t leaves its image), and
+    // the basis shifts with the translations (S_k → S_k + d_k). Every depth
+    // t_z and the basis of the most observed point are held where the start
+    // put them: any answer has an equal one with these values.
+    for (int view = 0; view < m.NumViews(); ++view) {
+      double* depth = DepthBlock(view / m.num_cameras, view % m.num_cameras);
+      if (problem_.HasParameterBlock(depth)) {
+        problem_.SetParameterBlockConstant(depth);
+      }
+    }
+    int anchor = 0;
+    const Eigen::VectorXi seen = m.VisiblePerPoint();
+    seen.maxCoeff(&anchor);
+    if (problem_.HasParameterBlock(BasisBlock(anchor))) {
+      problem_.SetParameterBlockConstant(BasisBlock(anchor));
+    }
+  }
   return Status::OK();
 }
 
@@ -242,7 +272,13 @@ void ProblemBuilder::SetConstantBlocks(const ProblemOptions& options) {
     for (int c = 0; c < model.num_cameras; ++c) {
       if (options.constant_rotations) set_constant(RotationBlock(t, c));
       if (options.constant_translations) set_constant(TranslationBlock(t, c));
-      if (options.constant_scales && c > 0) set_constant(ScaleBlock(t, c));
+      // A perspective view has no scale (a rigidity term may still hold one).
+      if ((options.constant_scales ||
+           model.camera == CameraModel::kPerspective) &&
+          c > 0) {
+        set_constant(ScaleBlock(t, c));
+      }
+      if (options.constant_translations) set_constant(DepthBlock(t, c));
     }
     if (options.constant_weights) set_constant(WeightsBlock(t));
   }
@@ -282,7 +318,7 @@ std::vector<std::vector<double*>> ProblemBuilder::NonPointBlockGroups() {
   auto in = [](const double* block, const auto& matrix) {
     return block >= matrix.data() && block < matrix.data() + matrix.size();
   };
-  std::vector<std::vector<double*>> kinds(4);
+  std::vector<std::vector<double*>> kinds(5);
   std::vector<std::vector<double*>> others;
   for (double* block : NonPointBlocks()) {
     if (in(block, model_->rotations)) {
@@ -293,6 +329,8 @@ std::vector<std::vector<double*>> ProblemBuilder::NonPointBlockGroups() {
       kinds[2].push_back(block);
     } else if (in(block, model_->scales)) {
       kinds[3].push_back(block);
+    } else if (in(block, model_->depths)) {
+      kinds[4].push_back(block);
     } else {
       others.push_back({block});
     }

@@ -19,6 +19,10 @@
 //   ScaleBlock(t, c)        s_tc, c ≥ 1 of multi-camera     [1]   scales(View(t, c))
 //                           data only; camera 0 has s = 1 and no block,
 //                           monocular data have no scale block at all.
+//   DepthBlock(t, c)        t_z,tc, perspective only:        [1]   depths(View(t, c))
+//                           the data term of a perspective model
+//                           (problems/perspective_error.h) uses it instead of
+//                           s_tc; the first view's is held (the scale gauge).
 // clang-format on
 // A block is in the problem only once a residual uses it (a view that sees no
 // point has no rotation block; test with problem()->HasParameterBlock).
@@ -74,7 +78,8 @@ class ProblemBuilder {
                             const Model& model);
 
   // Adds one residual block of 2 residuals per visible (t, c, p) with
-  // w_obs > 0 and applies the constant flags to the blocks it added. Fails
+  // w_obs > 0 (weak perspective or pinhole as the model's camera says) and
+  // applies the constant flags to the blocks it added. Fails
   // (and adds nothing) on invalid options, measurements or model, on sizes
   // of model and measurements that differ, on a camera-0 scale other than 1,
   // or on an observation_weights matrix of the wrong size. Call once.
@@ -101,6 +106,7 @@ class ProblemBuilder {
   double* TranslationBlock(int frame, int camera);
   double* WeightsBlock(int frame);
   double* BasisBlock(int point);
+  double* DepthBlock(int frame, int camera);
   double* ScaleBlock(int frame, int camera);  // CHECKs camera ≥ 1
   // Rig blocks of camera c ≥ 1 (rigidity term, problems/rigidity_error.h):
   // ω_rig_c [3] = rig_rotations.col(c − 1), s_rig_c [1] = rig_scales(c − 1).
@@ -116,8 +122,8 @@ class ProblemBuilder {
   // NonPointBlocks() split into groups whose order does not depend on where
   // the model's arrays lie in memory (Ceres orders the blocks of one
   // ordering group by address): rotations, translations, weights, scales,
-  // then every remaining block (added by other terms) in a group of its own,
-  // in the order it was added. Empty groups are left out.
+  // depths, then every remaining block (added by other terms) in a group of its
+  // own, in the order it was added. Empty groups are left out.
   std::vector<std::vector<double*>> NonPointBlockGroups();
   // True when no residual block of the problem uses two point blocks (the
   // point blocks are an independent set and can be Schur-eliminated).

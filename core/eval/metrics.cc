@@ -185,6 +185,27 @@ E3DDetail ComputeE3DDetail(const std::vector<Eigen::Matrix3Xd>& truth,
   return detail;
 }
 
+double ComputeScaledE3D(const std::vector<Eigen::Matrix3Xd>& truth,
+                        const std::vector<Eigen::Matrix3Xd>& estimate) {
+  CheckSizes(truth, estimate);
+  const std::vector<Eigen::Matrix3Xd> x = Centred(truth);
+  std::vector<Eigen::Matrix3Xd> aligned = Centred(estimate);
+  const Eigen::Matrix3d y = AlignLeastSquaresThenOrthogonal(x, aligned);
+  double cross = 0.0, norm = 0.0;
+  for (std::size_t t = 0; t < x.size(); ++t) {
+    aligned[t] = y * aligned[t];
+    cross += (x[t].array() * aligned[t].array()).sum();
+    norm += aligned[t].squaredNorm();
+  }
+  const double c = norm > 0.0 ? cross / norm : 1.0;
+  const double scale = E3DScale(x);
+  double sum = 0.0;
+  for (std::size_t t = 0; t < x.size(); ++t) {
+    sum += (x[t] - c * aligned[t]).colwise().norm().mean() / scale;
+  }
+  return sum / static_cast<double>(x.size());
+}
+
 double ComputeFrobeniusZSign(const std::vector<Eigen::Matrix3Xd>& truth,
                              const std::vector<Eigen::Matrix3Xd>& estimate) {
   CheckSizes(truth, estimate);
@@ -462,6 +483,7 @@ Status EvaluateShapes(const GroundTruth& truth, const GroundTruth& estimate,
   errors->num_frames = static_cast<int>(x.size());
   errors->num_points = static_cast<int>(x[0].cols());
   errors->e3d = errors->e3d_camera;
+  errors->e3d_scaled = ComputeScaledE3D(x, x_hat);
   errors->e3d_frame = EvaluationFrame::kCamera;
   if (truth.HasObjectFrame()) {
     if (!estimate.HasObjectFrame()) {
@@ -473,6 +495,8 @@ Status EvaluateShapes(const GroundTruth& truth, const GroundTruth& estimate,
     NRSFM_RETURN_IF_ERROR(CheckShapes(
         truth.points_in_object, estimate.points_in_object, "object-frame "));
     errors->e3d = ComputeE3D(truth.points_in_object, estimate.points_in_object);
+    errors->e3d_scaled =
+        ComputeScaledE3D(truth.points_in_object, estimate.points_in_object);
     errors->e3d_frame = EvaluationFrame::kObject;
   }
   if (!truth.rotations.empty() &&
@@ -488,6 +512,7 @@ std::vector<std::pair<std::string, double>> MetricList(
   std::vector<std::pair<std::string, double>> list = {
       {"e3d", errors.e3d},
       {"e3d_camera", errors.e3d_camera},
+      {"e3d_scaled", errors.e3d_scaled},
       {"frob_zsign", errors.frob_zsign},
       {"error3d_pct", errors.error3d_pct},
       {"zerror_pct", errors.zerror_pct}};

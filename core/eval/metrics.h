@@ -45,6 +45,16 @@ namespace nrsfm {
 double ComputeE3D(const std::vector<Eigen::Matrix3Xd>& truth,
                   const std::vector<Eigen::Matrix3Xd>& estimate);
 
+// ComputeE3D with one global scale as well, for answers fixed only up to
+// scale (a monocular perspective answer, docs/camera.md): with X_t, X̂_t
+// centred and Y the alignment of ComputeE3D,
+//   c = Σ_t ⟨X_t, Y X̂_t⟩ / Σ_t ||Y X̂_t||²  (least squares),
+// the e3D of c · Y X̂_t. c is the least-squares scale, not the
+// e3D-minimising one, so an estimate already at the truth's scale can score
+// a little above ComputeE3D. Same CHECKs.
+double ComputeScaledE3D(const std::vector<Eigen::Matrix3Xd>& truth,
+                        const std::vector<Eigen::Matrix3Xd>& estimate);
+
 // The parts of ComputeE3D for display: the alignment Y (truth ≈ Y · centred
 // estimate), s, and each frame's (1 / P) Σ_p ||X_tp − Y X̂_tp|| / s, whose
 // mean is e3D. Same CHECKs as ComputeE3D.
@@ -119,6 +129,8 @@ struct ShapeErrors {
   double e3d = 0.0;
   EvaluationFrame e3d_frame = EvaluationFrame::kCamera;
   double e3d_camera = 0.0;  // ComputeE3D of the camera-0 frame shapes
+  // ComputeScaledE3D in `e3d_frame`: the number for a perspective answer.
+  double e3d_scaled = 0.0;
   // Camera frame (camera 0), whatever the truth:
   double frob_zsign = 0.0;   // ComputeFrobeniusZSign
   double error3d_pct = 0.0;  // ComputeError3DPercent, %

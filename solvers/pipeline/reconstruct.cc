@@ -13,6 +13,7 @@
 #include "core/model/option_checker.h"
 #include "problems/extra_terms.h"
 #include "solvers/pipeline/drop_unobserved.h"
+#include "solvers/pipeline/perspective.h"
 #include "solvers/pipeline/stages.h"
 
 namespace nrsfm {
@@ -42,6 +43,11 @@ Status ReconstructOptions::Check() const {
   bool any_weight = false;
   for (const auto& [name, weight] : problem.term_weights)
     any_weight |= weight != 0.0;
+  check.Require(
+      std::isfinite(depth) && depth >= 0.0,
+      "depth must be >= 0 (0: fx of camera 0), got " + std::to_string(depth));
+  check.Require(CameraModelName(camera) != std::string("unknown"),
+                "invalid camera model");
   check.Require(priors == PriorMode::kManual || !any_weight,
                 "term weights are given but priors = auto chooses them; set "
                 "priors = manual to use your own");
@@ -243,6 +249,33 @@ Status ReconstructInUnits(const ReconstructOptions& options,
             .count();
     return Status::OK();
   }
+  if (options.camera == CameraModel::kPerspective) {
+    ReconstructOptions weak = options;
+    weak.camera = CameraModel::kWeakPerspective;
+    NRSFM_RETURN_IF_ERROR(ReconstructInUnits(weak, measurements, result));
+    if (options.solver.stop_requested && options.solver.stop_requested()) {
+      return Status::OK();
+    }
+    ProblemOptions problem = options.problem;
+    problem.term_weights = result->priors.term_weights;
+    Model model;
+    RefineSummary summary;
+    const Status status = RefinePerspective(
+        problem, options.solver, measurements, result->model, &model, &summary);
+    if (!status.ok()) {
+      result->warnings.push_back(status.message() +
+                                 "; the weak-perspective answer is returned");
+      return Status::OK();
+    }
+    result->weak_perspective_refine = result->refine;
+    result->refine = summary;
+    result->model = std::move(model);
+    result->depth_ratio = DepthRatio(result->model);
+    result->total_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
+            .count();
+    return Status::OK();
+  }
   PriorDecision decision;
   // The completions and the SVD the prior rule and the starts share.
   StartCache cache(measurements, options.solver.num_threads);
@@ -306,11 +339,16 @@ Status ReconstructInUnits(const ReconstructOptions& options,
 void ToInputUnits(const ReconstructOptions& options, double spread,
                   ReconstructResult* result) {
   result->model.translations *= spread;
+  result->model.depths *= spread;
+  if (result->model.camera == CameraModel::kPerspective) {
+    result->model.intrinsics *= spread;
+  }
   result->model.basis *= spread;
   result->start.reprojection_rms *= spread;
   if (result->start.completion_rms > 0) result->start.completion_rms *= spread;
   if (result->start.rigid_rms > 0) result->start.rigid_rms *= spread;
-  for (RefineSummary* summary : {&result->refine, &result->camera_refine}) {
+  for (RefineSummary* summary : {&result->refine, &result->camera_refine,
+                                 &result->weak_perspective_refine}) {
     summary->initial_cost *= spread * spread;
     summary->final_cost *= spread * spread;
     summary->initial_reprojection_rms *= spread;
@@ -340,6 +378,12 @@ Status Reconstruct(const ReconstructOptions& options,
   *result = ReconstructResult();
   NRSFM_RETURN_IF_ERROR(options.Check());
   NRSFM_RETURN_IF_ERROR(measurements.Validate());
+  if (options.camera == CameraModel::kPerspective &&
+      measurements.intrinsics.cols() != measurements.num_cameras) {
+    return Status::Error(
+        "the perspective camera needs the intrinsics of every camera: a Kcam "
+        "variable in the .mat input, or intrinsics fx,fy,cx,cy");
+  }
   const double spread = measurements.ImageSpreadRms();
   if (!(spread > 0.0) || !std::isfinite(spread)) {
     return ReconstructInUnits(options, measurements, result);
@@ -347,6 +391,7 @@ Status Reconstruct(const ReconstructOptions& options,
   // Tracks of unit spread; what is in input units in the options follows.
   Measurements normalized = measurements;
   normalized.W /= spread;
+  normalized.intrinsics /= spread;
   ReconstructOptions scaled = options;
   scaled.problem.robust_scale /= spread;
   for (const ExtraTerm& term : ExtraTerms()) {
@@ -365,6 +410,15 @@ Status Reconstruct(const ReconstructOptions& options,
   }
   const Status status = ReconstructInUnits(scaled, normalized, result);
   ToInputUnits(options, spread, result);
+  if (status.ok() && result->model.camera == CameraModel::kPerspective) {
+    const double depth =
+        options.depth > 0.0 ? options.depth : measurements.intrinsics(0, 0);
+    if (!SetMeanDepth(depth, &result->model)) {
+      result->warnings.push_back(
+          "the first frame's points are not in front of the camera; the "
+          "depth convention could not be applied");
+    }
+  }
   return status;
 }
 

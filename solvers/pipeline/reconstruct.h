@@ -37,9 +37,17 @@ struct ReconstructOptions {
   SolverOptions solver;    // how it is solved
   PriorMode priors = PriorMode::kAuto;
   PriorRuleOptions prior_rule;  // used when priors = kAuto
+  // The camera (docs/camera.md). kPerspective needs the measurements'
+  // intrinsics: the weak-perspective answer is found first, then refined
+  // as a pinhole model (solvers/pipeline/perspective.h).
+  CameraModel camera = CameraModel::kWeakPerspective;
+  // Perspective only: the global scale gauge, the mean depth of the first
+  // frame's points in the output's units; 0 = fx of camera 0 (so a unit is
+  // about a pixel at that depth). ≥ 0.
+  double depth = 0.0;
 
   // Each part's Check(), with the part named in the message; errors on term
-  // weights given with priors = kAuto.
+  // weights given with priors = kAuto, on a negative or non-finite depth.
   Status Check() const;
 };
 
@@ -47,6 +55,9 @@ struct ReconstructResult {
   Model model;  // the refined model (the start if refine.usable is false)
   StartSummary start;    // the start kept: method, its RMS, its time
   RefineSummary refine;  // the (last) refinement: costs, RMS, iterations, times
+  // camera = kPerspective: the weak-perspective answer's refinement (`refine`
+  // is then the pinhole one).
+  RefineSummary weak_perspective_refine;
   // Whether the refinement ran in two stages (priors = auto with a shape
   // prior and K_cam = priors.camera_num_bases > K: the camera stage, then
   // the shape stage with its rotations held), and the camera stage's

@@ -30,6 +30,7 @@ StructuredLayout MakeStructuredLayout(ProblemBuilder* builder) {
       group.push_back(builder->RotationBlock(t, c));
       group.push_back(builder->TranslationBlock(t, c));
       if (c > 0) group.push_back(builder->ScaleBlock(t, c));
+      group.push_back(builder->DepthBlock(t, c));
     }
     group.push_back(builder->WeightsBlock(t));
   }

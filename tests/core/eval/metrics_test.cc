@@ -108,6 +108,20 @@ TEST(Metrics, RotatedCopyScoresZero) {
   EXPECT_LT(ComputeZErrorPercent(truth, estimate), 1e-10);
 }
 
+TEST(Metrics, ScaledE3DAlignsOneGlobalScale) {
+  const Frames truth = RandomSequence(6, 9, 7);
+  Frames estimate =
+      Transformed(truth, AngleAxisToRotation(Eigen::Vector3d(0.3, -2.0, 1.1)));
+  for (Eigen::Matrix3Xd& x : estimate) x *= 2.5;
+  EXPECT_LT(ComputeScaledE3D(truth, estimate), 1e-12);
+  // Without the scale, the nearest orthogonal map leaves the 2.5× size:
+  // every centred point is 1.5× its own length off.
+  EXPECT_GT(ComputeE3D(truth, estimate), 1.0);
+  // A frame scaled on its own is not aligned away.
+  estimate[0] *= 1.2;
+  EXPECT_GT(ComputeScaledE3D(truth, estimate), 0.01);
+}
+
 TEST(Metrics, DepthReflectedCopyScoresZero) {
   const Frames truth = RandomSequence(6, 9, 8);
   const Frames estimate = Transformed(truth, kFlipZ);
