@@ -1,10 +1,11 @@
 // nrsfm_bench: the benchmark suites (docs/benchmark.md). With no flags it runs
 // the reduced default (a few minutes on 2 cores, --jobs=2): paper-random with R
 // = 1, superquadric, shoe at K = 4 (monocular and two cameras), mocap at the
-// published K and robustness on yoga and face (four cases) when
+// published K, robustness on yoga and face (four cases) and perspective on
+// yoga and the perspective/ sequences when
 // ../shared/datasets exists, and a small scale sweep.
 //
-//   --suite=default|paper-random|superquadric|shoe|mocap|robustness|scale|all
+//   --suite=default|paper-random|superquadric|shoe|mocap|robustness|perspective|scale|all
 //   --full            paper-sized runs (R = 30, full K ranges, K sweeps)
 //   --runs=R          random runs per setting (overrides the suite default)
 //   --datasets_dir    folder of the mocap .mat files
@@ -39,7 +40,7 @@
 
 DEFINE_string(suite, "default",
               "default | paper-random | superquadric | shoe | mocap | "
-              "robustness | scale | all");
+              "robustness | perspective | scale | all");
 DEFINE_bool(full, false, "paper-sized runs (R = 30, full K ranges, K sweeps)");
 DEFINE_int32(runs, 0, "random runs per setting (0 = the suite's default)");
 DEFINE_string(datasets_dir, "../shared/datasets",
@@ -83,6 +84,7 @@ const std::vector<Suite>& AllSuites() {
       {"shoe", nrsfm::bench::RunShoeSuite},
       {"mocap", nrsfm::bench::RunMocapSuite},
       {"robustness", nrsfm::bench::RunRobustnessSuite},
+      {"perspective", nrsfm::bench::RunPerspectiveSuite},
       {"scale", nrsfm::bench::RunScaleSuite},
   };
   return suites;

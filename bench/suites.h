@@ -25,6 +25,9 @@ Status RunMocapSuite(const BenchConfig& config, Json* out);
 // entries (core/synthetic/synthetic.h GenerateReprojection), against a flat
 // answer and Lee et al.'s slow-rotation numbers.
 Status RunRobustnessSuite(const BenchConfig& config, Json* out);
+// The pinhole re-projections and the real perspective sequences
+// (bench/suite_robustness.cc).
+Status RunPerspectiveSuite(const BenchConfig& config, Json* out);
 // Synthetic (F, P, K) sweep: time per LM iteration, total time, peak memory.
 Status RunScaleSuite(const BenchConfig& config, Json* out);
 

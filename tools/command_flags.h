@@ -89,6 +89,11 @@ Status ParseNumBasesFlag(const std::string& value, NumBasesFlag* num_bases);
 // an error naming it.
 Status ParseHeldBlocks(const std::string& list, ProblemOptions* options);
 
+// --intrinsics: "" leaves them to the file's Kcam (empty), else
+// ParseIntrinsics (core/io/read_measurements.h).
+Status ParseIntrinsicsFlag(const std::string& text,
+                           Eigen::Matrix4Xd* intrinsics);
+
 // What the flags set: the options of reading the input, of the
 // reconstruction and of the choice of K, and --K itself.
 struct FlagTargets {
@@ -184,6 +189,12 @@ struct SetsNothing {};
         {kReconstruct | kView,                                                 \
          "keypoint input: a keypoint whose detector score is below this "      \
          "is missing (a score of 0 always is)."}))                             \
+  X(std::string, intrinsics, "", kInput,                                       \
+    NRSFM_PARSES(input, intrinsics, ParseIntrinsicsFlag),                      \
+    NRSFM_HELP({kReconstruct | kView,                                          \
+                "pinhole intrinsics fx,fy,cx,cy in pixels (several cameras: "  \
+                "one group each, joined by ';'); replace the .mat's Kcam; "    \
+                "'' = Kcam when the file has it."}))                           \
   X(int, cameras, ::nrsfm::InputOptions().num_cameras, kInput,                 \
     NRSFM_SETS(input, num_cameras),                                            \
     NRSFM_HELP(                                                                \
@@ -231,6 +242,21 @@ struct SetsNothing {};
          "for a video given the temporal prior; otherwise the "                \
          "factorization and rigid starts both refined, the lower cost "        \
          "kept; docs/priors.md)."}))                                           \
+  X(std::string, camera,                                                       \
+    ::nrsfm::CameraModelName(::nrsfm::ReconstructOptions().camera), kStart,    \
+    NRSFM_PARSES(reconstruct, camera, ::nrsfm::ParseCameraModel),              \
+    NRSFM_HELP({kReconstruct,                                                  \
+                "weak_perspective|perspective. perspective: a calibrated "     \
+                "pinhole camera (intrinsics from the .mat's Kcam or "          \
+                "--intrinsics), refined from the weak-perspective answer; "    \
+                "outputs in the camera frame up to one global scale "          \
+                "(--depth; docs/camera.md)."}))                                \
+  X(double, depth, ::nrsfm::ReconstructOptions().depth, kStart,                \
+    NRSFM_SETS(reconstruct, depth),                                            \
+    NRSFM_HELP({kReconstruct,                                                  \
+                "--camera perspective: the mean depth of the first frame's "   \
+                "points, in the units you want the output in; 0 = fx "         \
+                "(a unit is then about a pixel at that depth)."}))             \
   X(std::string, priors,                                                       \
     ::nrsfm::PriorModeName(::nrsfm::ReconstructOptions().priors), kStart,      \
     NRSFM_PARSES(reconstruct, priors, ::nrsfm::ParsePriorMode),                \
@@ -495,6 +521,12 @@ struct SetsNothing {};
                 "(--dataset reproject) self-occlusion radius as a "            \
                 "fraction of the image size (a point is hidden by a "          \
                 "nearer one within it); 0 = none."}))                          \
+  X(double, distance_ratio, ::nrsfm::ReprojectOptions().distance_ratio,        \
+    kSynthesis, NRSFM_SETS_NOTHING,                                            \
+    NRSFM_HELP({kSynth,                                                        \
+                "(--dataset reproject) 0: orthographic camera; > 0: a "        \
+                "pinhole camera this many object sizes away (writes Kcam "     \
+                "and the camera-frame truth X, pixels)."}))                    \
   X(bool, quiet, false, kTool, NRSFM_SETS_NOTHING,                             \
     NRSFM_HELP({kReconstruct, "no progress lines on stderr."}))
 

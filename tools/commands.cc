@@ -214,8 +214,9 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
       << std::setprecision(3) << result.total_seconds << " s\n";
   if (!flags.truth.empty()) {
     out << std::setprecision(6) << "e3D " << errors.e3d << " ("
-        << EvaluationFrameName(errors.e3d_frame) << " frame), e3D camera frame "
-        << errors.e3d_camera << ", frob_zsign " << errors.frob_zsign;
+        << EvaluationFrameName(errors.e3d_frame) << " frame; with one scale "
+        << errors.e3d_scaled << "), e3D camera frame " << errors.e3d_camera
+        << ", frob_zsign " << errors.frob_zsign;
     if (!std::isnan(errors.rotation_error)) {
       out << ", rotation error " << errors.rotation_error;
     }

@@ -202,6 +202,15 @@ Status ParseNumBasesFlag(const std::string& value, NumBasesFlag* num_bases) {
   return Status::OK();
 }
 
+Status ParseIntrinsicsFlag(const std::string& text,
+                           Eigen::Matrix4Xd* intrinsics) {
+  if (text.empty()) {
+    intrinsics->resize(4, 0);
+    return Status::OK();
+  }
+  return ParseIntrinsics(text, intrinsics);
+}
+
 Status ParseHeldBlocks(const std::string& list, ProblemOptions* options) {
   const std::pair<const char*, bool ProblemOptions::*> kinds[] = {
       {"rotations", &ProblemOptions::constant_rotations},

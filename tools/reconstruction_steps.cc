@@ -195,9 +195,16 @@ ReconstructionReport MakeReport(const CommandFlags& flags,
                              result.camera_refine.iterations,
                              result.camera_refine.seconds});
   }
-  report.stages.push_back({"refine", result.refine.initial_cost,
-                           result.refine.final_cost, result.refine.iterations,
-                           result.refine.seconds});
+  const bool perspective = result.model.camera == CameraModel::kPerspective;
+  const RefineSummary& weak =
+      perspective ? result.weak_perspective_refine : result.refine;
+  report.stages.push_back({"refine", weak.initial_cost, weak.final_cost,
+                           weak.iterations, weak.seconds});
+  if (perspective) {
+    report.stages.push_back({"refine_perspective", result.refine.initial_cost,
+                             result.refine.final_cost, result.refine.iterations,
+                             result.refine.seconds});
+  }
   report.reprojection_rms = result.refine.usable
                                 ? result.refine.reprojection_rms
                                 : result.start.reprojection_rms;

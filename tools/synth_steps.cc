@@ -84,6 +84,7 @@ Status SynthesizeReprojection(const CommandFlags& flags,
   options.missing_fraction = flags.missing;
   options.occlusion_radius = flags.occlusion;
   options.seed = flags.seed;
+  options.distance_ratio = flags.distance_ratio;
   GroundTruth source;
   NRSFM_RETURN_IF_ERROR(ReadTruth(flags.input, flags.truth_var, &source));
   NRSFM_RETURN_IF_ERROR(GenerateReprojection(source, options, sequence)
@@ -104,6 +105,18 @@ Status SynthesizeReprojection(const CommandFlags& flags,
       {"noise_stddev",
        Eigen::MatrixXd::Constant(1, 1, sequence->noise_stddev),
        {}}};
+  if (m.intrinsics.cols() == 1) {
+    const Eigen::Vector4d k = m.intrinsics.col(0);
+    Eigen::Matrix3d kcam;
+    kcam << k(0), 0.0, k(2), 0.0, k(1), k(3), 0.0, 0.0, 1.0;
+    Eigen::MatrixXd x(3, static_cast<Eigen::Index>(p) * f);
+    for (int t = 0; t < f; ++t) {
+      x.middleCols(static_cast<Eigen::Index>(p) * t, p) =
+          sequence->truth.points_in_camera[t];
+    }
+    variables->push_back({"Kcam", kcam, {}});
+    variables->push_back({"X", x, {3, p, f}});
+  }
   // The skeleton edges of the source, for nrsfm view.
   Eigen::MatrixXd list;
   if (std::filesystem::path(flags.input).extension() == ".mat" &&

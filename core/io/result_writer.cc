@@ -57,7 +57,9 @@ Status WriteViews(const fs::path& dir, const Model& model) {
   NRSFM_RETURN_IF_ERROR(rotations.Open((dir / "rotations.csv").string()));
   NRSFM_RETURN_IF_ERROR(translations.Open((dir / "translations.csv").string()));
   rotations.Text("frame,camera,r11,r12,r13,r21,r22,r23,r31,r32,r33\n");
-  translations.Text("frame,camera,tx,ty,scale\n");
+  const bool perspective = model.camera == CameraModel::kPerspective;
+  translations.Text(perspective ? "frame,camera,tx,ty,tz\n"
+                                : "frame,camera,tx,ty,scale\n");
   for (int t = 0; t < model.num_frames; ++t) {
     for (int c = 0; c < model.num_cameras; ++c) {
       const Eigen::Matrix3d r = model.Rotation(t, c);
@@ -70,7 +72,8 @@ Status WriteViews(const fs::path& dir, const Model& model) {
       translations.Int(t).Char(',').Int(c).Char(',');
       translations.Number(model.translations(0, view)).Char(',');
       translations.Number(model.translations(1, view)).Char(',');
-      translations.Number(model.scales(view)).Char('\n');
+      translations.Number(perspective ? model.depths(view) : model.scales(view))
+          .Char('\n');
     }
   }
   NRSFM_RETURN_IF_ERROR(rotations.Close());
@@ -144,6 +147,17 @@ std::string ReconstructionJson(const Measurements& measurements,
   json["num_points"] = model.num_points;
   json["num_bases"] = model.num_bases;
   json["num_visible"] = measurements.NumVisible();
+  json["camera"] = CameraModelName(model.camera);
+  if (model.camera == CameraModel::kPerspective) {
+    // (fx, fy, cx, cy) per camera, pixels: u = fx x / z + cx, v = fy y / z +
+    // cy.
+    Json intrinsics = Json::array();
+    for (int c = 0; c < model.num_cameras; ++c) {
+      intrinsics.push_back({model.intrinsics(0, c), model.intrinsics(1, c),
+                            model.intrinsics(2, c), model.intrinsics(3, c)});
+    }
+    json["intrinsics"] = intrinsics;
+  }
   // The input's index of each frame and point when the reader renumbered
   // them (a sparse observation list, core/io/text_io.h).
   if (!measurements.frame_ids.empty())

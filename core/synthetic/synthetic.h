@@ -185,10 +185,22 @@ struct ReprojectOptions {
   // self-occlusion radius / image size, [0, 1); 0 = none
   double occlusion_radius = 0.0;
   std::uint64_t seed = 1;  // noise and random missing entries
+  // 0: the orthographic camera above. > 0: a pinhole camera whose centre
+  // is distance_ratio × the object's size (the largest side of the 3-D
+  // bounding box of all its points) from the object's mean point, on its
+  // optical axis: X_t = R_t S_t − R_t c̄ + (0, 0, D), w = (f x / z + 500,
+  // f y / z + 500) pixels, f = kPinholeImagePixels · distance_ratio, so
+  // the object spans about kPinholeImagePixels pixels at any ratio; the
+  // measurements get these intrinsics and the truth the camera-frame X_t.
+  // Errors when a point is not in front of the camera. [0, 1e6].
+  double distance_ratio = 0.0;
 
   // Errors name the field and value.
   Status Check() const;
 };
+
+// The image size a pinhole re-projection aims at, pixels.
+inline constexpr double kPinholeImagePixels = 500.0;
 
 struct ReprojectedSequence {
   Measurements measurements;  // M = 1, W of 2F rows

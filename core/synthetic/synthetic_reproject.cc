@@ -115,6 +115,10 @@ Status ReprojectOptions::Check() const {
   check.InRange("noise_fraction", noise_fraction, 0.0, 1.0, true);
   check.InRange("missing_fraction", missing_fraction, 0.0, 1.0, true);
   check.InRange("occlusion_radius", occlusion_radius, 0.0, 1.0, true);
+  check.InRange("distance_ratio", distance_ratio, 0.0, 1e6);
+  check.Require(distance_ratio == 0.0 || occlusion_radius == 0.0,
+                "occlusion_radius is for the orthographic camera only "
+                "(distance_ratio 0)");
   return check.status();
 }
 
@@ -145,15 +149,47 @@ Status GenerateReprojection(const GroundTruth& source,
   truth.rotations.resize(num_frames);
   truth.points_in_camera.resize(num_frames);
   sequence->image_size = 0.0;
+  const bool pinhole = options.distance_ratio > 0.0;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  Eigen::Vector3d low =
+      Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d high = -low;
+  for (const Eigen::Matrix3Xd& shape : truth.points_in_object) {
+    mean += shape.rowwise().sum();
+    low = low.cwiseMin(shape.rowwise().minCoeff());
+    high = high.cwiseMax(shape.rowwise().maxCoeff());
+  }
+  mean /= static_cast<double>(num_frames) * num_points;
+  const double distance = options.distance_ratio * (high - low).maxCoeff();
+  const double focal = kPinholeImagePixels * options.distance_ratio;
+  const double centre = kPinholeImagePixels;
+  std::vector<Eigen::Matrix2Xd> images(num_frames);
   for (int t = 0; t < num_frames; ++t) {
     const double theta =
         total * AngleFraction(options.profile, synthetic::Tau(t, num_frames));
     truth.rotations[t] =
         Eigen::AngleAxisd(theta, axis).toRotationMatrix() * base;
-    truth.points_in_camera[t] = truth.rotations[t] * truth.points_in_object[t];
-    const Eigen::Matrix3Xd& x = truth.points_in_camera[t];
-    const Eigen::Vector2d extent = x.topRows<2>().rowwise().maxCoeff() -
-                                   x.topRows<2>().rowwise().minCoeff();
+    Eigen::Matrix3Xd& x = truth.points_in_camera[t];
+    x = truth.rotations[t] * truth.points_in_object[t];
+    if (pinhole) {
+      x.colwise() +=
+          Eigen::Vector3d(0.0, 0.0, distance) - truth.rotations[t] * mean;
+      if (!(x.row(2).minCoeff() > 0.0)) {
+        return Status::Error("re-projection: distance_ratio " +
+                             std::to_string(options.distance_ratio) +
+                             " puts a point of frame " + std::to_string(t) +
+                             " at or behind the camera");
+      }
+      images[t].resize(2, num_points);
+      images[t].row(0) =
+          (focal * x.row(0).cwiseQuotient(x.row(2))).array() + centre;
+      images[t].row(1) =
+          (focal * x.row(1).cwiseQuotient(x.row(2))).array() + centre;
+    } else {
+      images[t] = x.topRows<2>();
+    }
+    const Eigen::Vector2d extent =
+        images[t].rowwise().maxCoeff() - images[t].rowwise().minCoeff();
     sequence->image_size = std::max(sequence->image_size, extent.maxCoeff());
   }
   sequence->noise_stddev = options.noise_fraction * sequence->image_size;
@@ -174,13 +210,17 @@ Status GenerateReprojection(const GroundTruth& source,
   m.num_points = num_points;
   m.W.resize(2 * num_frames, num_points);
   m.visible = visible;
+  if (pinhole) {
+    m.intrinsics.resize(4, 1);
+    m.intrinsics.col(0) << focal, focal, centre, centre;
+  }
   for (int t = 0; t < num_frames; ++t) {
     for (int p = 0; p < num_points; ++p) {
       // Noise is drawn for every entry, so it does not depend on which are
       // missing.
       const double du = sequence->noise_stddev * noise.Normal();
       const double dv = sequence->noise_stddev * noise.Normal();
-      const Eigen::Vector3d& x = truth.points_in_camera[t].col(p);
+      const Eigen::Vector2d x = images[t].col(p);
       if (visible(t, p)) {
         m.W(2 * t, p) = x(0) + du;
         m.W(2 * t + 1, p) = x(1) + dv;

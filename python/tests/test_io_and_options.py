@@ -140,7 +140,7 @@ def test_keywords_are_the_tools_flags_with_its_defaults():
         assert name in set(nrsfm.OPTIONS["refine"])
     assert set(nrsfm.OPTIONS["refine"]) < reconstruct
     assert set(nrsfm.OPTIONS["read"]) == {"cameras", "var", "mask_var", "format", "frame_key",
-                                          "part", "min_confidence"}
+                                          "part", "min_confidence", "intrinsics"}
     # How a file is read, and weights from a file's scores, are not options
     # of a reconstruction of arrays (observation_weights is an argument).
     for name in nrsfm.OPTIONS["read"].keys() | {"confidence_weights"}:
