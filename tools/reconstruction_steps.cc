@@ -188,7 +188,7 @@ ReconstructionReport MakeReport(const CommandFlags& flags,
   report.options = OptionList(flags, run.num_bases);
   report.start_used = StartMethodName(result.start.method);
   report.start_reprojection_rms = result.start.reprojection_rms;
-  report.stages.push_back({"initialize", 0.0, 0.0, 0, result.start.seconds});
+  report.stages.push_back({"start", 0.0, 0.0, 0, result.start.seconds});
   if (result.camera_stage) {
     report.stages.push_back({"refine_camera", result.camera_refine.initial_cost,
                              result.camera_refine.final_cost,

@@ -77,16 +77,16 @@ def bad_data():
         ("rows not a multiple of 2M", w[:-2], {"cameras": 2},
          "W: 18 rows is not a multiple of 2 x 2 cameras (expected rows u, v per frame and camera)"),
         ("one frame", rotating_w(1, 8), {},
-         "both starts failed: factorization: initialize: needs at least 2 frames, got F = 1; "
-         "rigid: initialize: needs at least 2 frames, got F = 1"),
+         "both starts failed: factorization: start: needs at least 2 frames, got F = 1; "
+         "rigid: start: needs at least 2 frames, got F = 1"),
         ("two points", rotating_w(10, 2), {},
-         "initialize: K = 1 needs 3K + 1 = 4 points and 2F >= 4; got P = 2, F = 10"),
+         "start: K = 1 needs 3K + 1 = 4 points and 2F >= 4; got P = 2, F = 10"),
         ("K too large", w, {"K": 3},
-         "initialize: K = 3 needs 3K + 1 = 10 points and 2F >= 10; got P = 8, F = 10"),
+         "start: K = 3 needs 3K + 1 = 10 points and 2F >= 10; got P = 8, F = 10"),
         # (σ₃/σ₁ is round-off, so the needle is the words after it.)
         ("no rotation", np.tile(rotating_w(1, 12), (15, 1)), {},
          "< 1e-06): the sequence shows no rotation (or the object is flat), so depth is "
-         "unobservable; rigid: initialize: rigid start: the centred 2D tracks have rank < 3"),
+         "unobservable; rigid: start: rigid start: the centred 2D tracks have rank < 3"),
         ("1-D", w[0], {}, "W must be a 2-D array, got shape (8,)"),
         ("3-D", w[None], {}, "W must be a 2-D array, got shape (1, 20, 8)"),
         ("empty", np.zeros((0, 0)), {}, "W: matrix is empty (0 x 0)"),
@@ -101,7 +101,7 @@ def bad_data():
         ("rigidity, one camera", w, {"rigidity": 1.0},
          "W: --rigidity: needs data from M >= 2 synchronised cameras, got M = 1"),
         ("too little left", np.where(np.arange(8) < 5, np.nan, w), {"K": 1},
-         "initialize: too few observations for K = 1: leaving out the 8 points seen in fewer "
+         "start: too few observations for K = 1: leaving out the 8 points seen in fewer "
          "than 2 views and the 10 frames whose views see fewer than 4 points leaves F = 0, "
          "P = 0 (K = 1 needs F >= 2, 2F >= 4 and P >= 4)"),
     ]

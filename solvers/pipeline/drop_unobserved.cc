@@ -104,7 +104,7 @@ Status FindUnobserved(const Measurements& measurements, int num_bases,
   if (kept_frames < 2 || 2 * kept_frames < needed_for_k ||
       kept_points < needed_for_k) {
     std::ostringstream msg;
-    msg << "initialize: too few observations for K = " << num_bases
+    msg << "start: too few observations for K = " << num_bases
         << ": leaving out the " << unobserved->points.size()
         << " points seen in fewer than " << needed_views << " views and the "
         << unobserved->frames.size() << " frames whose views see fewer than "

@@ -43,7 +43,7 @@ Status CheckData(const StartOptions& options, const Measurements& data) {
   // 64 bits: K comes from the user and 3K + 1 may not fit an int.
   const long long needed = 3LL * options.num_bases + 1;
   std::ostringstream msg;
-  msg << "initialize: ";
+  msg << "start: ";
   if (f < 2) {
     msg << "needs at least 2 frames, got F = " << f;
     return Status::Error(msg.str());
@@ -124,7 +124,7 @@ Status CenterData(const StartOptions& options, const Measurements& data,
                                              &completion)
              : CompleteLowRankAffine(data, rank, options.completion,
                                      &completion, num_threads))
-            .WithContext("initialize"));
+            .WithContext("start"));
     summary->completion_rms = completion.residual_rms;
     if (!completion.converged) {
       std::ostringstream msg;
@@ -278,10 +278,10 @@ Status ComputeStart(const StartOptions& options,
   NRSFM_RETURN_IF_ERROR(options.Check());
   if (options.method == StartMethod::kAuto) {
     return Status::Error(
-        "initialize: the start must be named (factorization, rigid or triple); "
+        "start: the start must be named (factorization, rigid or triple); "
         "auto is Reconstruct()'s choice between starts");
   }
-  NRSFM_RETURN_IF_ERROR(measurements.Validate().WithContext("initialize"));
+  NRSFM_RETURN_IF_ERROR(measurements.Validate().WithContext("start"));
   NRSFM_RETURN_IF_ERROR(CheckData(options, measurements));
 
   // Missing entries may allow the start fewer bases than K (StartBases).
@@ -310,7 +310,7 @@ Status ComputeStart(const StartOptions& options,
   NRSFM_RETURN_IF_ERROR(
       StartOnCameraZero(reduced, measurements, centered.camera0,
                         std::max(1, num_threads), cache, &start)
-          .WithContext("initialize"));
+          .WithContext("start"));
   if (reduced.num_bases < options.num_bases) {
     ExtendBases(options.num_bases, options.seed, &start.model);
   }
@@ -320,7 +320,7 @@ Status ComputeStart(const StartOptions& options,
     Model cameras;
     NRSFM_RETURN_IF_ERROR(
         ExtendToCameras(centered.all_cameras, result, &cameras)
-            .WithContext("initialize"));
+            .WithContext("start"));
     result = std::move(cameras);
   }
   // The start's translations correct the centring of camera 0 (the
@@ -330,7 +330,7 @@ Status ComputeStart(const StartOptions& options,
     result.translations.col(measurements.View(t, 0)) +=
         camera0_translations.col(t);
   }
-  NRSFM_RETURN_IF_ERROR(result.Validate().WithContext("initialize"));
+  NRSFM_RETURN_IF_ERROR(result.Validate().WithContext("start"));
 
   summary->method = options.method;
   summary->reprojection_rms =
@@ -358,7 +358,7 @@ Status ComputeStart(const StartOptions& options,
   summary->seconds = std::chrono::duration<double>(
                          std::chrono::steady_clock::now() - start_time)
                          .count();
-  VLOG(1) << "initialize: " << StartMethodName(options.method)
+  VLOG(1) << "start: " << StartMethodName(options.method)
           << " start, reprojection RMS " << summary->reprojection_rms;
   return Status::OK();
 }

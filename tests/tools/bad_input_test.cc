@@ -155,11 +155,11 @@ TEST_F(BadInputTest, TooFewFramesOrPoints) {
   WriteW("one_frame.mat", RotatingW(1, 8));
   ExpectRejected("one_frame.mat", "--K 1",
                  {"one_frame.mat: both starts failed: factorization: "
-                  "initialize: needs at least 2 "
+                  "start: needs at least 2 "
                   "frames, got F = 1"});
   WriteW("two_points.mat", RotatingW(10, 2));
   ExpectRejected("two_points.mat", "--K 1",
-                 {"two_points.mat: initialize: K = 1 needs 3K + 1 = 4 points "
+                 {"two_points.mat: start: K = 1 needs 3K + 1 = 4 points "
                   "and 2F >= 4; got P = 2, "
                   "F = 10"});
 }
@@ -211,7 +211,7 @@ TEST_F(BadInputTest, NoRotation) {
   const Eigen::MatrixXd first = RotatingW(1, 12);
   WriteW("still.mat", first.replicate(15, 1));
   ExpectRejected("still.mat", "--K 1",
-                 {"still.mat: both starts failed: factorization: initialize: "
+                 {"still.mat: both starts failed: factorization: start: "
                   "factorisation start: the "
                   "centred 2D tracks have rank < 3",
                   "the sequence shows no rotation (or the object is flat), so "
@@ -222,7 +222,7 @@ TEST_F(BadInputTest, KTooLarge) {
   WriteW("small.mat", RotatingW(10, 8));
   // 3K + 1 = 10 > P = 8.
   ExpectRejected("small.mat", "--K 3",
-                 {"small.mat: initialize: K = 3 needs 3K + 1 = 10 points and "
+                 {"small.mat: start: K = 3 needs 3K + 1 = 10 points and "
                   "2F >= 10; got P = 8, "
                   "F = 10"});
   // 3K + 1 beyond the range of an int: counted in 64 bits, not wrapped.
@@ -370,9 +370,9 @@ TEST_F(BadInputTest, HostileInputsEndWithTheirErrorInHalfAGigabyte) {
        "in its array)\n"},
       {"two.obs",
        "nrsfm reconstruct: error: two.obs: both starts failed: factorization: "
-       "initialize: K = 1 "
+       "start: K = 1 "
        "needs 3K + 1 = 4 points and 2F >= 4; got P = 2, F = 2; rigid: "
-       "initialize: K = 1 needs "
+       "start: K = 1 needs "
        "3K + 1 = 4 points and 2F >= 4; got P = 2, F = 2 (F and P count the "
        "frames and points "
        "the list mentions; its largest indices are frame 1300000, point 99)\n"},

@@ -493,7 +493,7 @@ TEST_F(CliTest, BadInputGetsOneClearLineAndNoOutput) {
   ExpectFailure("reconstruct --input r.mat --K many --output o",
                 "--K: must be an integer >= 1 or 'auto', got 'many'", "o");
   ExpectFailure("reconstruct --input r.mat --K 9 --output o",  // 3K+1 > P
-                "r.mat: initialize: K = 9 needs 3K + 1 = 28 points and 2F >= "
+                "r.mat: start: K = 9 needs 3K + 1 = 28 points and 2F >= "
                 "28; got P = 10, "
                 "F = 20",
                 "o");

@@ -91,7 +91,7 @@ std::string Write(const Measurements& measurements,
   report.input = "synthetic";
   report.start_used = StartMethodName(result.start.method);
   report.start_reprojection_rms = result.start.reprojection_rms;
-  report.stages.push_back({"initialize", 0.0, 0.0, 0, result.start.seconds});
+  report.stages.push_back({"start", 0.0, 0.0, 0, result.start.seconds});
   report.stages.push_back({"refine", result.refine.initial_cost,
                            result.refine.final_cost, result.refine.iterations,
                            result.refine.seconds});
