@@ -168,8 +168,8 @@ struct SetsNothing {};
     ::nrsfm::InputFormatName(::nrsfm::InputOptions().format), kInput,          \
     NRSFM_PARSES(input, format, ::nrsfm::ParseInputFormat),                    \
     NRSFM_HELP({kReconstruct | kView,                                          \
-                "input format auto|mat|text|list|coco|openpose (auto: by the " \
-                "extension, .json = coco; a folder = openpose)."}))            \
+                "input format (auto: by the extension, .json = coco; a "       \
+                "folder = openpose)."}))                                       \
   X(std::string, frame_key, ::nrsfm::KeypointOptions().frame_key, kInput,      \
     NRSFM_SETS(input, keypoints.frame_key),                                    \
     NRSFM_HELP(                                                                \
@@ -182,7 +182,7 @@ struct SetsNothing {};
     NRSFM_PARSES(input, keypoints.part, ::nrsfm::ParseKeypointPart),           \
     NRSFM_HELP({kReconstruct | kView,                                          \
                 "OpenPose input: the keypoints of people[0] that are the "     \
-                "points, pose|face|hand_left|hand_right."}))                   \
+                "points."}))                                                   \
   X(double, min_confidence, ::nrsfm::KeypointOptions().min_confidence, kInput, \
     NRSFM_SETS(input, keypoints.min_confidence),                               \
     NRSFM_HELP(                                                                \
@@ -236,17 +236,16 @@ struct SetsNothing {};
   X(std::string, init,                                                         \
     ::nrsfm::StartMethodName(::nrsfm::StartOptions().method), kStart,          \
     NRSFM_PARSES(reconstruct, start.method, ::nrsfm::ParseStartMethod),        \
-    NRSFM_HELP(                                                                \
-        {kReconstruct,                                                         \
-         "start auto|factorization|rigid|triple (auto: the triple start "      \
-         "for a video given the temporal prior; otherwise the "                \
-         "factorization and rigid starts both refined, the lower cost "        \
-         "kept; docs/priors.md)."}))                                           \
+    NRSFM_HELP({kReconstruct,                                                  \
+                "the start (auto: the triple start "                           \
+                "for a video given the temporal prior; otherwise the "         \
+                "factorization and rigid starts both refined, the lower cost " \
+                "kept; docs/priors.md)."}))                                    \
   X(std::string, camera,                                                       \
     ::nrsfm::CameraModelName(::nrsfm::ReconstructOptions().camera), kStart,    \
     NRSFM_PARSES(reconstruct, camera, ::nrsfm::ParseCameraModel),              \
     NRSFM_HELP({kReconstruct,                                                  \
-                "weak_perspective|perspective. perspective: a calibrated "     \
+                "the camera. perspective: a calibrated "                       \
                 "pinhole camera (intrinsics from the .mat's Kcam or "          \
                 "--intrinsics), refined from the weak-perspective answer; "    \
                 "outputs in the camera frame up to one global scale "          \
@@ -261,26 +260,23 @@ struct SetsNothing {};
     ::nrsfm::PriorModeName(::nrsfm::ReconstructOptions().priors), kStart,      \
     NRSFM_PARSES(reconstruct, priors, ::nrsfm::ParsePriorMode),                \
     NRSFM_HELP({kReconstruct,                                                  \
-                "auto|manual. auto chooses the temporal terms from the data "  \
+                "auto chooses the temporal terms from the data "               \
                 "(docs/priors.md); giving any term weight (--temporal_shape, " \
                 "...) means manual: exactly the weights given."}))             \
   X(std::string, robust,                                                       \
     ::nrsfm::RobustLossName(::nrsfm::ProblemOptions().robust_loss), kOption,   \
     NRSFM_PARSES(reconstruct, problem.robust_loss, ::nrsfm::ParseRobustLoss),  \
-    NRSFM_HELP({kReconstruct,                                                  \
-                "robust loss none|huber|cauchy on the "                        \
-                "reprojection terms."}))                                       \
+    NRSFM_HELP({kReconstruct, "robust loss on the reprojection terms."}))      \
   X(double, robust_scale, ::nrsfm::ProblemOptions().robust_scale, kOption,     \
     NRSFM_SETS(reconstruct, problem.robust_scale),                             \
     NRSFM_HELP({kReconstruct, "robust loss scale, in input units."}))          \
   X(std::string, hold, "", kOption,                                            \
     NRSFM_PARSES(reconstruct, problem, ParseHeldBlocks),                       \
-    NRSFM_HELP(                                                                \
-        {kReconstruct,                                                         \
-         "blocks held at their start values during the refinement, a "         \
-         "comma list of rotations,translations,weights,basis,scales,rig "      \
-         "(e.g. your own cameras with --init and refine, or refine in "        \
-         "Python)."}))                                                         \
+    NRSFM_HELP({kReconstruct,                                                  \
+                "blocks held at their start values during the refinement, a "  \
+                "comma list of these kinds "                                   \
+                "(e.g. your own cameras with --init and refine, or refine in " \
+                "Python)."}))                                                  \
   X(bool, confidence_weights, false, kWeights, NRSFM_SETS_NOTHING,             \
     NRSFM_HELP({kReconstruct,                                                  \
                 "keypoint input: weight each observation's residual by its "   \
@@ -309,7 +305,7 @@ struct SetsNothing {};
     ::nrsfm::MinimizerName(::nrsfm::SolverOptions().minimizer), kOption,       \
     NRSFM_PARSES(reconstruct, solver.minimizer, ::nrsfm::ParseMinimizer),      \
     NRSFM_HELP({kReconstruct,                                                  \
-                "auto|structured|ceres: our Levenberg-Marquardt on the "       \
+                "the minimiser: structured, our Levenberg-Marquardt on the "   \
                 "problem (auto where it fits) or ceres::Solve with "           \
                 "--linear_solver (docs/problem.md)."}))                        \
   X(std::string, linear_solver,                                                \
@@ -318,10 +314,8 @@ struct SetsNothing {};
     NRSFM_PARSES(reconstruct, solver.linear_solver,                            \
                  ::nrsfm::ParseLinearSolver),                                  \
     NRSFM_HELP({kReconstruct,                                                  \
-                "Ceres' linear solver with --minimizer ceres: auto|"           \
-                "dense_schur|sparse_schur|iterative_schur|"                    \
-                "sparse_normal_cholesky|cgnr|dense_qr (auto also takes "       \
-                "structured: --minimizer structured)."}))                      \
+                "Ceres' linear solver with --minimizer ceres "                 \
+                "(structured: --minimizer structured)."}))                     \
   X(double, gradient_tolerance, ::nrsfm::SolverOptions().gradient_tolerance,   \
     kOption, NRSFM_SETS(reconstruct, solver.gradient_tolerance),               \
     NRSFM_HELP(                                                                \
@@ -480,7 +474,7 @@ struct SetsNothing {};
     NRSFM_HELP({kEvaluate | kView, "result directory of a reconstruction."}))  \
   X(std::string, dataset, "random", kSynthesis, NRSFM_SETS_NOTHING,            \
     NRSFM_HELP({kSynth,                                                        \
-                "random|superquadric|shoe|reproject (reproject: the "          \
+                "the generator (reproject: the "                               \
                 "3-D truth of --input re-projected under the camera "          \
                 "path of --rotation, --axis, --profile)."}))                   \
   X(int, frames, -1, kSynthesis, NRSFM_SETS_NOTHING,                           \
@@ -506,9 +500,7 @@ struct SetsNothing {};
   X(std::string, profile,                                                      \
     ::nrsfm::SpeedProfileName(::nrsfm::ReprojectOptions().profile),            \
     kSynthesis, NRSFM_SETS_NOTHING,                                            \
-    NRSFM_HELP({kSynth,                                                        \
-                "(--dataset reproject) speed profile "                         \
-                "constant|ramp|stopgo."}))                                     \
+    NRSFM_HELP({kSynth, "(--dataset reproject) speed profile."}))              \
   X(double, noise_fraction, ::nrsfm::ReprojectOptions().noise_fraction,        \
     kSynthesis, NRSFM_SETS_NOTHING,                                            \
     NRSFM_HELP({kSynth,                                                        \

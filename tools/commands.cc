@@ -289,13 +289,8 @@ Status RunSynthReproject(const CommandFlags& flags, std::ostream& out) {
 
 Status RunSynth(const CommandFlags& flags, std::ostream& out) {
   NRSFM_RETURN_IF_ERROR(CheckSynthOutput(flags.output));
+  NRSFM_RETURN_IF_ERROR(CheckSynthDataset(flags.dataset));
   if (flags.dataset == "reproject") return RunSynthReproject(flags, out);
-  if (flags.dataset != "random" && flags.dataset != "superquadric" &&
-      flags.dataset != "shoe") {
-    return Status::Error(
-        "--dataset must be random, superquadric, shoe or reproject, got '" +
-        flags.dataset + "'");
-  }
   SyntheticSequence sequence;
   NRSFM_RETURN_IF_ERROR(Synthesize(flags, &sequence));
   NRSFM_RETURN_IF_ERROR(

@@ -5,6 +5,10 @@
 #include <sstream>
 #include <type_traits>
 
+#include "core/model/enum_names.h"
+#include "core/synthetic/synthetic.h"
+#include "tools/synth_steps.h"
+
 namespace nrsfm {
 namespace tools {
 namespace {
@@ -103,7 +107,13 @@ Status ParseFlagText(const std::string& name, const std::string& text,
   return Status::OK();
 }
 
-std::string FullHelp(const std::vector<CommandHelp>& help) {
+// "(a|b|c) " before a help part of a flag with choices, "" otherwise.
+std::string ChoicesPrefix(const std::string& choices) {
+  return choices.empty() ? "" : "(" + choices + ") ";
+}
+
+std::string FullHelp(const std::vector<CommandHelp>& help,
+                     const std::string& choices) {
   std::string out;
   for (const CommandHelp& part : help) {
     std::string heads;
@@ -111,9 +121,33 @@ std::string FullHelp(const std::vector<CommandHelp>& help) {
       if ((part.commands & command) == 0) continue;
       heads += (heads.empty() ? "" : ", ") + std::string(CommandName(command));
     }
-    out += (out.empty() ? "" : " ") + heads + ": " + part.text;
+    out += (out.empty() ? "" : " ") + heads + ": " + ChoicesPrefix(choices) +
+           part.text;
   }
   return out;
+}
+
+// A name no parse function accepts: what a flag's choices are read with.
+constexpr char kNoName[] = "\x01";
+
+// The names listed by an error of ParseName (or one worded like it), joined
+// by '|'; "" for any other status.
+std::string ChoicesIn(const Status& error) {
+  const std::string& message = error.message();
+  const std::size_t list = message.find(kExpectedOneOf);
+  if (error.ok() || list == std::string::npos) return "";
+  const std::size_t begin = list + sizeof(kExpectedOneOf) - 1;
+  const std::size_t end = message.find(')', begin);
+  std::string choices;
+  for (std::size_t at = begin; at < end && at < message.size(); ++at) {
+    if (message.compare(at, 2, ", ") == 0) {
+      choices += '|';
+      ++at;
+    } else {
+      choices += message[at];
+    }
+  }
+  return choices;
 }
 
 // A row of NRSFM_COMMAND_FLAGS: its member of CommandFlags and its bind.
@@ -126,7 +160,12 @@ FlagInfo MakeFlagInfo(const char* name, FlagRole role,
   info.type = TypeName<T>();
   info.role = role;
   info.help = std::move(help);
-  info.full_help = FullHelp(info.help);
+  if constexpr (std::is_same_v<T, std::string> &&
+                !std::is_same_v<Bind, SetsNothing>) {
+    FlagTargets scratch;
+    info.choices = ChoicesIn(bind(std::string(kNoName), &scratch));
+  }
+  info.full_help = FullHelp(info.help, info.choices);
   info.text = [member](const CommandFlags& flags) {
     return FlagText(flags.*member);
   };
@@ -151,6 +190,18 @@ std::vector<FlagInfo> MakeTable() {
                                      &CommandFlags::name, bind));
   NRSFM_COMMAND_FLAGS(NRSFM_FLAG_ROW)
 #undef NRSFM_FLAG_ROW
+  // The flags with choices that the commands read themselves.
+  SpeedProfile profile;
+  const std::pair<const char*, Status> read_by_commands[] = {
+      {"dataset", CheckSynthDataset(kNoName)},
+      {"profile", ParseSpeedProfile(kNoName, &profile)}};
+  for (FlagInfo& info : table) {
+    for (const auto& [name, error] : read_by_commands) {
+      if (info.name != name) continue;
+      info.choices = ChoicesIn(error);
+      info.full_help = FullHelp(info.help, info.choices);
+    }
+  }
   static const std::vector<std::string> term_help = [] {
     std::vector<std::string> help;
     for (const ExtraTerm& term : ExtraTerms())
@@ -164,7 +215,7 @@ std::vector<FlagInfo> MakeTable() {
     info.type = "float";
     info.role = FlagRole::kOption;
     info.help = {{kReconstruct, term_help[i].c_str()}};
-    info.full_help = FullHelp(info.help);
+    info.full_help = FullHelp(info.help, info.choices);
     info.sets_option = true;
     info.text = [i](const CommandFlags& flags) {
       return FormatDouble(flags.term_weights[i]);
@@ -232,9 +283,10 @@ Status ParseHeldBlocks(const std::string& list, ProblemOptions* options) {
       }
     }
     if (!found) {
-      return Status::Error("'" + name +
-                           "' is not a kind of block (rotations, translations, "
-                           "weights, basis, scales, rig)");
+      std::string valid;
+      for (const auto& kind : kinds)
+        valid += (valid.empty() ? "" : ", ") + std::string(kind.first);
+      return UnknownName("kind of block", name, valid);
     }
     begin = end + 1;
   }
@@ -281,8 +333,10 @@ bool FlagInfo::Serves(Command command) const {
 std::string FlagInfo::HelpFor(Command command) const {
   std::string out;
   for (const CommandHelp& part : help) {
-    if ((part.commands & command) != 0)
-      out += (out.empty() ? "" : " ") + std::string(part.text);
+    if ((part.commands & command) != 0) {
+      out += (out.empty() ? "" : " ") + ChoicesPrefix(choices) +
+             std::string(part.text);
+    }
   }
   return out;
 }

@@ -29,6 +29,11 @@ struct FlagInfo {
   const char* type = "";
   FlagRole role = FlagRole::kTool;
   std::vector<CommandHelp> help;
+  // The names the flag takes, "a|b|c", read from its parse function's error
+  // on a name it does not know (core/model/enum_names.h, kExpectedOneOf): so
+  // they are declared once, in the enum's name table. "" for a flag that
+  // takes any value. HelpFor and full_help put them before each part.
+  std::string choices;
   // The --help text: the parts of `help` with their commands named,
   // "reconstruct, view: …; synth: …".
   std::string full_help;
@@ -46,7 +51,8 @@ struct FlagInfo {
   std::function<Status(const CommandFlags&, FlagTargets*)> apply;
 
   bool Serves(Command command) const;
-  // The help parts for `command`, joined by " "; "" when it does not serve it.
+  // The help parts for `command` after "(choices) ", joined by " "; "" when
+  // it does not serve it.
   std::string HelpFor(Command command) const;
 };
 

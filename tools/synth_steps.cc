@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/io/ground_truth.h"
+#include "core/model/enum_names.h"
 #include "tools/reconstruction_steps.h"
 
 namespace nrsfm {
@@ -21,6 +22,17 @@ Status CheckFinite(const char* flag, double value) {
 }
 
 }  // namespace
+
+Status CheckSynthDataset(const std::string& dataset) {
+  const char* const kDatasets[] = {"random", "superquadric", "shoe",
+                                   "reproject"};
+  std::string valid;
+  for (const char* name : kDatasets) {
+    if (dataset == name) return Status::OK();
+    valid += (valid.empty() ? "" : ", ") + std::string(name);
+  }
+  return UnknownName("--dataset", dataset, valid);
+}
 
 Status CheckSynthOutput(const std::string& output) {
   if (output.empty()) return Status::Error("--output PATH.mat is required");
@@ -173,9 +185,9 @@ Status Synthesize(const CommandFlags& flags, SyntheticSequence* sequence) {
     o.seed = flags.seed;
     return GenerateShoe(o, sequence);
   }
+  NRSFM_RETURN_IF_ERROR(CheckSynthDataset(flags.dataset));
   return Status::Error(
-      "--dataset must be random, superquadric, shoe or reproject, got '" +
-      flags.dataset + "'");
+      "--dataset reproject is made by SynthesizeReprojection, not here");
 }
 
 std::vector<MatVariable> SyntheticVariables(const SyntheticSequence& sequence) {

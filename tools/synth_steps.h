@@ -16,6 +16,9 @@
 namespace nrsfm {
 namespace tools {
 
+// --dataset of synth: random, superquadric, shoe or reproject.
+Status CheckSynthDataset(const std::string& dataset);
+
 // --output of synth: a path ending in .mat.
 Status CheckSynthOutput(const std::string& output);
 

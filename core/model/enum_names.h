@@ -32,6 +32,17 @@ const char* NameOf(const EnumName<Enum> (&names)[N], Enum value) {
   return "unknown";
 }
 
+// What an error of ParseName says before the list of names, which ends at
+// the next ')': tools read a flag's choices from it (tools/flag_table.h).
+inline constexpr char kExpectedOneOf[] = "(expected one of ";
+
+// The error of an unknown name `text` of `what`, listing `valid` ("a, b").
+inline Status UnknownName(const std::string& what, const std::string& text,
+                          const std::string& valid) {
+  return Status::Error(what + ": unknown value \"" + text + "\" " +
+                       kExpectedOneOf + valid + ")");
+}
+
 // Sets `value` from its name; the error names `what` and lists every name.
 template <typename Enum, std::size_t N>
 Status ParseName(const EnumName<Enum> (&names)[N], const std::string& text,
@@ -44,8 +55,7 @@ Status ParseName(const EnumName<Enum> (&names)[N], const std::string& text,
     }
     valid += (valid.empty() ? "" : ", ") + std::string(entry.name);
   }
-  return Status::Error(what + ": unknown value \"" + text +
-                       "\" (expected one of " + valid + ")");
+  return UnknownName(what, text, valid);
 }
 
 }  // namespace nrsfm

@@ -249,7 +249,7 @@ def test_read_gives_the_tools_message(tmp_path):
 
 def test_synth_and_evaluate_errors():
     assert message(nrsfm.synth, dataset="teapot") == \
-        "--dataset must be random, superquadric, shoe or reproject, got 'teapot'"
+        '--dataset: unknown value "teapot" (expected one of random, superquadric, shoe, reproject)'
     assert message(nrsfm.synth, output="x.txt") == "--output must name a .mat file, got 'x.txt'"
     assert message(nrsfm.synth, dataset="shoe", K=3) == "--K is fixed (4) for the shoe dataset"
     assert "frames" in message(nrsfm.synth, frames=1)

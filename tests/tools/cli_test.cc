@@ -553,9 +553,9 @@ TEST_F(CliTest, BadInputGetsOneClearLineAndNoOutput) {
                 "nrsfm evaluate: error: missing_dir: no such file");
   ExpectFailure("evaluate --truth nope.mat --result o",
                 "nrsfm evaluate: error: nope.mat: no such file");
-  ExpectFailure(
-      "synth --dataset cube --output c.mat",
-      "--dataset must be random, superquadric, shoe or reproject, got 'cube'");
+  ExpectFailure("synth --dataset cube --output c.mat",
+                "--dataset: unknown value \"cube\" (expected one of random, "
+                "superquadric, shoe, reproject)");
   ExpectFailure("synth --dataset random --frames 1 --output c.mat",
                 "num_frames must be >= 2, got 1");
   ExpectFailure("synth --dataset random --output c.txt",

@@ -47,6 +47,35 @@ TEST(CommandFlagTable, OneRowPerFlagAndTermWithItsCommands) {
   EXPECT_EQ(FindFlag("bogus"), nullptr);
 }
 
+// The names a flag takes come from the enum's name table (its parse
+// function's error), never typed into its help.
+TEST(FlagTable, ChoicesComeFromTheNameTables) {
+  EXPECT_EQ(FindFlag("camera")->choices, "weak_perspective|perspective");
+  EXPECT_EQ(FindFlag("robust")->choices, "none|huber|cauchy");
+  EXPECT_EQ(FindFlag("hold")->choices,
+            "rotations|translations|weights|basis|scales|rig");
+  EXPECT_EQ(FindFlag("dataset")->choices,
+            "random|superquadric|shoe|reproject");
+  EXPECT_EQ(FindFlag("profile")->choices, "constant|ramp|stopgo");
+  EXPECT_EQ(FindFlag("K")->choices, "");
+  EXPECT_EQ(FindFlag("output")->choices, "");
+  EXPECT_EQ(FindFlag("robust")->HelpFor(kReconstruct),
+            "(none|huber|cauchy) robust loss on the reprojection terms.");
+  int with_choices = 0;
+  for (const FlagInfo& flag : CommandFlagTable()) {
+    if (flag.choices.empty()) continue;
+    ++with_choices;
+    const std::string first = flag.choices.substr(0, flag.choices.find('|'));
+    for (const CommandHelp& part : flag.help) {
+      EXPECT_EQ(std::string(part.text).find(first + "|"), std::string::npos)
+          << flag.name << ": " << part.text;
+    }
+  }
+  // format, part, init, camera, priors, robust, hold, minimizer,
+  // linear_solver, dataset, profile.
+  EXPECT_EQ(with_choices, 11);
+}
+
 TEST(ApplyFlags, SetsTheOptionFieldOfEachFlag) {
   CommandFlags flags;
   FlagTargets targets;
@@ -128,9 +157,8 @@ TEST(ApplyFlags, NamesTheFlagAndTheValue) {
   flags = CommandFlags();
   flags.hold = "basis,cameras";
   EXPECT_EQ(ApplyFlags(flags, &targets).message(),
-            "--hold: 'cameras' is not a kind of block (rotations, "
-            "translations, weights, "
-            "basis, scales, rig)");
+            "--hold: kind of block: unknown value \"cameras\" (expected one "
+            "of rotations, translations, weights, basis, scales, rig)");
   flags = CommandFlags();
   flags.cameras = -1;
   EXPECT_EQ(ApplyFlags(flags, &targets).message().rfind("--cameras: ", 0), 0u)
