@@ -1,5 +1,6 @@
 #include "solvers/refine/structured_solver.h"
 
+#include <ceres/solver.h>
 #include <glog/logging.h>
 
 #include <Eigen/Core>
@@ -24,9 +25,37 @@ double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+// The constants of Ceres' Levenberg–Marquardt, from its own option defaults
+// (ceres::Solver::Options), so that both minimisers use the same ones.
+struct LevenbergMarquardtConstants {
+  double min_diagonal, max_diagonal;  // D's clamp
+  double min_relative_decrease;       // a step is taken above this quality
+  double max_radius, min_radius;      // the solve ends below min_radius
+};
+
+const LevenbergMarquardtConstants& CeresConstants() {
+  static const LevenbergMarquardtConstants constants = [] {
+    const ceres::Solver::Options ceres_defaults;
+    return LevenbergMarquardtConstants{ceres_defaults.min_lm_diagonal,
+                                       ceres_defaults.max_lm_diagonal,
+                                       ceres_defaults.min_relative_decrease,
+                                       ceres_defaults.max_trust_region_radius,
+                                       ceres_defaults.min_trust_region_radius};
+  }();
+  return constants;
+}
+
+// The radius update of Ceres' LevenbergMarquardtStrategy (not options
+// there): after a taken step of quality ρ the radius grows by
+// 1 / max(kMinRadiusShrink, 1 − (2ρ − 1)³); after a rejected one it is
+// divided by a factor that starts at kInitialDecrease and doubles with each
+// rejection in a row.
+constexpr double kMinRadiusShrink = 1.0 / 3.0;
+constexpr double kInitialDecrease = 2.0;
+
 // The Levenberg–Marquardt loop: Ceres' step (JᵀJ + μD) δ = −Jᵀr, D =
-// diag(JᵀJ) clamped to [1e-6, 1e32], μ = 1/radius, and its trust-region
-// update of the radius.
+// diag(JᵀJ) clamped to [min_diagonal, max_diagonal], μ = 1/radius, and its
+// trust-region update of the radius.
 class Solver {
  public:
   Solver(const StructuredSolverOptions& options, const StructuredBlocks& blocks)
@@ -74,8 +103,10 @@ void Solver::ComputeGradientAndScaling() {
   jacobian_.Gradient(&gradient_reduced_, &gradient_eliminated_);
   jacobian_.ColumnSquaredNorms(&d_reduced_, &d_eliminated_);
   schur_.AddGridColumnSquaredNorms(&d_reduced_, &d_eliminated_);
-  d_reduced_ = d_reduced_.cwiseMax(1e-6).cwiseMin(1e32);
-  d_eliminated_ = d_eliminated_.cwiseMax(1e-6).cwiseMin(1e32);
+  const LevenbergMarquardtConstants& lm = CeresConstants();
+  d_reduced_ = d_reduced_.cwiseMax(lm.min_diagonal).cwiseMin(lm.max_diagonal);
+  d_eliminated_ =
+      d_eliminated_.cwiseMax(lm.min_diagonal).cwiseMin(lm.max_diagonal);
 }
 
 int Solver::SolveStep(double mu, Eigen::VectorXd* step_reduced,
@@ -156,7 +187,9 @@ bool Solver::Run(StructuredSolverSummary* summary) {
   if (solver.progress)
     solver.progress(IterationReport{0, cost, SecondsSince(start)});
   ComputeGradientAndScaling();
-  double radius = solver.initial_trust_region_radius, decrease = 2.0;
+  const LevenbergMarquardtConstants& lm = CeresConstants();
+  double radius = solver.initial_trust_region_radius,
+         decrease = kInitialDecrease;
   int iteration = 0;
   summary->message = "iteration limit";
   Eigen::VectorXd step_reduced, step_eliminated;
@@ -208,13 +241,14 @@ bool Solver::Run(StructuredSolverSummary* summary) {
     VLOG(3) << "structured LM " << iteration << ": cost " << cost << " -> "
             << new_cost << " ratio " << ratio << " radius " << radius
             << " step " << step_norm;
-    if (ratio > 1e-3) {
+    if (ratio > lm.min_relative_decrease) {
       const double change = cost - new_cost;
       cost = new_cost;
-      radius = std::min(
-          1e16,
-          radius / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * ratio - 1.0, 3)));
-      decrease = 2.0;
+      radius =
+          std::min(lm.max_radius,
+                   radius / std::max(kMinRadiusShrink,
+                                     1.0 - std::pow(2.0 * ratio - 1.0, 3)));
+      decrease = kInitialDecrease;
       ComputeGradientAndScaling();
       if (solver.progress)
         solver.progress(IterationReport{iteration, cost, SecondsSince(start)});
@@ -231,8 +265,8 @@ bool Solver::Run(StructuredSolverSummary* summary) {
       decrease *= 2.0;
       if (solver.progress)
         solver.progress(IterationReport{iteration, cost, SecondsSince(start)});
-      if (radius < 1e-32) {
-        summary->message = "trust region below 1e-32";
+      if (radius < lm.min_radius) {
+        summary->message = "trust region below its minimum";
         break;
       }
     }

@@ -6,8 +6,9 @@
 // The problem is the ceres::Problem the builder made — the same residual
 // blocks, cost functions, losses and manifolds Ceres would use; only the
 // linear algebra differs. Each LM step solves
-//   (JᵀJ + μ D) δ = −Jᵀr,   D = diag(JᵀJ) clamped to [1e-6, 1e32], μ = 1/radius
-// (Ceres' Levenberg–Marquardt step and trust-region update) by eliminating
+//   (JᵀJ + μ D) δ = −Jᵀr,   D = diag(JᵀJ) clamped as Ceres does, μ = 1/radius
+// (Ceres' Levenberg–Marquardt step, trust-region update and constants, read
+// from ceres::Solver::Options' defaults) by eliminating
 // the point blocks exactly (Schur complement) and solving the reduced system
 // over the frame blocks by preconditioned conjugate gradients. The
 // preconditioner is the frame blocks' part of JᵀJ + μD — every coupling that
