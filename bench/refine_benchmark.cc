@@ -6,7 +6,8 @@
 //                 entry, all started from the same closed-form start;
 //   --mode=drink  Reconstruct() with default options on synthetic
 //                 (F, P, K) = (1102, 41, 12) data, the cost of one Jacobian
-//                 (hand-written vs autodiff), and on --drink (the real
+//                 (nrsfm_residual_benchmark compares it with autodiff), and
+//                 on --drink (the real
 //                 drink.mat) when given;
 //   --mode=all    both.
 // Prints plain-text tables to stdout. Not part of the test run. With every
@@ -163,13 +164,10 @@ void SolverTable() {
 }
 
 // Seconds per Jacobian evaluation of the whole problem (average of 3).
-double JacobianSeconds(const Measurements& measurements, const Model& start,
-                       bool autodiff) {
+double JacobianSeconds(const Measurements& measurements, const Model& start) {
   Model model = start;
   ProblemBuilder builder(&measurements, &model);
-  ProblemOptions problem_options;
-  problem_options.autodiff = autodiff;
-  Status status = builder.AddReprojectionTerms(problem_options);
+  Status status = builder.AddReprojectionTerms(ProblemOptions());
   if (!status.ok()) Die(status);
   ceres::Solver::Options options;
   options.max_num_iterations = 2;
@@ -220,9 +218,8 @@ void DrinkTiming() {
   PrintReconstruct("synthetic (1102, 41, " + std::to_string(bases) + ")",
                    sequence.measurements, result);
   std::printf("  refined e3D %.4f\n", E3D(sequence, result.model));
-  std::printf("  one Jacobian: hand-written %.4f s, autodiff %.4f s\n",
-              JacobianSeconds(sequence.measurements, result.model, false),
-              JacobianSeconds(sequence.measurements, result.model, true));
+  std::printf("  one Jacobian: %.4f s\n",
+              JacobianSeconds(sequence.measurements, result.model));
   std::fflush(stdout);
 
   if (FLAGS_drink.empty()) return;

@@ -1,7 +1,7 @@
 // nrsfm_residual_benchmark: Google Benchmark micro-benchmarks of the
-// reprojection residual per K (problems/reprojection_error.h, problems/
-// reprojection_cost_function.h): one Evaluate() of one observation, residuals
-// only and residuals + all Jacobians, for
+// reprojection residual per K (tests/problems/reprojection_error_oracle.h,
+// problems/ reprojection_cost_function.h): one Evaluate() of one observation,
+// residuals only and residuals + all Jacobians, for
 //   Hand/K         ReprojectionCostFunction<K> (what the library uses)
 //   HandDynamic/K  ReprojectionCostFunction<Eigen::Dynamic> (K > 16 fallback)
 //   AutoDiff/K     ReprojectionError<K> (compile-time K, reference)
@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "problems/reprojection_cost_function.h"
-#include "problems/reprojection_error.h"
+#include "tests/problems/reprojection_error_oracle.h"
 
 namespace nrsfm {
 namespace {

@@ -8,7 +8,6 @@
 
 #include "problems/perspective_error.h"
 #include "problems/reprojection_cost_function.h"
-#include "problems/reprojection_error.h"
 
 namespace nrsfm {
 namespace {
@@ -33,14 +32,11 @@ ceres::Problem::Options MakeProblemOptions() {
 }  // namespace
 
 std::unique_ptr<ceres::CostFunction> CreateReprojectionCostFunction(
-    int num_bases, bool with_scale, bool autodiff,
-    const Eigen::Vector2d& observation, double sqrt_weight) {
+    int num_bases, bool with_scale, const Eigen::Vector2d& observation,
+    double sqrt_weight) {
   CHECK_GE(num_bases, 1);
   const Eigen::Vector2d& o = observation;
   const double w = sqrt_weight;
-  if (autodiff)
-    return std::unique_ptr<ceres::CostFunction>(
-        DynamicReprojectionError::Create(num_bases, with_scale, o, w));
   static_assert(kMaxStaticBases == 16, "update the switch below");
   switch (num_bases) {
     case 1:
@@ -211,9 +207,9 @@ Status ProblemBuilder::AddReprojectionTerms(const ProblemOptions& options) {
             perspective ? PerspectiveReprojectionError::Create(
                               num_bases, model.intrinsics.col(c),
                               m.Observation(t, c, p), std::sqrt(weight))
-                        : CreateReprojectionCostFunction(
-                              num_bases, with_scale, options.autodiff,
-                              m.Observation(t, c, p), std::sqrt(weight))
+                        : CreateReprojectionCostFunction(num_bases, with_scale,
+                                                         m.Observation(t, c, p),
+                                                         std::sqrt(weight))
                               .release());
         std::vector<double*> blocks = {RotationBlock(t, c),
                                        TranslationBlock(t, c), WeightsBlock(t),

@@ -56,11 +56,10 @@ namespace nrsfm {
 // The reprojection cost function for K bases. Hand-written Jacobian
 // (problems/reprojection_cost_function.h): K = 1…kMaxStaticBases dispatch to
 // a compile-time K (the one switch on K, in the .cc), larger K use a run-time
-// K. With `autodiff`, DynamicReprojectionError (any K). `with_scale` adds the
-// scale block; `sqrt_weight` = sqrt(w_obs).
+// K. `with_scale` adds the scale block; `sqrt_weight` = sqrt(w_obs).
 std::unique_ptr<ceres::CostFunction> CreateReprojectionCostFunction(
-    int num_bases, bool with_scale, bool autodiff,
-    const Eigen::Vector2d& observation, double sqrt_weight);
+    int num_bases, bool with_scale, const Eigen::Vector2d& observation,
+    double sqrt_weight);
 
 class ProblemBuilder {
  public:

@@ -46,12 +46,6 @@ struct ProblemOptions {
   // w_obs = 0 gets no residual.
   Eigen::ArrayXXd observation_weights;
 
-  // Differentiate the reprojection error automatically (the run-time-K
-  // functor of problems/reprojection_error.h) instead of using the
-  // hand-written Jacobian: the same residuals and Jacobians to rounding,
-  // slower. For cross-checks and benchmarks.
-  bool autodiff = false;
-
   // Weight λ ≥ 0 of each extra term, keyed by the term's name in the table
   // of problems/extra_terms.h (e.g. {"temporal_shape", 1.0}); λ multiplies
   // the term's cost, and a term that is absent or has λ = 0 is not in the

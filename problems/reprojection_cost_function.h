@@ -1,5 +1,7 @@
-// The reprojection error of problems/reprojection_error.h with hand-written
-// Jacobians (same residual, same parameter blocks, same order):
+// The reprojection error of docs/problem.md with the library's one,
+// hand-written, Jacobian (the tests compare it with the autodiff oracle of
+// tests/problems/reprojection_error_oracle.h: same residual, same parameter
+// blocks, same order):
 //
 //   r = sqrt(w_obs) · ( s · Π R(ω) X + T − w_tcp ),   X = Σ_k l_k b_k = B l
 //
@@ -11,8 +13,7 @@
 //   ∂r/∂s   = sqrt(w_obs) · Π R X                  (2 × 1, scaled form only)
 //
 // Why: automatic differentiation carries all 3 + 2 + 4K (+1) derivatives
-// through every multiplication of the shape sum (docs/performance.md). The
-// autodiff functors stay the reference the tests compare against.
+// through every multiplication of the shape sum (docs/performance.md).
 //
 // kNumBases = K fixed at compile time (fixed-size Eigen), or Eigen::Dynamic
 // with K given at run time (the fallback above kMaxStaticBases).

@@ -345,11 +345,6 @@ struct SetsNothing {};
     NRSFM_SETS(reconstruct, solver.verbosity),                                 \
     NRSFM_HELP({kReconstruct,                                                  \
                 "1 = one log line per iteration on stderr (with --v=1)."}))    \
-  X(bool, autodiff, ::nrsfm::ProblemOptions().autodiff, kOption,               \
-    NRSFM_SETS(reconstruct, problem.autodiff),                                 \
-    NRSFM_HELP({kReconstruct,                                                  \
-                "differentiate the reprojection error automatically (slower; " \
-                "a cross-check)."}))                                           \
   X(int, smoothness_hidden_neighbours,                                         \
     ::nrsfm::DelaunayEdgesOptions().num_hidden_neighbours, kOption,            \
     NRSFM_SETS(reconstruct, problem.smoothness_edges.num_hidden_neighbours),   \

@@ -209,7 +209,7 @@ bool SameDataTerm(const ProblemOptions& a, const ProblemOptions& b) {
          a.constant_basis == b.constant_basis &&
          a.constant_scales == b.constant_scales &&
          a.constant_rig == b.constant_rig && a.robust_loss == b.robust_loss &&
-         a.robust_scale == b.robust_scale && a.autodiff == b.autodiff &&
+         a.robust_scale == b.robust_scale &&
          wa.rows() == wb.rows() && wa.cols() == wb.cols() &&
          (wa.size() == 0 || (wa == wb).all());
 }

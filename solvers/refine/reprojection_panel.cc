@@ -20,7 +20,7 @@ constexpr int kMaxPieces = 16;
 // Items per thread at least in the loops over the views and the points.
 constexpr int kPieceGrain = 64;
 
-// Parameter slots of a reprojection residual (problems/reprojection_error.h).
+// Parameter slots of a reprojection residual (problems/reprojection_cost_function.h).
 constexpr int kTranslationSlot = 1;
 constexpr int kScaleSlot = 4;
 

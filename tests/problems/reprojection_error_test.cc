@@ -1,5 +1,3 @@
-#include "problems/reprojection_error.h"
-
 #include <ceres/gradient_checker.h>
 #include <ceres/numeric_diff_options.h>
 #include <gtest/gtest.h>
@@ -12,6 +10,7 @@
 
 #include "problems/problem_builder.h"
 #include "problems/reprojection_cost_function.h"
+#include "tests/problems/reprojection_error_oracle.h"
 
 namespace nrsfm {
 namespace {
@@ -52,15 +51,16 @@ Eigen::Vector2d Evaluate(const ceres::CostFunction& cost,
   return r;
 }
 
-// Every cost function for K bases that the library can build.
+// Every cost function for K bases that the library can build, and the
+// oracle.
 std::vector<std::unique_ptr<ceres::CostFunction>> AllForms(
     int k, bool with_scale, const Eigen::Vector2d& observation,
     double sqrt_weight) {
   std::vector<std::unique_ptr<ceres::CostFunction>> forms;
-  forms.emplace_back(CreateReprojectionCostFunction(k, with_scale, false,
-                                                    observation, sqrt_weight));
-  forms.emplace_back(CreateReprojectionCostFunction(k, with_scale, true,
-                                                    observation, sqrt_weight));
+  forms.emplace_back(
+      CreateReprojectionCostFunction(k, with_scale, observation, sqrt_weight));
+  forms.emplace_back(DynamicReprojectionError::Create(
+      k, with_scale, observation, sqrt_weight));
   forms.emplace_back(new ReprojectionCostFunction<Eigen::Dynamic>(
       k, with_scale, observation, sqrt_weight));
   return forms;
@@ -182,11 +182,9 @@ TEST(ReprojectionError, HandWrittenJacobianEqualsAutodiff) {
         }
         const Eigen::Vector2d observation(0.2, 0.1);
         std::unique_ptr<ceres::CostFunction> by_hand(
-            CreateReprojectionCostFunction(k, with_scale, false, observation,
-                                           1.3));
+            CreateReprojectionCostFunction(k, with_scale, observation, 1.3));
         std::unique_ptr<ceres::CostFunction> autodiff(
-            CreateReprojectionCostFunction(k, with_scale, true, observation,
-                                           1.3));
+            DynamicReprojectionError::Create(k, with_scale, observation, 1.3));
         const std::vector<int>& sizes = by_hand->parameter_block_sizes();
         ASSERT_EQ(sizes, autodiff->parameter_block_sizes());
         std::vector<std::vector<double>> j1, j2;
@@ -227,7 +225,7 @@ TEST(ReprojectionError, BasisJacobianIsWeightTimesTheReportedFactor) {
     for (const bool with_scale : {false, true}) {
       Blocks b = RandomBlocks(k, &rng);
       std::unique_ptr<ceres::CostFunction> cost(CreateReprojectionCostFunction(
-          k, with_scale, false, Eigen::Vector2d(0.3, -0.2), 1.7));
+          k, with_scale, Eigen::Vector2d(0.3, -0.2), 1.7));
       const auto* factor_source =
           dynamic_cast<const BasisJacobianFactor*>(cost.get());
       ASSERT_NE(factor_source, nullptr);
@@ -286,8 +284,8 @@ TEST(ReprojectionError, BasisJacobianIsWeightTimesTheReportedFactor) {
 
 TEST(ReprojectionError, FactoryDispatchesOnK) {
   for (const int k : {1, 16, 17, 40}) {
-    std::unique_ptr<ceres::CostFunction> cost(CreateReprojectionCostFunction(
-        k, false, false, Eigen::Vector2d::Zero(), 1.0));
+    std::unique_ptr<ceres::CostFunction> cost(
+        CreateReprojectionCostFunction(k, false, Eigen::Vector2d::Zero(), 1.0));
     EXPECT_EQ(cost->num_residuals(), 2);
     EXPECT_EQ(cost->parameter_block_sizes(),
               (std::vector<int>{3, 2, k, 3 * k}));
@@ -296,8 +294,8 @@ TEST(ReprojectionError, FactoryDispatchesOnK) {
                   cost.get()) == nullptr,
               is_static);
   }
-  std::unique_ptr<ceres::CostFunction> scaled(CreateReprojectionCostFunction(
-      5, true, false, Eigen::Vector2d::Zero(), 1.0));
+  std::unique_ptr<ceres::CostFunction> scaled(
+      CreateReprojectionCostFunction(5, true, Eigen::Vector2d::Zero(), 1.0));
   EXPECT_EQ(scaled->parameter_block_sizes(),
             (std::vector<int>{3, 2, 5, 15, 1}));
   EXPECT_NE(dynamic_cast<ReprojectionCostFunction<5>*>(scaled.get()), nullptr);

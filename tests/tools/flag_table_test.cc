@@ -54,8 +54,7 @@ TEST(FlagTable, ChoicesComeFromTheNameTables) {
   EXPECT_EQ(FindFlag("robust")->choices, "none|huber|cauchy");
   EXPECT_EQ(FindFlag("hold")->choices,
             "rotations|translations|weights|basis|scales|rig");
-  EXPECT_EQ(FindFlag("dataset")->choices,
-            "random|superquadric|shoe|reproject");
+  EXPECT_EQ(FindFlag("dataset")->choices, "random|superquadric|shoe|reproject");
   EXPECT_EQ(FindFlag("profile")->choices, "constant|ramp|stopgo");
   EXPECT_EQ(FindFlag("K")->choices, "");
   EXPECT_EQ(FindFlag("output")->choices, "");
@@ -96,7 +95,6 @@ TEST(ApplyFlags, SetsTheOptionFieldOfEachFlag) {
   flags.seed = 11;
   flags.smoothness_reference_frame = 4;
   flags.cg_tolerance = 0.05;
-  flags.autodiff = true;
   flags.completion_iterations = 9;
   flags.alternation_rounds = 3;
   flags.rule_min_track_order = 2.0;
@@ -119,7 +117,6 @@ TEST(ApplyFlags, SetsTheOptionFieldOfEachFlag) {
   EXPECT_EQ(targets.reconstruct.start.seed, 11u);
   EXPECT_EQ(targets.reconstruct.problem.smoothness_edges.reference_frame, 4);
   EXPECT_EQ(targets.reconstruct.solver.cg_relative_tolerance, 0.05);
-  EXPECT_TRUE(targets.reconstruct.problem.autodiff);
   EXPECT_EQ(targets.reconstruct.start.completion.max_iterations, 9);
   EXPECT_EQ(targets.reconstruct.start.alternation.rounds, 3);
   EXPECT_EQ(targets.reconstruct.prior_rule.min_track_order, 2.0);

@@ -26,14 +26,13 @@
 // ReprojectionError<K> fixes K at compile time (fixed-size Jets);
 // DynamicReprojectionError takes K at run time (any K).
 //
-// These functors are the reference definition of the residual. The builder
-// (problems/problem_builder.h) uses the faster hand-differentiated
-// equivalent of problems/reprojection_cost_function.h; the library
-// instantiates only DynamicReprojectionError (for ProblemOptions::autodiff),
-// the tests ReprojectionError<K> for a few K (each K costs compile time).
-// Both costs are measured in docs/performance.md.
-#ifndef NRSFM_PROBLEMS_REPROJECTION_ERROR_H_
-#define NRSFM_PROBLEMS_REPROJECTION_ERROR_H_
+// These functors are the tests' oracle of the residual and its Jacobian: the
+// library has one reprojection Jacobian, the hand-written one of
+// problems/reprojection_cost_function.h, which the tests compare with these
+// (ReprojectionError<K> for a few K: each K costs compile time), and
+// nrsfm_residual_benchmark times against them (docs/performance.md).
+#ifndef NRSFM_TESTS_PROBLEMS_REPROJECTION_ERROR_ORACLE_H_
+#define NRSFM_TESTS_PROBLEMS_REPROJECTION_ERROR_ORACLE_H_
 
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/dynamic_autodiff_cost_function.h>
@@ -118,7 +117,7 @@ class ReprojectionError {
   double sqrt_weight_;
 };
 
-// Any K ≥ 1 at run time (ProblemOptions::autodiff). Same blocks and
+// Any K ≥ 1 at run time. Same blocks and
 // order as ReprojectionError<K>.
 class DynamicReprojectionError {
  public:
@@ -167,4 +166,4 @@ class DynamicReprojectionError {
 
 }  // namespace nrsfm
 
-#endif  // NRSFM_PROBLEMS_REPROJECTION_ERROR_H_
+#endif  // NRSFM_TESTS_PROBLEMS_REPROJECTION_ERROR_ORACLE_H_
