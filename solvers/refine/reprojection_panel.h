@@ -116,6 +116,8 @@ class ReprojectionPanel {
                   Eigen::VectorXd* out) const;
 
  private:
+  // Items per thread at least in the loops over the views and the points.
+  static constexpr int kViewGrain = 64;
   struct View {
     int rotation = -1, translation = -1, weights = -1, scale = -1;  // Block
     std::vector<int> blocks;  // the free ones of the four, in that order
