@@ -1,6 +1,7 @@
 // How the nrsfm_bench suites report: statistics and numbers for the stdout
-// tables, the tables themselves, the metrics of a run as JSON fields, and
-// the JSON file.
+// tables, the tables themselves, the metrics of a run as JSON fields, the
+// JSON file, and the line plots drawn by gnuplot (SVG), skipped with a note
+// when plots are off or gnuplot is missing.
 #ifndef NRSFM_BENCH_REPORT_H_
 #define NRSFM_BENCH_REPORT_H_
 
@@ -38,6 +39,23 @@ void AddMetrics(const ShapeErrors& errors, Json* j);
 // (with a note on stderr).
 std::string WriteJson(const BenchConfig& config, const std::string& file,
                       const Json& json);
+
+// A line plot: one curve per series. Written as <output_dir>/<name>.svg
+// (gnuplot, svg terminal) with its data in <name>.dat and script in <name>.gp.
+struct PlotSeries {
+  std::string title;
+  std::vector<double> x, y;
+};
+struct PlotSpec {
+  std::string name;  // file stem
+  std::string title;
+  std::string xlabel, ylabel;
+  bool logx = false, logy = false;
+  std::vector<PlotSeries> series;
+};
+// Returns the path of the plot, or "" with a one-line note on stderr when
+// plots are off or gnuplot is missing or fails (never an error).
+std::string WritePlot(const BenchConfig& config, const PlotSpec& spec);
 
 }  // namespace bench
 }  // namespace nrsfm

@@ -17,7 +17,6 @@
 
 #include "bench/bench_config.h"
 #include "bench/mocap_data.h"
-#include "bench/plot.h"
 #include "bench/report.h"
 #include "bench/run_evaluate.h"
 #include "bench/suites.h"

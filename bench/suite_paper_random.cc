@@ -10,7 +10,6 @@
 
 #include "bench/bench_config.h"
 #include "bench/k_sweep.h"
-#include "bench/plot.h"
 #include "bench/report.h"
 #include "bench/suites.h"
 #include "core/synthetic/synthetic.h"

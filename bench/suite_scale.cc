@@ -23,7 +23,6 @@
 
 #include "bench/bench_config.h"
 #include "bench/measure.h"
-#include "bench/plot.h"
 #include "bench/report.h"
 #include "bench/run_evaluate.h"
 #include "bench/suites.h"

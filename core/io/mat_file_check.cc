@@ -1,20 +1,17 @@
 #include "core/io/mat_file_check.h"
 
-#include <zlib.h>
-
 #include <algorithm>
 #include <fstream>
-#include <limits>
 #include <string>
 
+#include "core/io/mat_byte_source.h"
 #include "core/io/mat_v5_format.h"
 
 namespace nrsfm {
 namespace {
 
-using namespace mat_v5;  // the v5 codes
-
-constexpr std::uint64_t kU64Max = std::numeric_limits<std::uint64_t>::max();
+using namespace mat_bytes;  // words, sizes and the byte sources
+using namespace mat_v5;     // the v5 codes
 
 // Bytes per element of a v5 data type; 0 for a type that holds no numbers.
 std::uint64_t SizeOfType(std::uint32_t type) {
@@ -40,131 +37,6 @@ std::uint64_t SizeOfType(std::uint32_t type) {
       return 0;
   }
 }
-
-std::uint64_t SaturatingProduct(std::uint64_t a, std::uint64_t b) {
-  if (a != 0 && b > kU64Max / a) return kU64Max;
-  return a * b;
-}
-
-std::uint64_t RoundUp8(std::uint64_t n) { return n + (8 - n % 8) % 8; }
-
-std::uint32_t U32At(const unsigned char* bytes, bool big_endian) {
-  std::uint32_t value = 0;
-  for (int i = 0; i < 4; ++i)
-    value |= std::uint32_t(bytes[big_endian ? 3 - i : i]) << (8 * i);
-  return value;
-}
-
-std::int32_t I32At(const unsigned char* bytes, bool big_endian) {
-  return static_cast<std::int32_t>(U32At(bytes, big_endian));
-}
-
-// The bytes of one region of the file, read in order: the file itself
-// (an uncompressed variable) or the inflated stream of a compressed one.
-class ByteSource {
- public:
-  virtual ~ByteSource() = default;
-  // Reads exactly n bytes; false when they cannot be had.
-  virtual bool Read(unsigned char* out, std::size_t n) = 0;
-  virtual bool Skip(std::uint64_t n) = 0;
-};
-
-// Reads the file from a position on. The element sizes are checked against
-// the file size before anything within them is read.
-class FileSource : public ByteSource {
- public:
-  FileSource(std::ifstream* in, std::uint64_t position)
-      : in_(in), position_(position) {}
-  bool Read(unsigned char* out, std::size_t n) override {
-    in_->clear();
-    in_->seekg(static_cast<std::streamoff>(position_));
-    if (!in_->read(reinterpret_cast<char*>(out),
-                   static_cast<std::streamsize>(n)))
-      return false;
-    position_ += n;
-    return true;
-  }
-  bool Skip(std::uint64_t n) override {
-    position_ += n;
-    return true;
-  }
-
- private:
-  std::ifstream* in_;
-  std::uint64_t position_;
-};
-
-// Inflates the `compressed_size` bytes that start at `position`.
-class InflateSource : public ByteSource {
- public:
-  InflateSource(std::ifstream* in, std::uint64_t position,
-                std::uint64_t compressed_size)
-      : in_(in), position_(position), compressed_left_(compressed_size) {
-    stream_.zalloc = Z_NULL;
-    stream_.zfree = Z_NULL;
-    stream_.opaque = Z_NULL;
-    stream_.next_in = Z_NULL;
-    stream_.avail_in = 0;
-    initialized_ = inflateInit(&stream_) == Z_OK;
-    ok_ = initialized_;
-  }
-  ~InflateSource() override {
-    if (initialized_) inflateEnd(&stream_);
-  }
-  InflateSource(const InflateSource&) = delete;
-  InflateSource& operator=(const InflateSource&) = delete;
-
-  bool Read(unsigned char* out, std::size_t n) override {
-    if (!ok_) return false;
-    stream_.next_out = out;
-    stream_.avail_out = static_cast<uInt>(n);
-    while (stream_.avail_out > 0) {
-      if (stream_.avail_in == 0 && !Refill()) return false;
-      const int result = inflate(&stream_, Z_NO_FLUSH);
-      if (result == Z_STREAM_END) return stream_.avail_out == 0;
-      if (result != Z_OK && result != Z_BUF_ERROR) return ok_ = false;
-    }
-    return true;
-  }
-  // True once inflate has failed on the compressed data themselves.
-  bool Corrupted() const { return initialized_ && !ok_; }
-  bool Skip(std::uint64_t n) override {
-    unsigned char scratch[16384];
-    while (n > 0) {
-      const std::size_t chunk =
-          static_cast<std::size_t>(std::min<std::uint64_t>(n, sizeof(scratch)));
-      if (!Read(scratch, chunk)) return false;
-      n -= chunk;
-    }
-    return true;
-  }
-
- private:
-  bool Refill() {
-    if (compressed_left_ == 0) return false;
-    const std::size_t chunk = static_cast<std::size_t>(
-        std::min<std::uint64_t>(compressed_left_, sizeof(input_)));
-    in_->clear();
-    in_->seekg(static_cast<std::streamoff>(position_));
-    if (!in_->read(reinterpret_cast<char*>(input_),
-                   static_cast<std::streamsize>(chunk))) {
-      return false;
-    }
-    position_ += chunk;
-    compressed_left_ -= chunk;
-    stream_.next_in = input_;
-    stream_.avail_in = static_cast<uInt>(chunk);
-    return true;
-  }
-
-  std::ifstream* in_;
-  std::uint64_t position_;
-  std::uint64_t compressed_left_;
-  z_stream stream_;
-  bool initialized_ = false;
-  bool ok_ = false;  // no inflate error yet
-  unsigned char input_[16384];
-};
 
 // A data element's tag: type and byte count; a small element (byte count
 // < 5 in the upper half of the first word) carries its payload in the tag.

@@ -14,27 +14,20 @@
 #include <vector>
 
 #include "core/eval/metrics.h"
-#include "core/math/random.h"
-#include "core/synthetic/synthetic.h"
 #include "problems/extra_terms.h"
-#include "tests/synthetic_sequences.h"
+#include "tests/solvers/pipeline/reconstruct_test_util.h"
 
 namespace nrsfm {
 namespace {
 
-constexpr int kFrames = 200;
-constexpr int kPoints = 60;
-constexpr int kBases = 3;
-
-SyntheticSequence Sequence(double noise, double missing, std::uint64_t seed = 1,
-                           int frames = kFrames, int points = kPoints) {
-  return testing_util::RandomBasisSequence(frames, points, kBases, noise,
-                                           missing, seed);
-}
-
-double E3D(const Model& truth, const Model& estimate) {
-  return ComputeE3D(CameraFrameShapes(truth), CameraFrameShapes(estimate));
-}
+using testing_util::E3D;
+using testing_util::kBases;
+using testing_util::kFrames;
+using testing_util::kPoints;
+using testing_util::NoisyRandom;
+using testing_util::OrbitVideo;
+using testing_util::Sequence;
+using testing_util::SmoothModalShapes;
 
 ReconstructOptions Options() {
   ReconstructOptions options;
@@ -165,118 +158,6 @@ TEST(Reconstruct, AutoKeepsTheLowerRefinedCostOfTwoStarts) {
   EXPECT_LT(E3D(s.truth, automatic.model), 1e-6);
 }
 
-// `count` random modes of P points (standard normal coordinates).
-std::vector<Eigen::Matrix3Xd> RandomModes(int count, int num_points,
-                                          std::uint64_t seed) {
-  Random random(seed, /*stream=*/1);
-  std::vector<Eigen::Matrix3Xd> modes(count, Eigen::Matrix3Xd(3, num_points));
-  for (Eigen::Matrix3Xd& mode : modes) {
-    for (int p = 0; p < num_points; ++p) {
-      for (int i = 0; i < 3; ++i) mode(i, p) = random.NormalUnpaired();
-    }
-  }
-  return modes;
-}
-
-// F frames of a smooth deformation of `num_modes` random modes of P points:
-// the first mode plus 0.3/k sin((0.5 + 0.7 k) φ + k) times mode k, with φ
-// one turn over the frames.
-std::vector<Eigen::Matrix3Xd> SmoothModalShapes(int num_frames, int num_points,
-                                                int num_modes,
-                                                std::uint64_t seed) {
-  const std::vector<Eigen::Matrix3Xd> modes =
-      RandomModes(num_modes, num_points, seed);
-  std::vector<Eigen::Matrix3Xd> shapes;
-  for (int t = 0; t < num_frames; ++t) {
-    const double phase = 2.0 * M_PI * t / num_frames;
-    Eigen::Matrix3Xd shape = modes[0];
-    for (int k = 1; k < num_modes; ++k) {
-      shape += 0.3 / k * std::sin((0.5 + 0.7 * k) * phase + k) * modes[k];
-    }
-    shapes.push_back(shape);
-  }
-  return shapes;
-}
-
-// The object-frame shapes `shapes` (one per frame) seen under an orbit of
-// `degrees` at constant speed, written as the Akhter et al. files are (S +
-// Rs), so that the truth is scored in its object frame.
-void OrbitVideo(const std::vector<Eigen::Matrix3Xd>& shapes, double degrees,
-                ReprojectedSequence* video) {
-  GroundTruth source;
-  source.source = "S+Rs";
-  for (const Eigen::Matrix3Xd& shape : shapes) {
-    source.points_in_object.push_back(shape);
-    source.points_in_camera.push_back(shape);
-    source.rotations.push_back(Eigen::Matrix3d::Identity());
-  }
-  ReprojectOptions camera_path;
-  camera_path.total_rotation_deg = degrees;
-  ASSERT_TRUE(GenerateReprojection(source, camera_path, video).ok());
-}
-
-// A video whose basis can absorb rotation (3K ≥ P/2), though the K-basis
-// model explains its tracks exactly, gets the triple start alone, the
-// temporal shape term and, for a camera at constant angular velocity, the
-// angular-acceleration term, in one stage: the camera stage with K_cam = K
-// (a shape stage runs only when K_cam > K). The
-// data: a smoothly deforming object (P = 16, K = 3, a rigid shape plus two
-// modes with slow sinusoidal weights) seen under a 150° orbit at constant
-// speed, scored in its object frame as the field scores the Akhter et al.
-// sequences.
-TEST(Reconstruct, VideoWithLargeBasisTakesTheTripleStartAndTemporalTerms) {
-  constexpr int kVideoFrames = 120, kVideoPoints = 16;
-  const std::vector<Eigen::Matrix3Xd> modes = RandomModes(3, kVideoPoints, 7);
-  std::vector<Eigen::Matrix3Xd> shapes;
-  for (int t = 0; t < kVideoFrames; ++t) {
-    const double phase = 2.0 * M_PI * t / kVideoFrames;
-    shapes.push_back(modes[0] + 0.4 * std::sin(1.5 * phase) * modes[1] +
-                     0.3 * std::cos(2.5 * phase) * modes[2]);
-  }
-  ReprojectedSequence video;
-  ASSERT_NO_FATAL_FAILURE(OrbitVideo(shapes, 150.0, &video));
-
-  ReconstructOptions options;
-  options.start.num_bases = 3;
-  ReconstructResult result;
-  ASSERT_TRUE(Reconstruct(options, video.measurements, &result).ok());
-  ASSERT_TRUE(result.refine.usable);
-  EXPECT_TRUE(result.priors.video);
-  EXPECT_GT(result.priors.track_order, 1.25);
-  EXPECT_EQ(result.start.method, StartMethod::kTriple);
-  EXPECT_EQ(result.priors.term_weights.count(kTemporalShapeTerm), 1u);
-  EXPECT_LT(result.priors.path_acceleration_deg, 0.1);
-  EXPECT_EQ(result.priors.term_weights.count(kRotationAccelerationTerm), 1u);
-  EXPECT_NEAR(result.largest_view_angle_deg, 150.0, 5.0);
-
-  ShapeErrors errors;
-  ASSERT_TRUE(
-      EvaluateShapes(video.truth, ShapesOfModel(result.model), &errors).ok());
-  std::printf(
-      "triple branch: %d LM iterations, e3D %.4f (%s), camera %.4f, "
-      "rotation %.2e\n",
-      result.refine.iterations, errors.e3d,
-      EvaluationFrameName(errors.e3d_frame), errors.e3d_camera,
-      errors.rotation_error);
-  // Measured: e3D 0.0677 (object frame), 0.0668 (camera frame); the
-  // temporal shape term biases the noise-free answer. Rotation error 8.5e-6:
-  // the corrective triple's rotations are exact on exact tracks and the
-  // camera stage keeps them. e3D bounds 10 % above; the rotation bound
-  // allows the round-off of another compiler or BLAS.
-  EXPECT_EQ(errors.e3d_frame, EvaluationFrame::kObject);
-  EXPECT_LT(errors.e3d, 0.075);
-  EXPECT_LT(errors.e3d_camera, 0.074);
-  EXPECT_LT(errors.rotation_error, 1e-4);
-  // K_cam = K: the camera stage (with the path prior) is the one refinement,
-  // ended by its own tolerance; no shape stage polishes it.
-  EXPECT_EQ(result.priors.camera_num_bases, 3);
-  EXPECT_FALSE(result.camera_stage);
-  EXPECT_EQ(result.camera_refine.iterations, 0);
-  EXPECT_GT(result.refine.iterations, 0);
-  EXPECT_TRUE(result.refine.converged);
-  EXPECT_EQ(result.model.num_bases, 3);
-}
-
 // K above the camera cap (3K > 0.75 P): the path prior is decided on a
 // start with CameraBasesCap bases, computed beside the start itself when
 // there are two threads; the answer is the same bits with one thread.
@@ -310,56 +191,6 @@ TEST(Reconstruct, ReferenceStartBesideTheStartGivesTheBitsOfOneThread) {
   EXPECT_TRUE(one.model.basis == two.model.basis);
   EXPECT_TRUE(one.model.rotations == two.model.rotations);
   EXPECT_TRUE(one.model.weights == two.model.weights);
-}
-
-// Too few bases for the tracks (fact 4 of solvers/pipeline/prior_rule.h): a
-// smooth deformation of six modes (rank 18 after centring) asked for with K
-// = 2. The rule estimates the camera with more bases (the smallest K' whose
-// rank explains the tracks, here the six of the data), holds those rotations
-// and fits the two-basis shapes with the temporal term; the data term alone
-// bends the camera to absorb what two bases cannot fit.
-TEST(Reconstruct, TooFewBasesEstimateTheCameraWithMore) {
-  constexpr int kModes = 6;
-  ReprojectedSequence video;
-  ASSERT_NO_FATAL_FAILURE(OrbitVideo(
-      SmoothModalShapes(/*num_frames=*/150, /*num_points=*/30, kModes, 11),
-      120.0, &video));
-
-  ReconstructOptions options;
-  options.start.num_bases = 2;
-  ReconstructResult result;
-  ASSERT_TRUE(Reconstruct(options, video.measurements, &result).ok());
-  ASSERT_TRUE(result.refine.usable);
-  EXPECT_FALSE(result.priors.model_explains_tracks);
-  EXPECT_EQ(result.priors.camera_num_bases, kModes);
-  EXPECT_GT(result.camera_refine.iterations, 0);
-  EXPECT_TRUE(result.camera_refine.converged);
-  EXPECT_TRUE(result.refine.converged);
-  EXPECT_EQ(result.model.num_bases, 2);
-  EXPECT_EQ(result.priors.term_weights.count(kTemporalShapeTerm), 1u);
-
-  ReconstructOptions alone = options;
-  alone.priors = PriorMode::kManual;
-  ReconstructResult data_term;
-  ASSERT_TRUE(Reconstruct(alone, video.measurements, &data_term).ok());
-  ShapeErrors errors, errors_alone;
-  ASSERT_TRUE(
-      EvaluateShapes(video.truth, ShapesOfModel(result.model), &errors).ok());
-  ASSERT_TRUE(
-      EvaluateShapes(video.truth, ShapesOfModel(data_term.model), &errors_alone)
-          .ok());
-  std::printf(
-      "K = 2 of 6 modes: camera from K = %d, e3D %.4f, rotation %.4f; data "
-      "term "
-      "alone e3D %.4f, rotation %.4f\n",
-      result.priors.camera_num_bases, errors.e3d, errors.rotation_error,
-      errors_alone.e3d, errors_alone.rotation_error);
-  // Measured: e3D 0.229 and rotation error 0.0370 (two bases of six modes
-  // cannot do much better: the rank-2 PCA of the truth is far from it), the
-  // data term alone 39.5 and 0.399; bounds 10 % above.
-  EXPECT_LT(errors.e3d, 0.25);
-  EXPECT_LT(errors.rotation_error, 0.041);
-  EXPECT_GT(errors_alone.e3d, 10.0 * errors.e3d);
 }
 
 // A stop request ends the refinement of the first start and no other start
@@ -439,44 +270,6 @@ TEST(Reconstruct, TwoStartsAtOnceGiveTheSequentialResultAndReports) {
   EXPECT_LE(result.refine.iterations, 2);
 }
 
-// RMS depth over RMS image-plane coordinate, by hand: points (±1, 0, ±2),
-// (0, ±1, 0) give Σz² = 8 and Σ(x² + y²)/2 = 2, a ratio of 2; a left-out
-// (NaN) point is skipped, and a frame turned by the camera is measured in
-// the camera's frame.
-// `nrsfm synth --dataset random --frames 100 --points 30 --K 3 --noise
-// 0.01 --missing 0.1 --seed 11`: with the data term alone (the rule's old
-// branch for tracks explained by K bases) the answer was 497.9 times deeper
-// than its image extent, e3D 308. Noisy tracks now get the shape prior (a
-// weak one: the start's frames deform independently).
-SyntheticSequence NoisyRandom(std::uint64_t seed, double noise) {
-  return Sequence(noise, 0.1, seed, 100, 30);  // K = kBases = 3
-}
-
-TEST(Reconstruct, NoisyRandomBasisGetsAWeakPriorNotTheDataAlone) {
-  for (const auto& [seed, noise] :
-       std::vector<std::pair<int, double>>{{11, 0.01}, {3, 0.03}}) {
-    SCOPED_TRACE(seed);
-    const SyntheticSequence s = NoisyRandom(seed, noise);
-    ReconstructOptions options;
-    options.start.num_bases = 3;
-    ReconstructResult result;
-    ASSERT_TRUE(Reconstruct(options, s.measurements, &result).ok());
-    EXPECT_FALSE(result.priors.exactly_low_rank);
-    ASSERT_EQ(result.priors.term_weights.count(kTemporalShapeTerm), 1u);
-    // Coherence measured 0 (seed 11) and 0.075 (seed 3): λ 10⁻⁴ and 1.2·10⁻³.
-    EXPECT_LT(result.priors.deformation_coherence, 0.2);
-    EXPECT_LT(result.priors.term_weights.at(kTemporalShapeTerm), 2e-3);
-    // The full temporal weight and the path prior (the random camera path
-    // is smooth, not constant) cost several times the RMS of the
-    // alternative, which is kept.
-    EXPECT_GT(result.priors.prior_fit_ratio, 3.0);
-    EXPECT_EQ(result.priors.term_weights.count(kRotationAccelerationTerm), 0u);
-    EXPECT_EQ(result.repair_strength, 1.0);
-    // Measured .0327 (seed 11, 1 % noise) and .0694 (seed 3, 3 %).
-    EXPECT_LT(E3D(s.truth, result.model), seed == 11 ? 0.045 : 0.09);
-  }
-}
-
 // The full priors and the alternative refine side by side with two threads
 // and one after the other with one, in lockstep: the same bits either way
 // (seed 11: the alternative is kept, refined on after the lockstep stopped
@@ -501,34 +294,10 @@ TEST(Reconstruct, PriorComparisonGivesTheBitsOfOneThread) {
               one.model.basis == two.model.basis);
 }
 
-// A prior too weak to fix the depth (the rule's weights set 10¹² times
-// below its own) from the factorization start, whose metric upgrade is
-// indefinite on these tracks: the answer is deep, so is its re-solve 10 and
-// 100 times stronger, and the rigid answer is returned, with K bases.
-TEST(Reconstruct, AnAnswerTheDataDoNotDetermineBecomesTheRigidAnswer) {
-  const SyntheticSequence s = NoisyRandom(11, 0.01);
-  ReconstructOptions options;
-  options.start.num_bases = 3;
-  options.start.method = StartMethod::kFactorization;
-  options.prior_rule.temporal_shape_weight = 1e-12;
-  options.prior_rule.min_temporal_shape_weight = 1e-16;
-  ReconstructResult result;
-  ASSERT_TRUE(Reconstruct(options, s.measurements, &result).ok());
-  EXPECT_EQ(result.repair_strength, 0.0);
-  EXPECT_EQ(result.model.num_bases, 3);
-  EXPECT_TRUE(result.model.weights.bottomRows(2).isZero());
-  EXPECT_TRUE(result.model.basis.bottomRows(6).isZero());
-  EXPECT_GT(result.rigid_reprojection_rms, 0.0);
-  EXPECT_NEAR(result.depth_ratio, result.rigid_depth_ratio, 1e-9);
-  bool warned = false;
-  for (const std::string& w : result.warnings) {
-    warned |= w.find(
-                  "the rigid answer (one shape, weights 1 and 0) is "
-                  "returned") != std::string::npos;
-  }
-  EXPECT_TRUE(warned);
-}
-
+// RMS depth over RMS image-plane coordinate, by hand: points (±1, 0, ±2),
+// (0, ±1, 0) give Σz² = 8 and Σ(x² + y²)/2 = 2, a ratio of 2; a left-out
+// (NaN) point is skipped, and a frame turned by the camera is measured in
+// the camera's frame.
 TEST(Reconstruct, DepthRatioByHand) {
   Model model;
   model.Resize(/*frames=*/2, /*cameras=*/1, /*points=*/5, /*bases=*/1);
