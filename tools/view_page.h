@@ -1,9 +1,9 @@
 // The HTML page of `nrsfm view`: the page template (tools/viewer/page.html)
 // with three.js r111 and its OrbitControls (Debian's libjs-three), the page
-// script (tools/viewer/viewer.js) and the data inlined, so that the file works
-// offline and on its own. The assets are embedded into the binary at build
-// time (tools/viewer/embed.cmake), so nothing is read at run time but the
-// inputs.
+// script (tools/viewer/viewer_util.js, viewer.js) and the data inlined, so that
+// the file works offline and on its own. The assets are embedded into the
+// binary at build time (tools/viewer/embed.cmake), so nothing is read at run
+// time but the inputs.
 //
 // The data sit in <script id="nrsfm-data" type="application/json">: an object
 // with "meta" (sizes, paths, metrics, notes; see RenderViewerPage) and flat

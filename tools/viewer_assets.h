@@ -12,7 +12,7 @@ namespace tools {
 // tools/viewer/page.html: the page template.
 extern const char kViewerPageHtml[];
 extern const std::size_t kViewerPageHtmlSize;
-// tools/viewer/viewer.js: the page's script.
+// tools/viewer/viewer_util.js then tools/viewer/viewer.js: the page's script.
 extern const char kViewerJs[];
 extern const std::size_t kViewerJsSize;
 // three.min.js of libjs-three (three.js r111, MIT licence).

@@ -20,10 +20,12 @@ set(_viewer_dir ${CMAKE_CURRENT_LIST_DIR})
 set(_viewer_assets ${CMAKE_CURRENT_BINARY_DIR}/viewer_assets.cc)
 add_custom_command(OUTPUT ${_viewer_assets}
   COMMAND ${CMAKE_COMMAND} -DOUTPUT=${_viewer_assets}
-          -DPAGE_HTML=${_viewer_dir}/page.html -DVIEWER_JS=${_viewer_dir}/viewer.js
+          -DPAGE_HTML=${_viewer_dir}/page.html -DVIEWER_UTIL_JS=${_viewer_dir}/viewer_util.js
+          -DVIEWER_JS=${_viewer_dir}/viewer.js
           -DTHREE_JS=${NRSFM_THREE_JS} -DORBIT_CONTROLS_JS=${NRSFM_ORBIT_CONTROLS_JS}
           -P ${_viewer_dir}/embed.cmake
-  DEPENDS ${_viewer_dir}/page.html ${_viewer_dir}/viewer.js ${_viewer_dir}/embed.cmake
+  DEPENDS ${_viewer_dir}/page.html ${_viewer_dir}/viewer_util.js ${_viewer_dir}/viewer.js
+          ${_viewer_dir}/embed.cmake
           ${NRSFM_THREE_JS} ${NRSFM_ORBIT_CONTROLS_JS}
   COMMENT "Embedding the nrsfm view page and three.js"
   VERBATIM)

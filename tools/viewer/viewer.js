@@ -1,6 +1,6 @@
 // The script of the page `nrsfm view` writes (tools/view_page.h describes
 // the data and the URL fragment). Plain ES5 so that old browsers run it too;
-// three.js r111 and its OrbitControls are inlined before it.
+// three.js r111, its OrbitControls and viewer_util.js are inlined before it.
 (function () {
   'use strict';
 
@@ -21,29 +21,9 @@
   };
   var timer = null;
 
-  function $(id) { return document.getElementById(id); }
-
-  function format(value, digits) {
-    return (value === null || value === undefined) ? 'n/a' : Number(value).toPrecision(digits);
-  }
-
-  // ---- URL fragment: #frame=N&play=1&fps=N&camera=C&vup=1&orbit=A,E&slide_to=N ----
-  function fragment() {
-    var out = {};
-    location.hash.replace(/^#/, '').split('&').forEach(function (item) {
-      if (!item) return;
-      var i = item.indexOf('=');
-      var key = decodeURIComponent(i < 0 ? item : item.slice(0, i));
-      out[key] = i < 0 ? '' : decodeURIComponent(item.slice(i + 1));
-    });
-    return out;
-  }
-
-  function intIn(text, lo, hi) {
-    var n = parseInt(text, 10);
-    if (isNaN(n)) return null;
-    return Math.min(hi, Math.max(lo, n));
-  }
+  var util = nrsfmViewerUtil;
+  var $ = util.$, format = util.format, fragment = util.fragment, intIn = util.intIn,
+      message = util.message, discTexture = util.discTexture, overlay = util.overlay;
 
   // ---- 3D view (three.js) ----
   // The camera frame is right-handed with x, y along the image's u, v. With v
@@ -53,33 +33,6 @@
   // the map is the identity. Both are rotations, so the 3D view is never
   // mirrored, and the first view looks through camera 0 as the 2D view does.
   var three = null;
-
-  function message(container, text) {
-    var div = document.createElement('div');
-    div.className = 'message';
-    div.textContent = text;
-    container.appendChild(div);
-  }
-
-  function discTexture() {
-    var canvas = document.createElement('canvas');
-    canvas.width = canvas.height = 64;
-    var g = canvas.getContext('2d');
-    g.fillStyle = '#fff';
-    g.beginPath();
-    g.arc(32, 32, 30, 0, 2 * Math.PI);
-    g.fill();
-    return new THREE.CanvasTexture(canvas);
-  }
-
-  // The truth is an overlay: it writes no depth and is drawn first, so the
-  // reconstruction drawn after it is never hidden by it where they nearly
-  // coincide; its larger discs show as rings around the reconstruction's.
-  function overlay(object) {
-    object.material.depthWrite = false;
-    object.renderOrder = -1;
-    return object;
-  }
 
   function makePoints(scene, color, size, texture) {
     var geometry = new THREE.BufferGeometry();
