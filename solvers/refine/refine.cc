@@ -209,9 +209,8 @@ bool SameDataTerm(const ProblemOptions& a, const ProblemOptions& b) {
          a.constant_basis == b.constant_basis &&
          a.constant_scales == b.constant_scales &&
          a.constant_rig == b.constant_rig && a.robust_loss == b.robust_loss &&
-         a.robust_scale == b.robust_scale &&
-         wa.rows() == wb.rows() && wa.cols() == wb.cols() &&
-         (wa.size() == 0 || (wa == wb).all());
+         a.robust_scale == b.robust_scale && wa.rows() == wb.rows() &&
+         wa.cols() == wb.cols() && (wa.size() == 0 || (wa == wb).all());
 }
 
 // The same tracks, bit for bit.
