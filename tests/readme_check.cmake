@@ -1,4 +1,5 @@
-# Fails unless the apt/cmake/ctest line of .ci/run appears verbatim in README.md.
+# Fails unless the apt/cmake/ctest line of .ci/run appears verbatim in README.md,
+# and when README.md is longer than 120 lines.
 file(STRINGS "${CI}" ci_lines REGEX "^apt-get update")
 list(LENGTH ci_lines n)
 if(NOT n EQUAL 1)
@@ -16,4 +17,10 @@ string(FIND "${readme}" "${main_job}" pos)
 if(pos EQUAL -1)
   message(FATAL_ERROR "README.md does not contain the main-job command with the same install line")
 endif()
-message(STATUS "README and .ci/run agree")
+# A front page: at most 120 lines.
+string(REGEX MATCHALL "\n" readme_line_ends "${readme}")
+list(LENGTH readme_line_ends readme_count)
+if(readme_count GREATER 120)
+  message(FATAL_ERROR "README.md has ${readme_count} lines; keep it to 120 (move detail to docs/)")
+endif()
+message(STATUS "README and .ci/run agree; README ${readme_count} lines")
