@@ -169,6 +169,27 @@ Array NewArray(const std::vector<py::ssize_t>& shape) { return Array(shape); }
 
 // Measurements from W (2FM × P) and an optional mask, named "W" and "mask"
 // in the messages.
+Eigen::Matrix4Xd IntrinsicsOf(py::handle object, int cameras) {
+  const auto array = AsDoubleArray(object, "intrinsics");
+  const bool one = array.ndim() == 1 && array.shape(0) == 4 && cameras == 1;
+  if (!one && !(array.ndim() == 2 && array.shape(0) == cameras &&
+                array.shape(1) == 4)) {
+    ThrowValueError(
+        "intrinsics has shape " + ShapeString(array) + ", expected (" +
+        std::to_string(cameras) +
+        ", 4): fx, fy, cx, cy of each of the M = " + std::to_string(cameras) +
+        " cameras" + (cameras == 1 ? " (or (4,))" : ""));
+  }
+  Eigen::Matrix4Xd intrinsics(4, cameras);
+  for (int c = 0; c < cameras; ++c) {
+    for (int i = 0; i < 4; ++i) {
+      intrinsics(i, c) =
+          one ? array.unchecked<1>()(i) : array.unchecked<2>()(c, i);
+    }
+  }
+  return intrinsics;
+}
+
 Measurements MeasurementsOf(py::handle w_object, py::handle mask_object,
                             int cameras) {
   const Eigen::MatrixXd w = ToMatrix(w_object, "W");
@@ -217,7 +238,10 @@ Reconstruction FromModel(const Model& model) {
   const int f = model.num_frames, m = model.num_cameras, p = model.num_points,
             k = model.num_bases;
   Reconstruction r;
-  Array rotations = NewArray({f, m, 3, 3}), translations = NewArray({f, m, 2}),
+  const bool perspective = model.camera == CameraModel::kPerspective;
+  const int translation_size = perspective ? 3 : 2;
+  Array rotations = NewArray({f, m, 3, 3}),
+        translations = NewArray({f, m, translation_size}),
         scales = NewArray({f, m}), weights = NewArray({f, k}),
         basis = NewArray({k, 3, p}), rig_rotations = NewArray({m - 1, 3, 3}),
         rig_scales = NewArray({m - 1}), points_camera = NewArray({f, m, 3, p}),
@@ -238,6 +262,7 @@ Reconstruction FromModel(const Model& model) {
       }
       for (int i = 0; i < 2; ++i)
         tra(t, c, i) = model.translations(i, model.View(t, c));
+      if (perspective) tra(t, c, 2) = model.depths(model.View(t, c));
       sca(t, c) = model.scales(model.View(t, c));
     }
     const Eigen::Matrix3Xd s = model.ShapeInObject(t);

@@ -73,6 +73,11 @@ Array NewArray(const std::vector<py::ssize_t>& shape);
 Measurements MeasurementsOf(py::handle w_object, py::handle mask_object,
                             int cameras);
 
+// The intrinsics argument: (M, 4) rows fx, fy, cx, cy per camera, or (4,)
+// for one camera, as Measurements::intrinsics (4 × M); ValueError naming it
+// when its shape does not fit.
+Eigen::Matrix4Xd IntrinsicsOf(py::handle object, int cameras);
+
 // W (2FM, P) with NaN at the missing entries.
 py::array WArray(const Measurements& m);
 

@@ -129,10 +129,15 @@ py::dict JsonToDict(const std::string& text) {
 // the tool's steps check them (tools/reconstruction_steps.h).
 Measurements ArrayTargets(py::handle w, py::handle mask, int cameras,
                           py::handle observation_weights, CommandFlags* flags,
-                          tools::FlagTargets* targets) {
+                          tools::FlagTargets* targets,
+                          py::handle intrinsics = py::none()) {
   flags->cameras = cameras;
   Check(tools::ApplyFlags(*flags, targets));
   Measurements measurements = MeasurementsOf(w, mask, cameras);
+  if (!intrinsics.is_none()) {
+    measurements.intrinsics = IntrinsicsOf(intrinsics, cameras);
+    Check(measurements.Validate());
+  }
   Check(tools::ArrayReconstructOptions(
       measurements, ObservationWeightsOf(observation_weights), flags, targets));
   return measurements;
@@ -144,7 +149,7 @@ Measurements ArrayTargets(py::handle w, py::handle mask, int cameras,
 Reconstruction Reconstruct(py::handle w, py::handle k, py::handle mask,
                            int cameras, py::object progress,
                            py::handle observation_weights,
-                           const py::kwargs& kwargs) {
+                           py::handle intrinsics, const py::kwargs& kwargs) {
   CommandFlags flags;
   ApplyKeywords(ReconstructOptionsOf(), "reconstruct", kwargs, &flags);
   if (py::isinstance<py::str>(k)) {
@@ -153,8 +158,8 @@ Reconstruction Reconstruct(py::handle w, py::handle k, py::handle mask,
     flags.K = std::to_string(IntegerFromPython(k, "K"));
   }
   tools::FlagTargets targets;
-  const Measurements measurements =
-      ArrayTargets(w, mask, cameras, observation_weights, &flags, &targets);
+  const Measurements measurements = ArrayTargets(
+      w, mask, cameras, observation_weights, &flags, &targets, intrinsics);
 
   Interruptible interruptible(std::move(progress));
   interruptible.Configure(&targets.reconstruct.solver);

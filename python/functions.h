@@ -36,7 +36,7 @@ py::object NrsfmWarning();
 Reconstruction Reconstruct(py::handle w, py::handle k, py::handle mask,
                            int cameras, py::object progress,
                            py::handle observation_weights,
-                           const py::kwargs& kwargs);
+                           py::handle intrinsics, const py::kwargs& kwargs);
 Reconstruction Refine(py::handle w, py::handle model_object, py::handle mask,
                       int cameras, py::object progress,
                       py::handle observation_weights, const py::kwargs& kwargs);

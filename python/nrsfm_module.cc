@@ -57,6 +57,8 @@ Array conventions (F frames, M cameras, P points, K basis shapes):
     points_camera (F, M, 3, P)  X_tc = s_tc R_tc S_t (no translation)
     points_object (F, 3, P)     S_t = sum_k l_tk S_k
 so that W[2(tM + c):2(tM + c) + 2] = points_camera[t, c, :2] + T_tc[:, None].
+With camera='perspective' (docs/camera.md) translations are (F, M, 3), the
+depth t_z last, points_camera = R_tc S_t + T_tc and W is its pinhole image.
 Inputs may be any array-like convertible to float64 in any memory order;
 they are copied. Outputs are new C-contiguous float64 arrays.
 )";
@@ -64,7 +66,7 @@ they are copied. Outputs are new C-contiguous float64 arrays.
 std::string ReconstructDoc() {
   return "reconstruct(W, K, mask=None, cameras=1, progress=None, "
          "observation_weights=None,\n"
-         "            **options) -> Reconstruction\n"
+         "            intrinsics=None, **options) -> Reconstruction\n"
          "\n"
          "The closed-form start and its Ceres refinement, as `nrsfm "
          "reconstruct`\n"
@@ -81,6 +83,11 @@ std::string ReconstructDoc() {
          "tool's\n"
          "--confidence_weights), scaled to average 1 over the visible "
          "observations.\n"
+         "intrinsics, if given, (M, 4) or (4,) for one camera: fx, fy, cx, cy "
+         "of each\n"
+         "camera in the units of W, for camera='perspective' (docs/camera.md); "
+         "the\n"
+         "translations are then (F, M, 3) with the depth t_z last.\n"
          "\n"
          "Returns a Reconstruction: the arrays below, summary (the dict nrsfm "
          "writes as\n"
@@ -288,7 +295,8 @@ PYBIND11_MODULE(nrsfm, m) {
   m.def("reconstruct", &Reconstruct, Keep(ReconstructDoc()), py::arg("W"),
         py::arg("K"), py::arg("mask") = py::none(), py::arg("cameras") = 1,
         py::arg("progress") = py::none(),
-        py::arg("observation_weights") = py::none());
+        py::arg("observation_weights") = py::none(),
+        py::arg("intrinsics") = py::none());
   m.def("refine", &Refine, Keep(RefineDoc()), py::arg("W"), py::arg("model"),
         py::arg("mask") = py::none(), py::arg("cameras") = 1,
         py::arg("progress") = py::none(),
