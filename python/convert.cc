@@ -167,8 +167,6 @@ py::array_t<double, py::array::forcecast> WithShape(
 
 Array NewArray(const std::vector<py::ssize_t>& shape) { return Array(shape); }
 
-// Measurements from W (2FM × P) and an optional mask, named "W" and "mask"
-// in the messages.
 Eigen::Matrix4Xd IntrinsicsOf(py::handle object, int cameras) {
   const auto array = AsDoubleArray(object, "intrinsics");
   const bool one = array.ndim() == 1 && array.shape(0) == 4 && cameras == 1;
@@ -190,6 +188,8 @@ Eigen::Matrix4Xd IntrinsicsOf(py::handle object, int cameras) {
   return intrinsics;
 }
 
+// Measurements from W (2FM × P) and an optional mask, named "W" and "mask"
+// in the messages.
 Measurements MeasurementsOf(py::handle w_object, py::handle mask_object,
                             int cameras) {
   const Eigen::MatrixXd w = ToMatrix(w_object, "W");
