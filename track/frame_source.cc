@@ -1,0 +1,228 @@
+#include "track/frame_source.h"
+
+#include <glog/logging.h>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <map>
+#include <opencv2/core/utils/logger.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+#include <utility>
+
+namespace nrsfm {
+namespace track {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool IsImageFile(const fs::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  for (const char* known : {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff",
+                            ".pgm", ".ppm", ".webp"}) {
+    if (ext == known) return true;
+  }
+  return false;
+}
+
+// The last run of digits of the file's stem; false when it has none (or one
+// too long for an int).
+bool FrameNumberOf(const fs::path& path, int* number) {
+  const std::string stem = path.stem().string();
+  std::size_t end = stem.size();
+  while (end > 0 && !std::isdigit(static_cast<unsigned char>(stem[end - 1]))) {
+    --end;
+  }
+  std::size_t begin = end;
+  while (begin > 0 &&
+         std::isdigit(static_cast<unsigned char>(stem[begin - 1]))) {
+    --begin;
+  }
+  if (begin == end || end - begin > 9) return false;
+  *number = std::stoi(stem.substr(begin, end - begin));
+  return true;
+}
+
+std::string SizeString(const cv::Size& size) {
+  return std::to_string(size.width) + " x " + std::to_string(size.height);
+}
+
+Status ToGrey(const cv::Mat& image, const std::string& name, cv::Mat* grey) {
+  if (image.empty()) return Status::Error(name + ": cannot decode the image");
+  if (image.depth() != CV_8U ||
+      (image.channels() != 1 && image.channels() != 3 &&
+       image.channels() != 4)) {
+    return Status::Error(name + ": expected an 8-bit grey, BGR or BGRA image");
+  }
+  if (image.channels() == 1) {
+    *grey = image;
+  } else {
+    cv::cvtColor(
+        image, *grey,
+        image.channels() == 3 ? cv::COLOR_BGR2GRAY : cv::COLOR_BGRA2GRAY);
+  }
+  return Status::OK();
+}
+
+// A file decoded as 8-bit grey; empty when it does not decode (OpenCV throws
+// on some malformed files).
+cv::Mat DecodeGrey(const std::string& file) {
+  try {
+    return cv::imread(file, cv::IMREAD_GRAYSCALE);
+  } catch (const cv::Exception&) {
+    return cv::Mat();
+  }
+}
+
+}  // namespace
+
+void QuietOpenCvLog() {
+  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
+}
+
+struct FrameSource::Video {
+  std::string path;
+  cv::VideoCapture capture;
+  int next = 0;  // the index the next read() returns
+
+  Status Reopen() {
+    capture.release();
+    // FFmpeg first (Debian's backend for .mp4 and most files), then any
+    // other backend OpenCV has.
+    if (!capture.open(path, cv::CAP_FFMPEG) &&
+        !capture.open(path, cv::CAP_ANY)) {
+      return Status::Error(path + ": cannot open the video (no decoder?)");
+    }
+    next = 0;
+    return Status::OK();
+  }
+};
+
+FrameSource::FrameSource() = default;
+FrameSource::~FrameSource() = default;
+FrameSource::FrameSource(FrameSource&&) noexcept = default;
+FrameSource& FrameSource::operator=(FrameSource&&) noexcept = default;
+
+Status FrameSource::OpenFolder(const std::string& path, FrameSource* source) {
+  std::error_code ec;
+  if (!fs::is_directory(path, ec)) {
+    return Status::Error(path + ": not a folder of frames");
+  }
+  std::map<int, std::string> by_number;
+  for (fs::directory_iterator it(path, ec), end; !ec && it != end;
+       it.increment(ec)) {
+    if (!it->is_regular_file(ec) || !IsImageFile(it->path())) continue;
+    int number = 0;
+    const std::string file = it->path().string();
+    if (!FrameNumberOf(it->path(), &number)) {
+      return Status::Error(file + ": no frame number in the file name");
+    }
+    const auto [where, added] = by_number.emplace(number, file);
+    if (!added) {
+      return Status::Error(file + ": frame number " + std::to_string(number) +
+                           " is also that of " + where->second);
+    }
+  }
+  if (ec) return Status::Error(path + ": cannot list the folder");
+  if (by_number.empty()) {
+    return Status::Error(path +
+                         ": no image in the folder (.png, .jpg, .jpeg, .bmp, "
+                         ".tif, .tiff, .pgm, .ppm, .webp)");
+  }
+  FrameSource result;
+  result.name_ = path;
+  for (const auto& [number, file] : by_number) {
+    result.numbers_.push_back(number);
+    result.files_.push_back(file);
+  }
+  cv::Mat first;
+  NRSFM_RETURN_IF_ERROR(
+      ToGrey(DecodeGrey(result.files_[0]), result.files_[0], &first));
+  result.size_ = first.size();
+  *source = std::move(result);
+  return Status::OK();
+}
+
+Status FrameSource::OpenVideo(const std::string& path, FrameSource* source) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) {
+    return Status::Error(path + ": no such video file");
+  }
+  FrameSource result;
+  result.name_ = path;
+  result.video_ = std::make_unique<Video>();
+  result.video_->path = path;
+  NRSFM_RETURN_IF_ERROR(result.video_->Reopen());
+  cv::Mat frame;
+  int count = 0;
+  while (result.video_->capture.read(frame)) {
+    if (count == 0) result.size_ = frame.size();
+    ++count;
+  }
+  if (count == 0) return Status::Error(path + ": the video holds no frame");
+  for (int i = 0; i < count; ++i) result.numbers_.push_back(i);
+  NRSFM_RETURN_IF_ERROR(result.video_->Reopen());
+  *source = std::move(result);
+  return Status::OK();
+}
+
+Status FrameSource::FromImages(std::vector<cv::Mat> images,
+                               FrameSource* source) {
+  if (images.empty()) return Status::Error("frames: no image given");
+  FrameSource result;
+  result.name_ = "frames";
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    cv::Mat grey;
+    NRSFM_RETURN_IF_ERROR(
+        ToGrey(images[i], "frames[" + std::to_string(i) + "]", &grey));
+    if (i > 0 && grey.size() != result.size_) {
+      return Status::Error(
+          "frames[" + std::to_string(i) + "]: " + SizeString(grey.size()) +
+          ", but the first frame is " + SizeString(result.size_));
+    }
+    result.size_ = grey.size();
+    result.images_.push_back(grey);
+    result.numbers_.push_back(static_cast<int>(i));
+  }
+  *source = std::move(result);
+  return Status::OK();
+}
+
+std::string FrameSource::FrameName(int index) const {
+  if (!files_.empty()) return files_[index];
+  return name_ + " frame " + std::to_string(index);
+}
+
+Status FrameSource::Read(int index, cv::Mat* grey) {
+  CHECK(index >= 0 && index < num_frames()) << "frame index " << index;
+  cv::Mat image;
+  if (!images_.empty()) {
+    *grey = images_[index];
+    return Status::OK();
+  }
+  if (video_ != nullptr) {
+    if (index < video_->next) NRSFM_RETURN_IF_ERROR(video_->Reopen());
+    while (video_->next <= index) {
+      if (!video_->capture.read(image)) {
+        return Status::Error(FrameName(video_->next) +
+                             ": cannot decode the frame");
+      }
+      ++video_->next;
+    }
+  } else {
+    image = DecodeGrey(files_[index]);
+  }
+  NRSFM_RETURN_IF_ERROR(ToGrey(image, FrameName(index), grey));
+  if (grey->size() != size_) {
+    return Status::Error(FrameName(index) + ": " + SizeString(grey->size()) +
+                         ", but the first frame is " + SizeString(size_));
+  }
+  return Status::OK();
+}
+
+}  // namespace track
+}  // namespace nrsfm
