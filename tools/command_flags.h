@@ -29,6 +29,7 @@
 #include "solvers/start/alternation.h"
 #include "solvers/start/low_rank_completion.h"
 #include "solvers/start/start.h"
+#include "track/tracks.h"
 
 namespace nrsfm {
 namespace tools {
@@ -39,7 +40,8 @@ enum Command : unsigned {
   kReconstruct = 1u,
   kEvaluate = 2u,
   kSynth = 4u,
-  kView = 8u
+  kView = 8u,
+  kTrack = 16u
 };
 
 // What a flag is for, which decides where it appears:
@@ -55,6 +57,7 @@ enum Command : unsigned {
 //   kOption    an option of the problem or the solver: result.json, the
 //              keywords of reconstruct() and refine();
 //   kSynthesis the synthetic data (synth only);
+//   kTracking  an option of the tracker (track only): its result.json;
 //   kTool      the tool's own files and printing: none of the above.
 enum class FlagRole {
   kInput,
@@ -63,6 +66,7 @@ enum class FlagRole {
   kStart,
   kOption,
   kSynthesis,
+  kTracking,
   kTool
 };
 
@@ -101,12 +105,14 @@ struct FlagTargets {
   ReconstructOptions reconstruct;
   SelectNumBasesOptions select;
   NumBasesFlag num_bases;
+  track::TrackOptions track;
 
   // The Check() of each options struct on its own (keypoints, input, start,
-  // problem, solver, prior rule, K selection): the rules of single values.
+  // problem, solver, prior rule, K selection, tracker): the rules of single
+  // values.
   Status CheckParts() const;
   // Check() of the input, the reconstruction (with the rules that join
-  // values) and the K selection options.
+  // values), the K selection and the tracker options.
   Status Check() const;
 };
 
@@ -226,11 +232,14 @@ struct SetsNothing {};
                 "reprojection RMS is within this factor of the "               \
                 "noise level estimated from the data."}))                      \
   X(std::string, output, "", kTool, NRSFM_SETS_NOTHING,                        \
-    NRSFM_HELP({kReconstruct, "output directory."},                            \
-               {kSynth, "output .mat file."}, {kView, "output .html file."}))  \
+    NRSFM_HELP(                                                                \
+        {kReconstruct, "output directory."}, {kSynth, "output .mat file."},    \
+        {kView, "output .html file."},                                         \
+        {kTrack, "output folder (tracks.csv, tracks.mat, result.json)."}))     \
   X(bool, overwrite, false, kTool, NRSFM_SETS_NOTHING,                         \
     NRSFM_HELP({kReconstruct, "replace an earlier result directory."},         \
-               {kView, "replace the page."}))                                  \
+               {kView, "replace the page."},                                   \
+               {kTrack, "replace an earlier track folder."}))                  \
   X(bool, ply, false, kTool, NRSFM_SETS_NOTHING,                               \
     NRSFM_HELP({kReconstruct, "also write one PLY file per frame."}))          \
   X(std::string, init,                                                         \
@@ -514,8 +523,75 @@ struct SetsNothing {};
                 "(--dataset reproject) 0: orthographic camera; > 0: a "        \
                 "pinhole camera this many object sizes away (writes Kcam "     \
                 "and the camera-frame truth X, pixels)."}))                    \
+  X(std::string, frames_dir, "", kTool, NRSFM_SETS_NOTHING,                    \
+    NRSFM_HELP({kTrack,                                                        \
+                "folder of frames (images, in the order of the number in "     \
+                "each name: the frame number of the outputs)."}))              \
+  X(std::string, video, "", kTool, NRSFM_SETS_NOTHING,                         \
+    NRSFM_HELP({kTrack, "video file (instead of --frames_dir)."}))             \
+  X(std::string, queries, "", kTool, NRSFM_SETS_NOTHING,                       \
+    NRSFM_HELP({kTrack,                                                        \
+                "CSV point,frame,x,y: where each point starts (pixels, x "     \
+                "right, y down); none = the tracker chooses points."}))        \
+  X(std::string, mask, "", kTool, NRSFM_SETS_NOTHING,                          \
+    NRSFM_HELP({kTrack,                                                        \
+                "folder of object masks numbered as the frames (nonzero = "    \
+                "the object)."}))                                              \
+  X(std::string, track_method,                                                 \
+    ::nrsfm::track::TrackMethodName(::nrsfm::track::TrackOptions().method),    \
+    kTracking, NRSFM_PARSES(track, method, ::nrsfm::track::ParseTrackMethod),  \
+    NRSFM_HELP({kTrack,                                                        \
+                "rank: basis flow under the rank bound (Torresani 2001 "       \
+                "§3.2); lk: pyramidal Lucas-Kanade alone."}))                  \
+  X(int, patch_size, ::nrsfm::track::TrackOptions().patch_size, kTracking,     \
+    NRSFM_SETS(track, patch_size),                                             \
+    NRSFM_HELP({kTrack, "side of each point's square patch, pixels (odd)."}))  \
+  X(int, pyramid_levels, ::nrsfm::track::TrackOptions().pyramid_levels,        \
+    kTracking, NRSFM_SETS(track, pyramid_levels),                              \
+    NRSFM_HELP({kTrack, "pyramid levels above full resolution."}))             \
+  X(int, window_frames, ::nrsfm::track::TrackOptions().window_frames,          \
+    kTracking, NRSFM_SETS(track, window_frames),                               \
+    NRSFM_HELP({kTrack,                                                        \
+                "frames solved jointly under the rank bound; the templates "   \
+                "are re-anchored at each window."}))                           \
+  X(int, rank, ::nrsfm::track::TrackOptions().rank, kTracking,                 \
+    NRSFM_SETS(track, rank),                                                   \
+    NRSFM_HELP({kTrack,                                                        \
+                "rank of the track matrix; 0 = from the reliable tracks' "     \
+                "singular values in each window."}))                           \
+  X(double, rank_noise_px, ::nrsfm::track::TrackOptions().rank_noise_px,       \
+    kTracking, NRSFM_SETS(track, rank_noise_px),                               \
+    NRSFM_HELP({kTrack,                                                        \
+                "the chosen rank fits the reliable tracks to this RMS, "       \
+                "pixels."}))                                                   \
+  X(int, max_rank, ::nrsfm::track::TrackOptions().max_rank, kTracking,         \
+    NRSFM_SETS(track, max_rank),                                               \
+    NRSFM_HELP({kTrack, "the largest rank chosen."}))                          \
+  X(int, support_points, ::nrsfm::track::TrackOptions().num_support_points,    \
+    kTracking, NRSFM_SETS(track, num_support_points),                          \
+    NRSFM_HELP({kTrack,                                                        \
+                "corners of the object region tracked in each window for "     \
+                "the basis."}))                                                \
+  X(int, auto_points, ::nrsfm::track::TrackOptions().num_auto_points,          \
+    kTracking, NRSFM_SETS(track, num_auto_points),                             \
+    NRSFM_HELP(                                                                \
+        {kTrack, "without --queries: the points the tracker chooses."}))       \
+  X(double, max_forward_backward_px,                                           \
+    ::nrsfm::track::TrackOptions().max_forward_backward_px, kTracking,         \
+    NRSFM_SETS(track, max_forward_backward_px),                                \
+    NRSFM_HELP({kTrack,                                                        \
+                "Lucas-Kanade's forward-backward error above which a step "    \
+                "is lost, pixels."}))                                          \
+  X(double, min_correlation, ::nrsfm::track::TrackOptions().min_correlation,   \
+    kTracking, NRSFM_SETS(track, min_correlation),                             \
+    NRSFM_HELP({kTrack,                                                        \
+                "patch-template correlation below which a point is "           \
+                "occluded."}))                                                 \
+  X(int, track_iterations, ::nrsfm::track::TrackOptions().iterations,          \
+    kTracking, NRSFM_SETS(track, iterations),                                  \
+    NRSFM_HELP({kTrack, "Gauss-Newton iterations per pyramid level."}))        \
   X(bool, quiet, false, kTool, NRSFM_SETS_NOTHING,                             \
-    NRSFM_HELP({kReconstruct, "no progress lines on stderr."}))
+    NRSFM_HELP({kReconstruct | kTrack, "no progress lines on stderr."}))
 
 namespace nrsfm {
 namespace tools {

@@ -13,7 +13,8 @@ namespace nrsfm {
 namespace tools {
 namespace {
 
-constexpr Command kCommands[] = {kReconstruct, kEvaluate, kSynth, kView};
+constexpr Command kCommands[] = {kReconstruct, kEvaluate, kSynth, kView,
+                                 kTrack};
 
 std::string FormatDouble(double value) {
   std::ostringstream s;
@@ -300,12 +301,14 @@ Status FlagTargets::CheckParts() const {
   NRSFM_RETURN_IF_ERROR(reconstruct.problem.Check());
   NRSFM_RETURN_IF_ERROR(reconstruct.solver.Check());
   NRSFM_RETURN_IF_ERROR(reconstruct.prior_rule.Check());
+  NRSFM_RETURN_IF_ERROR(track.Check());
   return select.Check();
 }
 
 Status FlagTargets::Check() const {
   NRSFM_RETURN_IF_ERROR(input.Check());
   NRSFM_RETURN_IF_ERROR(reconstruct.Check());
+  NRSFM_RETURN_IF_ERROR(track.Check());
   return select.Check();
 }
 
@@ -319,6 +322,8 @@ const char* CommandName(Command command) {
       return "synth";
     case kView:
       return "view";
+    case kTrack:
+      return "track";
   }
   return "";
 }
@@ -397,6 +402,7 @@ std::vector<std::pair<std::string, std::string>> OptionList(
         break;
       case FlagRole::kNumBases:
       case FlagRole::kSynthesis:
+      case FlagRole::kTracking:
       case FlagRole::kTool:
         break;
     }

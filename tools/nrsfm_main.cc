@@ -6,6 +6,8 @@
 //   nrsfm synth --dataset reproject --input TRUTH.mat --output PATH.mat
 //   [options] nrsfm view --result DIR [--truth PATH] [--input PATH] --output
 //   FILE.html
+//   nrsfm track --frames_dir DIR | --video FILE [--queries Q.csv] [--mask DIR]
+//   --output DIR
 //
 // Flags may also come from a file: --flagfile=PATH. Logs go to stderr. The
 // exit code is 0 only on success.
@@ -13,7 +15,10 @@
 #include <glog/logging.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdlib>
+#include <cstring>
+#include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -35,6 +40,9 @@ constexpr char kUsage[] =
     "[options]\n"
     "  nrsfm view --result DIR [--truth PATH] [--input PATH] --output "
     "FILE.html\n"
+    "  nrsfm track --frames_dir DIR | --video FILE [--queries Q.csv] [--mask "
+    "DIR] "
+    "--output DIR\n"
     "\n"
     "reconstruct reads W (2F x P, rows u_t, v_t interleaved; 2FM x P for M\n"
     "cameras), NaN = missing, or detector keypoints (COCO results .json, a\n"
@@ -53,6 +61,9 @@ constexpr char kUsage[] =
     "--mask_var,\n"
     "--format) with their reprojections; --overwrite replaces an existing "
     "page.\n"
+    "track follows points through frames (docs/tracking.md) and writes\n"
+    "tracks.csv, tracks.mat (reconstruct --input DIR reads it) and "
+    "result.json.\n"
     "Flags may be read from a file with --flagfile=PATH. Exit code 0 = "
     "success.";
 
@@ -82,10 +93,29 @@ void ReexecWithHugePages(char** argv) {
   unsetenv("GLIBC_TUNABLES");  // execv failed: on without it
 }
 
+// `nrsfm track` is the program nrsfm-track beside this one (tools/
+// track_main.cc): the tracker links OpenCV, which this program does not
+// load. Returns only when it cannot be started.
+nrsfm::Status RunTracker(const std::vector<char*>& argv) {
+  std::error_code ec;
+  const std::filesystem::path self =
+      std::filesystem::read_symlink("/proc/self/exe", ec);
+  const std::string tracker =
+      (ec ? std::filesystem::path(argv[0]).parent_path() : self.parent_path()) /
+      "nrsfm-track";
+  execv(tracker.c_str(), argv.data());
+  return nrsfm::Status::Error("cannot run " + tracker + " (" +
+                              std::strerror(errno) +
+                              "); it is built and installed with nrsfm");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   ReexecWithHugePages(argv);
+  // The command line as given, for `track` (gflags removes the flags).
+  std::vector<char*> original_argv(argv, argv + argc);
+  original_argv.push_back(nullptr);
   // The flags parse into `flags` (tools/command_flags.h).
   static nrsfm::tools::CommandFlags flags;
   nrsfm::tools::RegisterCommandFlags(&flags);
@@ -103,7 +133,7 @@ int main(int argc, char** argv) {
 
   if (argc != 2) {
     std::cerr << "nrsfm: expected exactly one command (reconstruct, evaluate, "
-                 "synth or view), got "
+                 "synth, view or track), got "
               << argc - 1 << "; see nrsfm --help\n";
     return 2;
   }
@@ -117,10 +147,14 @@ int main(int argc, char** argv) {
     status = nrsfm::tools::RunSynth(flags, std::cout);
   } else if (command == "view") {
     status = nrsfm::tools::RunView(flags, std::cout);
+  } else if (command == "track") {
+    status = RunTracker(original_argv);
   } else {
-    std::cerr << "nrsfm: unknown command '" << command
-              << "' (expected reconstruct, evaluate, synth or view); see nrsfm "
-                 "--help\n";
+    std::cerr
+        << "nrsfm: unknown command '" << command
+        << "' (expected reconstruct, evaluate, synth, view or track); see "
+           "nrsfm "
+           "--help\n";
     return 2;
   }
   if (!status.ok()) {

@@ -30,6 +30,19 @@ std::string Lower(std::string s) {
   return s;
 }
 
+// `path`, or the tracks file in it when it is a folder written by `nrsfm
+// track`.
+std::string TrackOutputOr(const std::string& path) {
+  std::error_code ec;
+  const std::filesystem::path tracks =
+      std::filesystem::path(path) / kTrackOutputFile;
+  if (std::filesystem::is_directory(path, ec) &&
+      std::filesystem::is_regular_file(tracks, ec)) {
+    return tracks.string();
+  }
+  return path;
+}
+
 Status DetectFormat(const std::string& path, InputFormat requested,
                     InputFormat* format) {
   if (requested != InputFormat::kAuto) {
@@ -336,9 +349,11 @@ Status ParseIntrinsics(const std::string& text, Eigen::Matrix4Xd* intrinsics) {
   return Status::OK();
 }
 
-Status ReadMeasurements(const std::string& path, const InputOptions& options,
-                        Measurements* measurements, InputDetails* details) {
+Status ReadMeasurements(const std::string& given_path,
+                        const InputOptions& options, Measurements* measurements,
+                        InputDetails* details) {
   NRSFM_RETURN_IF_ERROR(options.Check());
+  const std::string path = TrackOutputOr(given_path);
   InputFormat format = InputFormat::kAuto;
   NRSFM_RETURN_IF_ERROR(DetectFormat(path, options.format, &format));
   if (format != InputFormat::kMat &&

@@ -7,7 +7,9 @@
 //   .txt .csv .tsv .dat       text matrix W, 2FM × P (core/io/text_io.h)
 //   .obs .list                observation list "frame camera point u v"
 //   .json                     COCO keypoint results (core/io/keypoint_io.h)
-//   a folder                  OpenPose's per-frame .json files (same)
+//   a folder                  OpenPose's per-frame .json files (same), or
+//                             the tracks.mat in it (kTrackOutputFile) when
+//                             it holds one: the output of `nrsfm track`
 // Keypoint inputs are monocular and in pixels with v down, and carry each
 // keypoint's score (InputDetails::confidence); options.keypoints says how
 // they are read.
@@ -42,6 +44,10 @@
 #include "core/model/status.h"
 
 namespace nrsfm {
+
+// The file of `nrsfm track`'s output folder that reconstruct reads when
+// given the folder.
+inline constexpr char kTrackOutputFile[] = "tracks.mat";
 
 enum class InputFormat {
   kAuto,      // by the extension (above)

@@ -45,12 +45,12 @@ TEST_F(CliTest, MissingOrUnknownCommandIsAnError) {
   // A command line without a command is a usage error: exit code 2.
   ExpectFailure("",
                 "nrsfm: expected exactly one command (reconstruct, evaluate, "
-                "synth or view), "
+                "synth, view or track), "
                 "got 0; see nrsfm --help",
                 "", 2);
   ExpectFailure("reconstrut",
                 "nrsfm: unknown command 'reconstrut' (expected reconstruct, "
-                "evaluate, synth or view); see nrsfm --help",
+                "evaluate, synth, view or track); see nrsfm --help",
                 "", 2);
 }
 

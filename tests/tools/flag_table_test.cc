@@ -25,11 +25,15 @@ TEST(CommandFlagTable, OneRowPerFlagAndTermWithItsCommands) {
   for (const FlagInfo& flag : table) {
     EXPECT_EQ(++seen[flag.name], 1) << flag.name;
     EXPECT_TRUE(flag.Serves(kReconstruct) || flag.Serves(kEvaluate) ||
-                flag.Serves(kSynth) || flag.Serves(kView))
+                flag.Serves(kSynth) || flag.Serves(kView) ||
+                flag.Serves(kTrack))
         << flag.name;
-    // A flag that sets an option serves reconstruct or view (ApplyFlags).
+    // A flag that sets an option serves reconstruct, view or track
+    // (ApplyFlags).
     if (flag.sets_option) {
-      EXPECT_TRUE(flag.Serves(kReconstruct) || flag.Serves(kView)) << flag.name;
+      EXPECT_TRUE(flag.Serves(kReconstruct) || flag.Serves(kView) ||
+                  flag.Serves(kTrack))
+          << flag.name;
     }
   }
   // The help of one command, and the --help text with the commands named.
@@ -56,6 +60,7 @@ TEST(FlagTable, ChoicesComeFromTheNameTables) {
             "rotations|translations|weights|basis|scales|rig");
   EXPECT_EQ(FindFlag("dataset")->choices, "random|superquadric|shoe|reproject");
   EXPECT_EQ(FindFlag("profile")->choices, "constant|ramp|stopgo");
+  EXPECT_EQ(FindFlag("track_method")->choices, "rank|lk");
   EXPECT_EQ(FindFlag("K")->choices, "");
   EXPECT_EQ(FindFlag("output")->choices, "");
   EXPECT_EQ(FindFlag("robust")->HelpFor(kReconstruct),
@@ -71,8 +76,8 @@ TEST(FlagTable, ChoicesComeFromTheNameTables) {
     }
   }
   // format, part, init, camera, priors, robust, hold, minimizer,
-  // linear_solver, dataset, profile.
-  EXPECT_EQ(with_choices, 11);
+  // linear_solver, dataset, profile, track_method.
+  EXPECT_EQ(with_choices, 12);
 }
 
 TEST(ApplyFlags, SetsTheOptionFieldOfEachFlag) {
