@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
-#include <map>
 #include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -17,35 +16,6 @@ namespace track {
 namespace {
 
 namespace fs = std::filesystem;
-
-bool IsImageFile(const fs::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
-  for (const char* known : {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff",
-                            ".pgm", ".ppm", ".webp"}) {
-    if (ext == known) return true;
-  }
-  return false;
-}
-
-// The last run of digits of the file's stem; false when it has none (or one
-// too long for an int).
-bool FrameNumberOf(const fs::path& path, int* number) {
-  const std::string stem = path.stem().string();
-  std::size_t end = stem.size();
-  while (end > 0 && !std::isdigit(static_cast<unsigned char>(stem[end - 1]))) {
-    --end;
-  }
-  std::size_t begin = end;
-  while (begin > 0 &&
-         std::isdigit(static_cast<unsigned char>(stem[begin - 1]))) {
-    --begin;
-  }
-  if (begin == end || end - begin > 9) return false;
-  *number = std::stoi(stem.substr(begin, end - begin));
-  return true;
-}
 
 std::string SizeString(const cv::Size& size) {
   return std::to_string(size.width) + " x " + std::to_string(size.height);
@@ -108,36 +78,13 @@ FrameSource::FrameSource(FrameSource&&) noexcept = default;
 FrameSource& FrameSource::operator=(FrameSource&&) noexcept = default;
 
 Status FrameSource::OpenFolder(const std::string& path, FrameSource* source) {
-  std::error_code ec;
-  if (!fs::is_directory(path, ec)) {
-    return Status::Error(path + ": not a folder of frames");
-  }
-  std::map<int, std::string> by_number;
-  for (fs::directory_iterator it(path, ec), end; !ec && it != end;
-       it.increment(ec)) {
-    if (!it->is_regular_file(ec) || !IsImageFile(it->path())) continue;
-    int number = 0;
-    const std::string file = it->path().string();
-    if (!FrameNumberOf(it->path(), &number)) {
-      return Status::Error(file + ": no frame number in the file name");
-    }
-    const auto [where, added] = by_number.emplace(number, file);
-    if (!added) {
-      return Status::Error(file + ": frame number " + std::to_string(number) +
-                           " is also that of " + where->second);
-    }
-  }
-  if (ec) return Status::Error(path + ": cannot list the folder");
-  if (by_number.empty()) {
-    return Status::Error(path +
-                         ": no image in the folder (.png, .jpg, .jpeg, .bmp, "
-                         ".tif, .tiff, .pgm, .ppm, .webp)");
-  }
+  std::vector<FrameFile> listed;
+  NRSFM_RETURN_IF_ERROR(ListFrameFiles(path, &listed));
   FrameSource result;
   result.name_ = path;
-  for (const auto& [number, file] : by_number) {
-    result.numbers_.push_back(number);
-    result.files_.push_back(file);
+  for (const FrameFile& frame : listed) {
+    result.numbers_.push_back(frame.number);
+    result.files_.push_back(frame.path);
   }
   cv::Mat first;
   NRSFM_RETURN_IF_ERROR(

@@ -2,10 +2,10 @@
 // long sequence never sits in memory at once (OpenCV's imgcodecs and videoio
 // decode; nothing of OpenCV leaves track/).
 //
-// A folder: every file with an image extension (.png .jpg .jpeg .bmp .tif
-// .tiff .pgm .ppm .webp, any case); each file's frame number is the last run
-// of digits in its name, and the frames are in the order of that number (by
-// name for zero-padded names). A video: frames 0, 1, … in decoding order.
+// A folder (ListFrameFiles, track/tracks.h): every file with an image
+// extension (.png .jpg .jpeg .bmp .tif .tiff .pgm .ppm .webp, any case);
+// each file's frame number is the last run of digits in its name, and the
+// frames are in the order of that number (by name for zero-padded names). A video: frames 0, 1, … in decoding order.
 // Frames are returned as 8-bit grey, all of the size of the first frame.
 // Errors (one line naming the file): a missing or empty folder, a file name
 // without a number or a number twice, a file that does not decode, frames of
@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "core/model/status.h"
+#include "track/tracks.h"  // ListFrameFiles
 
 namespace nrsfm {
 namespace track {

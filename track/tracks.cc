@@ -1,6 +1,10 @@
 #include "track/tracks.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <filesystem>
+#include <map>
 #include <limits>
 #include <set>
 #include <utility>
@@ -16,7 +20,69 @@ namespace {
 constexpr EnumName<TrackMethod> kTrackMethodNames[] = {
     {TrackMethod::kRank, "rank"}, {TrackMethod::kLucasKanade, "lk"}};
 
+bool IsImageFile(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  for (const char* known : {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff",
+                            ".pgm", ".ppm", ".webp"}) {
+    if (ext == known) return true;
+  }
+  return false;
+}
+
+// The last run of digits of the file's stem; false when it has none (or one
+// too long for an int).
+bool FrameNumberOf(const std::filesystem::path& path, int* number) {
+  const std::string stem = path.stem().string();
+  std::size_t end = stem.size();
+  while (end > 0 && !std::isdigit(static_cast<unsigned char>(stem[end - 1]))) {
+    --end;
+  }
+  std::size_t begin = end;
+  while (begin > 0 &&
+         std::isdigit(static_cast<unsigned char>(stem[begin - 1]))) {
+    --begin;
+  }
+  if (begin == end || end - begin > 9) return false;
+  *number = std::stoi(stem.substr(begin, end - begin));
+  return true;
+}
+
 }  // namespace
+
+Status ListFrameFiles(const std::string& folder,
+                      std::vector<FrameFile>* frames) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec)) {
+    return Status::Error(folder + ": not a folder of frames");
+  }
+  std::map<int, std::string> by_number;
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end;
+       it.increment(ec)) {
+    if (!it->is_regular_file(ec) || !IsImageFile(it->path())) continue;
+    int number = 0;
+    const std::string file = it->path().string();
+    if (!FrameNumberOf(it->path(), &number)) {
+      return Status::Error(file + ": no frame number in the file name");
+    }
+    const auto [where, added] = by_number.emplace(number, file);
+    if (!added) {
+      return Status::Error(file + ": frame number " + std::to_string(number) +
+                           " is also that of " + where->second);
+    }
+  }
+  if (ec) return Status::Error(folder + ": cannot list the folder");
+  if (by_number.empty()) {
+    return Status::Error(folder +
+                         ": no image in the folder (.png, .jpg, .jpeg, .bmp, "
+                         ".tif, .tiff, .pgm, .ppm, .webp)");
+  }
+  frames->clear();
+  for (const auto& [number, file] : by_number) frames->push_back({file, number});
+  return Status::OK();
+}
 
 const char* TrackMethodName(TrackMethod method) {
   return NameOf(kTrackMethodNames, method);

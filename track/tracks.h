@@ -84,6 +84,19 @@ struct Tracks {
 // Points lost: tracked points not visible in the last frame.
 int PointsLost(const Tracks& tracks);
 
+// One image of a folder of frames: its path and frame number.
+struct FrameFile {
+  std::string path;
+  int number = 0;
+};
+
+// The images of a folder of frames in the order of their numbers (track/
+// frame_source.h says which files and how they are numbered); fails naming
+// the folder or file: not a folder, no image, a name without a number, a
+// number twice.
+Status ListFrameFiles(const std::string& folder,
+                      std::vector<FrameFile>* frames);
+
 // tracks.csv: header `frame,point,x,y,visible`, one row per point and
 // frame from the point's start on (frame numbers and point ids of the
 // tracks, pixels; visible 0 where judged occluded or lost, with the
