@@ -1,7 +1,7 @@
 // The functions of the Python module `nrsfm` (python/nrsfm_module.cc binds
-// them and holds their docstrings): reconstruct, refine, read, synth and
-// evaluate, each running the nrsfm tool's steps (tools/) with its options as
-// keywords and its messages as exceptions.
+// them and holds their docstrings): reconstruct, refine, read, synth,
+// track and evaluate, each running the nrsfm tool's steps (tools/) with its
+// options as keywords and its messages as exceptions.
 #ifndef NRSFM_PYTHON_FUNCTIONS_H_
 #define NRSFM_PYTHON_FUNCTIONS_H_
 
@@ -28,6 +28,9 @@ struct Tracks {
   py::object truth = py::none();  // synth: a Reconstruction of the truth
   // synth: camera 0's truth, (3F, P) block layout
   py::object P3_gt = py::none();
+  // track: (F, P, 2) every position from each point's start on (the
+  // prediction where it is not visible; NaN before its start).
+  py::object positions = py::none();
 };
 
 // nrsfm.NrsfmWarning, the category of the warnings about a result.
@@ -42,6 +45,8 @@ Reconstruction Refine(py::handle w, py::handle model_object, py::handle mask,
                       py::handle observation_weights, const py::kwargs& kwargs);
 Tracks Read(py::handle path_object, const py::kwargs& kwargs);
 Tracks Synth(const py::kwargs& kwargs);
+Tracks Track(py::handle frames, py::handle queries, py::handle mask,
+             const py::kwargs& kwargs);
 py::dict Evaluate(py::handle truth_object, py::handle result_object,
                   const py::kwargs& kwargs);
 

@@ -192,6 +192,12 @@ const FunctionOptions& SynthOptionsOf() {
   return options;
 }
 
+const FunctionOptions& TrackOptionsOf() {
+  static const FunctionOptions options =
+      MakeOptions(tools::kTrack, {Role::kTracking});
+  return options;
+}
+
 // evaluate(truth, result, **options): what evaluate reads besides its
 // arguments (truth_var).
 const FunctionOptions& EvaluateOptionsOf() {

@@ -50,6 +50,8 @@ const FunctionOptions& RefineOptionsOf();
 const FunctionOptions& ReadOptionsOf();
 // synth(**options): every synth flag.
 const FunctionOptions& SynthOptionsOf();
+// track(frames, queries, mask, **options): the tracker's options.
+const FunctionOptions& TrackOptionsOf();
 // evaluate(truth, result, **options): truth_var.
 const FunctionOptions& EvaluateOptionsOf();
 

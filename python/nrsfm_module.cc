@@ -174,6 +174,34 @@ std::string SynthDoc() {
          KeywordDoc(SynthOptionsOf());
 }
 
+std::string TrackDoc() {
+  return "track(frames, queries=None, mask=None, **options) -> Tracks\n"
+         "\n"
+         "Point tracks from frames, as `nrsfm track` (docs/tracking.md): "
+         "frames is a\n"
+         "folder of images, a video file, or an (F, H, W) or (F, H, W, 3) "
+         "uint8 array\n"
+         "(BGR); queries None (the tracker chooses points in the first "
+         "frame), a CSV\n"
+         "path (point,frame,x,y) or an (N, 4) array of point, frame, x, y "
+         "(pixels,\n"
+         "x right, y down; frame a frame number); mask None or frames of "
+         "the object\n"
+         "mask (nonzero = object). Returns Tracks with W (2F, P; NaN where "
+         "not\n"
+         "visible), mask (F, P, visible), positions (F, P, 2: the "
+         "prediction where\n"
+         "not visible, NaN before a point's start), frame_ids (the frame "
+         "numbers) and\n"
+         "point_ids; reconstruct(t.W, K, mask=t.mask) takes them. Raises "
+         "ValueError\n"
+         "(or OSError for a path that cannot be opened) with the tool's "
+         "message.\n"
+         "\n"
+         "Keyword options:\n" +
+         KeywordDoc(TrackOptionsOf());
+}
+
 std::string EvaluateDoc() {
   return "evaluate(truth, result, **options) -> dict\n"
          "\n"
@@ -270,10 +298,11 @@ PYBIND11_MODULE(nrsfm, m) {
                     "read: the list's index of each frame when an observation "
                     "list too sparse "
                     "for a W over all its indices was renumbered to the frames "
-                    "it mentions; "
+                    "it mentions; track: the frame numbers; "
                     "else None")
       .def_readonly("point_ids", &Tracks::point_ids,
-                    "read: likewise for the points; else None")
+                    "read: likewise for the points; track: the point ids; "
+                    "else None")
       .def_readonly("confidence", &Tracks::confidence,
                     "read of a keypoint input: (FM, P) detector scores, NaN in "
                     "frames with "
@@ -284,6 +313,9 @@ PYBIND11_MODULE(nrsfm, m) {
           "written file, scored in its object frame); else None")
       .def_readonly("P3_gt", &Tracks::P3_gt,
                     "synth: (3F, P) camera 0's truth; else None")
+      .def_readonly("positions", &Tracks::positions,
+                    "track: (F, P, 2) every position from each point's "
+                    "start on (the prediction where not visible); else None")
       .def("__repr__", [](const Tracks& t) {
         const py::array w = t.W;
         return "<nrsfm.Tracks F=" + std::to_string(w.shape(0) / 2 / t.cameras) +
@@ -305,6 +337,8 @@ PYBIND11_MODULE(nrsfm, m) {
   m.def("evaluate", &Evaluate, Keep(EvaluateDoc()), py::arg("truth"),
         py::arg("result"));
   m.def("synth", &Synth, Keep(SynthDoc()));
+  m.def("track", &Track, Keep(TrackDoc()), py::arg("frames"),
+        py::arg("queries") = py::none(), py::arg("mask") = py::none());
 
   py::dict keywords;
   keywords["reconstruct"] = KeywordTable(ReconstructOptionsOf());
@@ -312,5 +346,6 @@ PYBIND11_MODULE(nrsfm, m) {
   keywords["read"] = KeywordTable(ReadOptionsOf());
   keywords["synth"] = KeywordTable(SynthOptionsOf());
   keywords["evaluate"] = KeywordTable(EvaluateOptionsOf());
+  keywords["track"] = KeywordTable(TrackOptionsOf());
   m.attr("OPTIONS") = keywords;
 }
