@@ -526,7 +526,10 @@ struct SetsNothing {};
   X(std::string, frames_dir, "", kTool, NRSFM_SETS_NOTHING,                    \
     NRSFM_HELP({kTrack,                                                        \
                 "folder of frames (images, in the order of the number in "     \
-                "each name: the frame number of the outputs)."}))              \
+                "each name: the frame number of the outputs)."},               \
+               {kView,                                                         \
+                "folder of the frames (PNG/JPEG, one per frame, numbered as "  \
+                "track reads them), drawn under the 2D view."}))               \
   X(std::string, video, "", kTool, NRSFM_SETS_NOTHING,                         \
     NRSFM_HELP({kTrack, "video file (instead of --frames_dir)."}))             \
   X(std::string, queries, "", kTool, NRSFM_SETS_NOTHING,                       \

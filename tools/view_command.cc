@@ -19,6 +19,7 @@ Status RunView(const CommandFlags& flags, std::ostream& out) {
   options.truth_path = flags.truth;
   options.truth_variable = flags.truth_var;
   options.input_path = flags.input;
+  options.frames_dir = flags.frames_dir;
   FlagTargets targets;
   NRSFM_RETURN_IF_ERROR(ApplyFlags(flags, &targets));
   options.input = targets.input;

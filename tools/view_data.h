@@ -39,6 +39,11 @@ struct ViewDataOptions {
   // result's M cameras (input.num_cameras is not used).
   std::string input_path;
   InputOptions input;
+  // A folder of the frames (one image per frame of the result, numbered as
+  // `nrsfm track` reads them: track/tracks.h, ListFrameFiles), drawn under
+  // the 2D view; "" = none. PNG, JPEG, BMP or WebP (what a browser shows),
+  // one camera.
+  std::string frames_dir;
 };
 
 struct ViewData {
@@ -77,6 +82,9 @@ struct ViewData {
   Eigen::MatrixXd tracks;
   Eigen::VectorXd frame_reprojection_rms;
   double reprojection_rms = 0.0;
+
+  // With frames_dir: each frame's image file as a data: URL, F entries.
+  std::vector<std::string> frame_images;
 
   // From result.json when the directory has one.
   bool solution_usable = true;

@@ -131,6 +131,17 @@ std::string DataJson(const ViewData& data, const ViewPageSources& sources) {
           (data.has_truth ? Vector(data.frame_error) : "null");
   json += ",\n\"reprojection\":" + Tracks(data.reprojection);
   json += ",\n\"tracks\":" + (data.has_tracks ? Tracks(data.tracks) : "null");
+  // The frames' data: URLs hold only base64 characters and the prefix.
+  json += ",\n\"frames\":";
+  if (data.frame_images.empty()) {
+    json += "null";
+  } else {
+    json += "[";
+    for (std::size_t t = 0; t < data.frame_images.size(); ++t) {
+      json += (t > 0 ? ",\"" : "\"") + data.frame_images[t] + "\"";
+    }
+    json += "]";
+  }
   json += ",\n\"frame_reprojection_rms\":" +
           (data.has_tracks ? Vector(data.frame_reprojection_rms) : "null");
   json += ",\n\"edges\":[";

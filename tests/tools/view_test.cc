@@ -12,6 +12,7 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -93,7 +94,7 @@ void ExpectSelfContained(const std::string& html) {
   }
   EXPECT_NE(
       markup.find("content=\"default-src 'none'; script-src 'unsafe-inline'; "
-                  "style-src 'unsafe-inline'\""),
+                  "style-src 'unsafe-inline'; img-src data:\""),
       std::string::npos)
       << "no Content-Security-Policy";
 }
@@ -322,6 +323,62 @@ TEST_F(ViewTest, WithoutTruthOrTracksThePageSaysSo) {
   EXPECT_NE(
       data["meta"]["edge_source"].get<std::string>().find("reprojected points"),
       std::string::npos);
+}
+
+// --frames_dir: the frames' files, byte for byte, as data: URLs of the
+// page (the browser decodes them under the 2D view); a folder that does not
+// fit the result is one error line.
+TEST_F(ViewTest, FramesOfAFolderGoUnderThe2DView) {
+  MakeReconstruction();
+  fs::create_directories(Path("frames"));
+  // 40 tiny "PNG" files: the page does not decode them, so any bytes do;
+  // bytes 0..255 and the lengths 1, 2, 3 mod 3 exercise the base64 padding.
+  std::string bytes;
+  for (int i = 0; i < 256; ++i) bytes += static_cast<char>(i);
+  for (int t = 0; t < 40; ++t) {
+    std::ofstream(Path("frames/" + std::to_string(t) + ".png"),
+                  std::ios::binary)
+        << bytes.substr(0, 250 + t % 3);
+  }
+  const RunResult r =
+      Run("view --result r --frames_dir frames --output frames.html");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string html = testing_util::ReadFileToString(Path("frames.html"));
+  ExpectSelfContained(html);
+  const nlohmann::json data = PageData(html);
+  ASSERT_TRUE(data["frames"].is_array());
+  ASSERT_EQ(data["frames"].size(), 40u);
+  // Hand-computed: base64 of bytes 0, 1, 2 is "AAEC"; 250 bytes end in
+  // "+Q==" (byte 249 = 0xf9), 251 in "+fo=" (249, 250), 252 in "+fr7"
+  // (249-251); each is 336 characters.
+  const std::string first = data["frames"][0];
+  EXPECT_EQ(first.rfind("data:image/png;base64,AAEC", 0), 0u)
+      << first.substr(0, 40);
+  EXPECT_EQ(first.substr(first.size() - 4), "+Q==");
+  const std::string second = data["frames"][1];
+  EXPECT_EQ(second.substr(second.size() - 4), "+fo=");
+  const std::string third = data["frames"][2];
+  EXPECT_EQ(third.substr(third.size() - 4), "+fr7");
+  EXPECT_EQ(first.size(),
+            std::string("data:image/png;base64,").size() + 4 * 84);
+
+  fs::remove(Path("frames/39.png"));
+  const RunResult fewer =
+      Run("view --result r --frames_dir frames --output fewer.html");
+  EXPECT_EQ(fewer.exit_code, 1);
+  EXPECT_NE(fewer.err.find("--frames_dir 'frames' holds 39 frames but the "
+                           "result has F = 40"),
+            std::string::npos)
+      << fewer.err;
+  std::ofstream(Path("frames/39.pgm")) << "P5";
+  const RunResult pgm =
+      Run("view --result r --frames_dir frames --output pgm.html");
+  EXPECT_EQ(pgm.exit_code, 1);
+  EXPECT_NE(pgm.err.find("39.pgm: a page shows PNG, JPEG, BMP or WebP frames"),
+            std::string::npos)
+      << pgm.err;
+  EXPECT_FALSE(fs::exists(Path("fewer.html")));
+  EXPECT_FALSE(fs::exists(Path("pgm.html")));
 }
 
 TEST_F(ViewTest, SkeletonListOfTheTruthIsDrawn) {

@@ -198,6 +198,29 @@
     }
   }
 
+  // The frames under the 2D view (nrsfm view --frames_dir): one image per
+  // frame, decoded by the browser; the view's extent grows to the image's
+  // once the first one is loaded (pixel centres at integer u, v).
+  var frameImages = null, frameSizeKnown = false;
+  function loadFrames() {
+    if (!data.frames) return;
+    frameImages = data.frames.map(function (src) {
+      var image = new Image();
+      image.onload = function () {
+        if (!frameSizeKnown) {
+          frameSizeKnown = true;
+          var b = bounds2d[0];
+          b.u0 = Math.min(b.u0, -0.5); b.v0 = Math.min(b.v0, -0.5);
+          b.u1 = Math.max(b.u1, image.naturalWidth - 0.5);
+          b.v1 = Math.max(b.v1, image.naturalHeight - 0.5);
+        }
+        draw2d();
+      };
+      image.src = src;
+      return image;
+    });
+  }
+
   function draw2d() {
     var canvas = $('view2d');
     var ratio = window.devicePixelRatio || 1;
@@ -224,6 +247,18 @@
       return [ou + s * w2[0], state.vUp ? h - margin - y : top + y];
     }
     var i, p, a, q;
+    var image = frameImages && state.camera === 0 ? frameImages[t] : null;
+    if (image && image.complete && image.naturalWidth > 0) {
+      // The image's corners, at pixel edges -0.5 and size - 0.5.
+      a = px([-0.5, -0.5]);
+      q = px([image.naturalWidth - 0.5, image.naturalHeight - 0.5]);
+      g.save();
+      g.translate(a[0], a[1]);
+      g.scale((q[0] - a[0]) / image.naturalWidth, (q[1] - a[1]) / image.naturalHeight);
+      g.globalAlpha = 0.8;
+      g.drawImage(image, 0, 0);
+      g.restore();
+    }
     if (state.edges) {
       g.strokeStyle = COLOR.estimateEdge;
       g.lineWidth = 1;
@@ -537,6 +572,7 @@
   }
 
   computeBounds();
+  loadFrames();
   setupText();
   setupControls();
   setup3d();
