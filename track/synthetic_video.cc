@@ -284,5 +284,28 @@ Status RenderSyntheticVideo(const SyntheticVideoOptions& options,
   return Status::OK();
 }
 
+void QueriesAndTruth(const SyntheticVideo& video, std::vector<Query>* queries,
+                     TrackTruth* truth) {
+  queries->clear();
+  for (Eigen::Index p = 0; p < video.x.cols(); ++p) {
+    if (video.visible(0, p)) {
+      queries->push_back(
+          {static_cast<int>(p), 0, video.x(0, p), video.y(0, p)});
+    }
+  }
+  const Eigen::Index frames = video.x.rows();
+  const Eigen::Index points = static_cast<Eigen::Index>(queries->size());
+  truth->x.resize(frames, points);
+  truth->y.resize(frames, points);
+  truth->visible.resize(frames, points);
+  truth->labelled = Eigen::MatrixXi::Ones(frames, points);
+  for (Eigen::Index k = 0; k < points; ++k) {
+    const int p = (*queries)[k].point;
+    truth->x.col(k) = video.x.col(p);
+    truth->y.col(k) = video.y.col(p);
+    truth->visible.col(k) = video.visible.col(p);
+  }
+}
+
 }  // namespace track
 }  // namespace nrsfm

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/model/status.h"
+#include "track/track_metrics.h"
 
 namespace nrsfm {
 namespace track {
@@ -51,6 +52,12 @@ struct SyntheticVideo {
 
 Status RenderSyntheticVideo(const SyntheticVideoOptions& options,
                             SyntheticVideo* video);
+
+// The video's scoring set-up: every point visible in frame 0 queried there
+// (`queries`), and the truth of those points in their order (`truth`,
+// every entry labelled; track/track_metrics.h).
+void QueriesAndTruth(const SyntheticVideo& video, std::vector<Query>* queries,
+                     TrackTruth* truth);
 
 }  // namespace track
 }  // namespace nrsfm

@@ -110,24 +110,14 @@ void Synthetic() {
     Die(nrsfm::track::RenderSyntheticVideo(so, &video));
     const int frames = so.frames;
     std::vector<Query> queries;
-    for (int p = 0; p < video.x.cols(); ++p) {
-      if (video.visible(0, p))
-        queries.push_back({p, 0, video.x(0, p), video.y(0, p)});
-    }
-    const int points = static_cast<int>(queries.size());
     TrackTruth truth;
-    truth.x.resize(frames, points);
-    truth.y.resize(frames, points);
-    truth.visible.resize(frames, points);
-    truth.labelled = Eigen::MatrixXi::Ones(frames, points);
+    nrsfm::track::QueriesAndTruth(video, &queries, &truth);
+    const int points = static_cast<int>(queries.size());
     std::vector<bool> group[3];
     std::vector<Eigen::Matrix3Xd> shapes(frames, Eigen::Matrix3Xd(3, points));
     Eigen::MatrixXd true_w(2 * frames, points);
     for (int k = 0; k < points; ++k) {
       const int p = queries[k].point;
-      truth.x.col(k) = video.x.col(p);
-      truth.y.col(k) = video.y.col(p);
-      truth.visible.col(k) = video.visible.col(p);
       for (int g = 0; g < 3; ++g)
         group[g].push_back(static_cast<int>(video.texture[p]) == g);
       for (int f = 0; f < frames; ++f) {

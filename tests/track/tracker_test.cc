@@ -29,10 +29,8 @@ class TrackerTest : public ::testing::Test {
 
   static TrackRun Track(TrackMethod method) {
     std::vector<Query> queries;
-    for (int p = 0; p < video_.x.cols(); ++p) {
-      if (video_.visible(0, p))
-        queries.push_back({p, 0, video_.x(0, p), video_.y(0, p)});
-    }
+    TrackTruth truth;
+    QueriesAndTruth(video_, &queries, &truth);
     FrameSource source;
     EXPECT_TRUE(FrameSource::FromImages(video_.frames, &source).ok());
     TrackOptions options;
@@ -41,19 +39,9 @@ class TrackerTest : public ::testing::Test {
     const Status status =
         TrackPoints(&source, nullptr, queries, options, nullptr, &run.tracks);
     EXPECT_TRUE(status.ok()) << status.message();
-    const int frames = static_cast<int>(video_.x.rows());
-    const int points = static_cast<int>(queries.size());
-    TrackTruth truth;
-    truth.x.resize(frames, points);
-    truth.y.resize(frames, points);
-    truth.visible.resize(frames, points);
-    truth.labelled = Eigen::MatrixXi::Ones(frames, points);
     std::vector<bool> corners, edges;
-    for (int k = 0; k < points; ++k) {
-      const int p = queries[k].point;
-      truth.x.col(k) = video_.x.col(p);
-      truth.y.col(k) = video_.y.col(p);
-      truth.visible.col(k) = video_.visible.col(p);
+    for (const Query& query : queries) {
+      const int p = query.point;
       corners.push_back(video_.texture[p] == Texture::kCorners);
       edges.push_back(video_.texture[p] == Texture::kEdges);
     }
