@@ -5,9 +5,77 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <set>
+#include <utility>
+
+#include "core/io/text_io.h"
 
 namespace nrsfm {
 namespace track {
+
+Status ReadLabels(const std::string& path,
+                  const std::vector<int>& frame_numbers,
+                  std::vector<Query>* queries, TrackTruth* truth) {
+  Eigen::MatrixXd table;
+  Status status =
+      ReadCsvTable(path, {"frame", "point", "x", "y", "visible"}, &table);
+  if (!status.ok()) {
+    const Status joint =
+        ReadCsvTable(path, {"frame", "joint", "x", "y", "visible"}, &table);
+    if (!joint.ok()) return status;
+  }
+  std::map<int, int> index_of;
+  for (std::size_t i = 0; i < frame_numbers.size(); ++i) {
+    index_of[frame_numbers[i]] = static_cast<int>(i);
+  }
+  std::map<int, Query> first;  // point id -> its first visible label
+  std::set<std::pair<int, int>> seen;
+  for (Eigen::Index r = 0; r < table.rows(); ++r) {
+    const std::string where = path + ": row " + std::to_string(r + 1);
+    const int frame = static_cast<int>(table(r, 0));
+    const int point = static_cast<int>(table(r, 1));
+    if (table(r, 0) != frame || table(r, 1) != point || point < 0) {
+      return Status::Error(where + ": frame and point must be integers");
+    }
+    if (index_of.count(frame) == 0) {
+      return Status::Error(where + ": frame " + std::to_string(frame) +
+                           " is not one of the frames");
+    }
+    if (!seen.insert({point, frame}).second) {
+      return Status::Error(where + ": point " + std::to_string(point) +
+                           " is labelled twice in frame " +
+                           std::to_string(frame));
+    }
+    if (table(r, 4) != 1) continue;
+    const auto it = first.find(point);
+    if (it == first.end() || index_of[frame] < index_of[it->second.frame]) {
+      first[point] = {point, frame, table(r, 2), table(r, 3)};
+    }
+  }
+  queries->clear();
+  std::map<int, int> column;
+  for (const auto& [point, query] : first) {
+    column[point] = static_cast<int>(queries->size());
+    queries->push_back(query);
+  }
+  const Eigen::Index frames = static_cast<Eigen::Index>(frame_numbers.size());
+  const Eigen::Index points = static_cast<Eigen::Index>(queries->size());
+  truth->x = Eigen::MatrixXd::Zero(frames, points);
+  truth->y = Eigen::MatrixXd::Zero(frames, points);
+  truth->visible = Eigen::MatrixXi::Zero(frames, points);
+  truth->labelled = Eigen::MatrixXi::Zero(frames, points);
+  for (Eigen::Index r = 0; r < table.rows(); ++r) {
+    const auto it = column.find(static_cast<int>(table(r, 1)));
+    if (it == column.end()) continue;  // never visible: not scored
+    const int f = index_of[static_cast<int>(table(r, 0))], k = it->second;
+    truth->labelled(f, k) = 1;
+    truth->visible(f, k) = table(r, 4) == 1;
+    truth->x(f, k) = table(r, 2);
+    truth->y(f, k) = table(r, 3);
+  }
+  return Status::OK();
+}
 
 TrackScore ScoreTracks(const Tracks& tracks, const TrackTruth& truth,
                        const std::vector<double>& thresholds,

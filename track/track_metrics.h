@@ -9,8 +9,10 @@
 #define NRSFM_TRACK_TRACK_METRICS_H_
 
 #include <Eigen/Core>
+#include <string>
 #include <vector>
 
+#include "core/model/status.h"
 #include "track/tracks.h"
 
 namespace nrsfm {
@@ -30,6 +32,17 @@ struct TrackScore {
   double delta = 0.0;
   double occlusion_accuracy = 0.0;
 };
+
+// Labels as TAP-Vid uses them, from a CSV `frame,point,x,y,visible` (or
+// `frame,joint,…`; frame numbers of `frame_numbers`, pixels; rows with
+// visible 0 carry no position): each labelled point is queried at its
+// first visible label (`queries`, in increasing point order), and `truth`
+// holds every label of those points on the frames of `frame_numbers`.
+// Fails naming the file and row: another header, a frame not in
+// frame_numbers, a point and frame twice, a point never visible.
+Status ReadLabels(const std::string& path,
+                  const std::vector<int>& frame_numbers,
+                  std::vector<Query>* queries, TrackTruth* truth);
 
 // Scores the points with select[p] true (all when empty) over the frames
 // after each one's start; `thresholds` in pixels (TAP-Vid: 1, 2, 4, 8, 16

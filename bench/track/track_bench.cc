@@ -212,47 +212,14 @@ void Dog() {
                 labels_file.string().c_str());
     return;
   }
-  Eigen::MatrixXd labels;
-  Die(nrsfm::ReadCsvTable(labels_file.string(),
-                          {"frame", "joint", "x", "y", "visible"}, &labels));
   FrameSource source;
   Die(FrameSource::OpenFolder((dir / "dog").string(), &source));
-  std::map<int, int> index_of;
-  for (int i = 0; i < source.num_frames(); ++i)
-    index_of[source.frame_numbers()[i]] = i;
-  // Each joint starts at its first labelled visible frame (TAP-Vid).
-  std::map<int, Query> first;
-  for (Eigen::Index r = 0; r < labels.rows(); ++r) {
-    if (labels(r, 4) != 1) continue;
-    const int joint = static_cast<int>(labels(r, 1)),
-              frame = static_cast<int>(labels(r, 0));
-    if (!first.count(joint) || frame < first[joint].frame) {
-      first[joint] = {joint, frame, labels(r, 2), labels(r, 3)};
-    }
-  }
   std::vector<Query> queries;
-  std::map<int, int> column;
-  for (const auto& [joint, query] : first) {
-    column[joint] = static_cast<int>(queries.size());
-    queries.push_back(query);
-  }
-  const int frames = source.num_frames(),
-            points = static_cast<int>(queries.size());
   TrackTruth truth;
-  truth.x = Eigen::MatrixXd::Zero(frames, points);
-  truth.y = Eigen::MatrixXd::Zero(frames, points);
-  truth.visible = Eigen::MatrixXi::Zero(frames, points);
-  truth.labelled = Eigen::MatrixXi::Zero(frames, points);
-  for (Eigen::Index r = 0; r < labels.rows(); ++r) {
-    const int joint = static_cast<int>(labels(r, 1));
-    if (!column.count(joint)) continue;
-    const int f = index_of.at(static_cast<int>(labels(r, 0))),
-              k = column[joint];
-    truth.labelled(f, k) = 1;
-    truth.visible(f, k) = labels(r, 4) == 1;
-    truth.x(f, k) = labels(r, 2);
-    truth.y(f, k) = labels(r, 3);
-  }
+  Die(nrsfm::track::ReadLabels(labels_file.string(), source.frame_numbers(),
+                               &queries, &truth));
+  const int frames = source.num_frames();
+  const int points = static_cast<int>(queries.size());
   std::printf(
       "## dog (%d joints, %d frames; TAP-Vid: <d> over 4, 8, 16 px)\n\n| "
       "method | <d> | median error px | visibility acc. | seconds "
