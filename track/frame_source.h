@@ -1,11 +1,12 @@
 // The frames of a video or of a folder of images, read one at a time, so a
 // long sequence never sits in memory at once (OpenCV's imgcodecs and videoio
-// decode; nothing of OpenCV leaves track/).
+// decode; its types appear in no header outside track/).
 //
 // A folder (ListFrameFiles, track/tracks.h): every file with an image
 // extension (.png .jpg .jpeg .bmp .tif .tiff .pgm .ppm .webp, any case);
 // each file's frame number is the last run of digits in its name, and the
-// frames are in the order of that number (by name for zero-padded names). A video: frames 0, 1, … in decoding order.
+// frames are in the order of that number (by name for zero-padded names).
+// A video: frames 0, 1, … in decoding order.
 // Frames are returned as 8-bit grey, all of the size of the first frame.
 // Errors (one line naming the file): a missing or empty folder, a file name
 // without a number or a number twice, a file that does not decode, frames of
