@@ -4,8 +4,8 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
-#include <map>
 #include <limits>
+#include <map>
 #include <set>
 #include <utility>
 
@@ -80,7 +80,8 @@ Status ListFrameFiles(const std::string& folder,
                          ".tif, .tiff, .pgm, .ppm, .webp)");
   }
   frames->clear();
-  for (const auto& [number, file] : by_number) frames->push_back({file, number});
+  for (const auto& [number, file] : by_number)
+    frames->push_back({file, number});
   return Status::OK();
 }
 
