@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdlib>
 #include <filesystem>
 #include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -52,6 +53,9 @@ cv::Mat DecodeGrey(const std::string& file) {
 
 void QuietOpenCvLog() {
   cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
+  // FFmpeg's own messages ("moov atom not found"): panics only (OpenCV
+  // reads the variable when it first opens a video; a caller's value stays).
+  setenv("OPENCV_FFMPEG_LOGLEVEL", "0", /*overwrite=*/0);
 }
 
 struct FrameSource::Video {
@@ -61,10 +65,9 @@ struct FrameSource::Video {
 
   Status Reopen() {
     capture.release();
-    // FFmpeg first (Debian's backend for .mp4 and most files), then any
-    // other backend OpenCV has.
-    if (!capture.open(path, cv::CAP_FFMPEG) &&
-        !capture.open(path, cv::CAP_ANY)) {
+    // FFmpeg only (Debian's backend: .mp4, .avi, .mkv, .mov, …): the others
+    // OpenCV would try (GStreamer, cameras) probe devices and leak.
+    if (!capture.open(path, cv::CAP_FFMPEG)) {
       return Status::Error(path + ": cannot open the video (no decoder?)");
     }
     next = 0;

@@ -25,9 +25,10 @@
 namespace nrsfm {
 namespace track {
 
-// OpenCV logs its own failures (a backend that cannot open a file, …) to
-// stderr; the errors here say what matters. A main() calls this to keep
-// OpenCV quiet (the library never does: logging is the program's choice).
+// OpenCV and FFmpeg log their own failures (a file that does not decode, …)
+// to stderr; the errors here say what matters. A main() calls this, before
+// any video is opened, to keep both quiet (the library never does: logging
+// is the program's choice).
 void QuietOpenCvLog();
 
 class FrameSource {
@@ -35,8 +36,9 @@ class FrameSource {
   // A folder of images: `path` names it. The frames are listed, and the
   // first one decoded for its size.
   static Status OpenFolder(const std::string& path, FrameSource* source);
-  // A video file; the whole file is read once to count its frames (a
-  // container's frame count is not to be trusted).
+  // A video file, through OpenCV's FFmpeg backend; the whole file is read
+  // once to count its frames (a container's frame count is not to be
+  // trusted).
   static Status OpenVideo(const std::string& path, FrameSource* source);
   // Images held by the caller (the Python module, tests): all of one size,
   // 8-bit grey or BGR; frame numbers 0, 1, ….

@@ -115,6 +115,9 @@ TEST_F(TrackCliTest, BadInputIsOneLineAndWritesNothing) {
        "nowhere: not a folder of frames"},
       {"track --video nowhere.mp4 --output o",
        "nowhere.mp4: no such video file"},
+      // FFmpeg's own message on it is silenced: one line.
+      {"track --video junk.mp4 --output o",
+       "junk.mp4: cannot open the video (no decoder?)"},
       {"track --frames_dir frames", "--output is required"},
       {"track --frames_dir frames --queries bad_frame.csv --output o",
        "query of point 2: frame 75 is not one of frames's frames"},
@@ -127,6 +130,7 @@ TEST_F(TrackCliTest, BadInputIsOneLineAndWritesNothing) {
        "unknown value \"flow\" (expected one of rank, lk)"},
   };
   std::ofstream(Path("bad_frame.csv")) << "point,frame,x,y\n2,75,10,10\n";
+  std::ofstream(Path("junk.mp4")) << "not a video";
   std::ofstream(Path("outside.csv")) << "point,frame,x,y\n1,0,330,10\n";
   for (const auto& c : cases) {
     const auto run = Run(c.args);

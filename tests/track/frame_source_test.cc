@@ -96,7 +96,7 @@ TEST(FrameSourceTest, BadFoldersAreErrorsThatNameTheFile) {
 
 TEST(FrameSourceTest, AVideoIsCountedAndReadInOrder) {
   const std::string dir = testing_util::MakeTempDir("video");
-  QuietOpenCvLog();  // the backends OpenCV tries on the fake file below
+  QuietOpenCvLog();  // FFmpeg's message on the fake file below
   const std::string path = dir + "/clip.avi";
   // OpenCV's own Motion-JPEG writer: no external encoder needed.
   cv::VideoWriter writer(path, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 10,
