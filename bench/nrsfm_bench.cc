@@ -5,7 +5,7 @@
 // yoga and the perspective/ sequences when
 // ../shared/datasets exists, and a small scale sweep.
 //
-//   --suite=default|paper-random|superquadric|shoe|mocap|robustness|perspective|scale|all
+//   --suite=default|paper-random|superquadric|shoe|mocap|robustness|perspective|uncertainty|scale|all
 //   --full            paper-sized runs (R = 30, full K ranges, K sweeps)
 //   --runs=R          random runs per setting (overrides the suite default)
 //   --datasets_dir    folder of the mocap .mat files
@@ -85,6 +85,7 @@ const std::vector<Suite>& AllSuites() {
       {"mocap", nrsfm::bench::RunMocapSuite},
       {"robustness", nrsfm::bench::RunRobustnessSuite},
       {"perspective", nrsfm::bench::RunPerspectiveSuite},
+      {"uncertainty", nrsfm::bench::RunUncertaintySuite},
       {"scale", nrsfm::bench::RunScaleSuite},
   };
   return suites;

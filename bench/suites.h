@@ -28,6 +28,10 @@ Status RunRobustnessSuite(const BenchConfig& config, Json* out);
 // The pinhole re-projections and the real perspective sequences
 // (bench/suite_robustness.cc).
 Status RunPerspectiveSuite(const BenchConfig& config, Json* out);
+// Per-point covariances against the truth: calibration on random bases and
+// the shoe at three noise levels, ranking on the real sequences and a slow
+// orbit of each (bench/suite_uncertainty.cc).
+Status RunUncertaintySuite(const BenchConfig& config, Json* out);
 // Synthetic (F, P, K) sweep: time per LM iteration, total time, peak memory.
 Status RunScaleSuite(const BenchConfig& config, Json* out);
 

@@ -30,6 +30,7 @@
 #include "solvers/start/low_rank_completion.h"
 #include "solvers/start/start.h"
 #include "tools/track_flags.h"
+#include "tools/uncertainty_flags.h"
 
 namespace nrsfm {
 namespace tools {
@@ -106,6 +107,7 @@ struct FlagTargets {
   SelectNumBasesOptions select;
   NumBasesFlag num_bases;
   track::TrackOptions track;
+  UncertaintyRequest uncertainty;
 
   // The Check() of each options struct on its own (keypoints, input, start,
   // problem, solver, prior rule, K selection, tracker): the rules of single
@@ -525,7 +527,8 @@ struct SetsNothing {};
                 "and the camera-frame truth X, pixels)."}))                    \
   X(bool, quiet, false, kTool, NRSFM_SETS_NOTHING,                             \
     NRSFM_HELP({kReconstruct | kTrack, "no progress lines on stderr."}))       \
-  NRSFM_TRACK_FLAGS(X)
+  NRSFM_TRACK_FLAGS(X)                                                         \
+  NRSFM_UNCERTAINTY_FLAGS(X)
 
 namespace nrsfm {
 namespace tools {

@@ -170,6 +170,21 @@ Status RunReconstruct(const CommandFlags& flags, std::ostream& out,
   write_options.num_threads = flags.threads;
   NRSFM_RETURN_IF_ERROR(WriteReconstruction(
       flags.output, measurements, result.model, report, write_options));
+  if (run.uncertainty_requested && run.uncertainty_status.ok()) {
+    NRSFM_RETURN_IF_ERROR(
+        WriteCovariances(flags.output, measurements.num_frames,
+                         measurements.num_cameras, measurements.num_points,
+                         run.uncertainty.points, run.uncertainty.rotations));
+    const UncertaintySummary& u = run.uncertainty_summary;
+    out << "uncertainty: point std median " << std::setprecision(4)
+        << u.median_point_std << ", largest " << u.max_point_std
+        << ", worst frame " << u.worst_frame << "; depth std median "
+        << u.median_depth_std << " (" << std::setprecision(3)
+        << 100 * u.relative_depth_std << " % of the extent); noise std "
+        << std::setprecision(4) << run.uncertainty.noise_std
+        << (run.uncertainty.noise_estimated ? " (estimated)" : " (given)")
+        << "; " << std::setprecision(3) << run.uncertainty.seconds << " s\n";
+  }
 
   out << "K = " << num_bases << ", start: " << report.start_used
       << " (reprojection RMS " << std::setprecision(6)

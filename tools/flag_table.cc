@@ -302,6 +302,7 @@ Status FlagTargets::CheckParts() const {
   NRSFM_RETURN_IF_ERROR(reconstruct.solver.Check());
   NRSFM_RETURN_IF_ERROR(reconstruct.prior_rule.Check());
   NRSFM_RETURN_IF_ERROR(track.Check());
+  NRSFM_RETURN_IF_ERROR(uncertainty.options.Check());
   return select.Check();
 }
 
@@ -309,6 +310,7 @@ Status FlagTargets::Check() const {
   NRSFM_RETURN_IF_ERROR(input.Check());
   NRSFM_RETURN_IF_ERROR(reconstruct.Check());
   NRSFM_RETURN_IF_ERROR(track.Check());
+  NRSFM_RETURN_IF_ERROR(uncertainty.options.Check());
   return select.Check();
 }
 

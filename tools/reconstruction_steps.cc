@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <filesystem>
+#include <iomanip>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -170,12 +171,28 @@ Status RunReconstruction(const FlagTargets& targets,
     run->num_bases = run->selection.num_bases;
     run->result = std::move(run->selection.reconstruction);
     run->selection.reconstruction = ReconstructResult();
-    return Status::OK();
+  } else {
+    ReconstructOptions fixed = options;
+    fixed.start.num_bases = run->num_bases;
+    const Status status = Reconstruct(fixed, measurements, &run->result);
+    if (!status.ok()) {
+      return context.empty() ? status : status.WithContext(context);
+    }
   }
-  ReconstructOptions fixed = options;
-  fixed.start.num_bases = run->num_bases;
-  Status status = Reconstruct(fixed, measurements, &run->result);
-  return context.empty() ? status : status.WithContext(context);
+  if (targets.uncertainty.compute) {
+    ReconstructOptions used = options;
+    used.start.num_bases = run->num_bases;
+    run->uncertainty_requested = true;
+    UncertaintyOptions uncertainty = targets.uncertainty.options;
+    uncertainty.num_threads = options.solver.num_threads;
+    run->uncertainty_status = ComputeResultUncertainty(
+        uncertainty, used, measurements, run->result, &run->uncertainty);
+    if (run->uncertainty_status.ok()) {
+      run->uncertainty_summary =
+          SummariseUncertainty(run->uncertainty, run->result.model);
+    }
+  }
+  return Status::OK();
 }
 
 ReconstructionReport MakeReport(const CommandFlags& flags,
@@ -251,6 +268,30 @@ ReconstructionReport MakeReport(const CommandFlags& flags,
   if (!result.refine.usable) {
     report.warnings.push_back("refinement not usable: " +
                               result.refine.message);
+  }
+  if (run.uncertainty_requested && !run.uncertainty_status.ok()) {
+    report.warnings.push_back(run.uncertainty_status.message() +
+                              "; no covariance written");
+  } else if (run.uncertainty_requested) {
+    const UncertaintySummary& u = run.uncertainty_summary;
+    report.diagnostics.insert(
+        report.diagnostics.end(),
+        {{"uncertainty_noise_std", run.uncertainty.noise_std},
+         {"uncertainty_median_point_std", u.median_point_std},
+         {"uncertainty_max_point_std", u.max_point_std},
+         {"uncertainty_worst_frame", static_cast<double>(u.worst_frame)},
+         {"uncertainty_worst_frame_std", u.worst_frame_std},
+         {"uncertainty_median_depth_std", u.median_depth_std},
+         {"uncertainty_relative_depth_std", u.relative_depth_std},
+         {"uncertainty_seconds", run.uncertainty.seconds}});
+    for (std::string& warning : report.warnings) {
+      if (warning.rfind("little rotation", 0) != 0) continue;
+      std::ostringstream quote;
+      quote << std::setprecision(3) << "; the predicted depth std of a point "
+            << "is " << u.median_depth_std << " (median, "
+            << 100 * u.relative_depth_std << " % of the shape's extent)";
+      warning += quote.str();
+    }
   }
   report.versions = {{"nrsfm", NRSFM_VERSION}, {"ceres", CERES_VERSION_STRING}};
   if (errors != nullptr) {

@@ -18,6 +18,7 @@
 #include "core/model/measurements.h"
 #include "core/model/status.h"
 #include "solvers/pipeline/reconstruct.h"
+#include "solvers/pipeline/result_uncertainty.h"
 #include "solvers/pipeline/select_num_bases.h"
 #include "tools/command_flags.h"
 
@@ -79,6 +80,12 @@ struct ReconstructionRun {
   int num_bases = 0;               // K used (chosen, with auto)
   SelectNumBasesResult selection;  // with auto: the curve and noise estimate
   ReconstructResult result;
+  // --uncertainty: its status (an error is a warning of the result, not of
+  // the run), the covariances and their summary when it is OK.
+  bool uncertainty_requested = false;
+  Status uncertainty_status;
+  Uncertainty uncertainty;
+  UncertaintySummary uncertainty_summary;
 };
 
 // Runs it on `measurements` with the options of `targets` (ApplyFlags; the

@@ -1,5 +1,6 @@
 #include "core/io/result_writer.h"
 
+#include <glog/logging.h>
 #include <matio.h>
 
 #include <Eigen/Core>
@@ -36,6 +37,12 @@ Status WritePointsCamera(const fs::path& dir, const Model& model) {
     }
   }
   return out.Close();
+}
+
+void PrintCovariance(TextWriter* out, const Eigen::Matrix3d& c) {
+  out->Char(',').Number(c(0, 0)).Char(',').Number(c(0, 1)).Char(',');
+  out->Number(c(0, 2)).Char(',').Number(c(1, 1)).Char(',');
+  out->Number(c(1, 2)).Char(',').Number(c(2, 2)).Char('\n');
 }
 
 Status WritePointsObject(const fs::path& dir, const Model& model) {
@@ -367,6 +374,43 @@ Status WriteReconstruction(const std::string& dir,
   if (status.ok()) status = MoveIntoPlace(staging, target, exists);
   if (!status.ok()) fs::remove_all(staging, ec);
   return status;
+}
+
+Status WriteCovariances(const std::string& dir, int num_frames, int num_cameras,
+                        int num_points,
+                        const std::vector<Eigen::Matrix3d>& points,
+                        const std::vector<Eigen::Matrix3d>& rotations) {
+  const size_t views = static_cast<size_t>(num_frames) * num_cameras;
+  CHECK_EQ(points.size(), views * num_points);
+  CHECK_EQ(rotations.size(), views);
+  TextWriter out;
+  NRSFM_RETURN_IF_ERROR(
+      out.Open((fs::path(dir) / "points_covariance.csv").string()));
+  out.Text("frame,camera,point,xx,xy,xz,yy,yz,zz\n");
+  for (int t = 0; t < num_frames; ++t) {
+    for (int c = 0; c < num_cameras; ++c) {
+      for (int p = 0; p < num_points; ++p) {
+        out.Int(t).Char(',').Int(c).Char(',').Int(p);
+        PrintCovariance(
+            &out,
+            points[(static_cast<size_t>(t) * num_cameras + c) * num_points +
+                   p]);
+      }
+    }
+  }
+  NRSFM_RETURN_IF_ERROR(out.Close());
+  TextWriter rotation_out;
+  NRSFM_RETURN_IF_ERROR(
+      rotation_out.Open((fs::path(dir) / "rotations_covariance.csv").string()));
+  rotation_out.Text("frame,camera,xx,xy,xz,yy,yz,zz\n");
+  for (int t = 0; t < num_frames; ++t) {
+    for (int c = 0; c < num_cameras; ++c) {
+      rotation_out.Int(t).Char(',').Int(c);
+      PrintCovariance(&rotation_out,
+                      rotations[static_cast<size_t>(t) * num_cameras + c]);
+    }
+  }
+  return rotation_out.Close();
 }
 
 }  // namespace nrsfm

@@ -106,6 +106,18 @@ Status WriteReconstruction(const std::string& dir,
                            const ReconstructionReport& report,
                            const WriteOptions& options);
 
+// Adds the covariances of --uncertainty to the result directory DIR (written
+// by WriteReconstruction): points_covariance.csv, header
+// frame,camera,point,xx,xy,xz,yy,yz,zz, the 3 × 3 covariance of each point
+// of points_camera.csv (its units², frame centred), and
+// rotations_covariance.csv, frame,camera,xx,…,zz, of each rotation's
+// body-frame perturbation (radians²). points[(t · M + c) · P + p],
+// rotations[t · M + c]; NaN for what was left out. CHECKs the sizes.
+Status WriteCovariances(const std::string& dir, int num_frames, int num_cameras,
+                        int num_points,
+                        const std::vector<Eigen::Matrix3d>& points,
+                        const std::vector<Eigen::Matrix3d>& rotations);
+
 }  // namespace nrsfm
 
 #endif  // NRSFM_CORE_IO_RESULT_WRITER_H_

@@ -11,6 +11,19 @@ namespace {
 
 constexpr int kMaxListed = 20;
 
+// 0 … n − 1 without the ascending `left_out`.
+std::vector<int> Kept(int n, const std::vector<int>& left_out) {
+  std::vector<int> kept;
+  for (int i = 0, j = 0; i < n; ++i) {
+    if (j < static_cast<int>(left_out.size()) && left_out[j] == i) {
+      ++j;
+    } else {
+      kept.push_back(i);
+    }
+  }
+  return kept;
+}
+
 // The least number of kept points a view of frame t sees, and that view's
 // camera.
 int FewestPointsOfFrame(const Measurements& m,
@@ -162,6 +175,52 @@ Eigen::ArrayXXd WithoutUnobserved(const Eigen::ArrayXXd& per_observation,
             per_observation(m.View(frames[i], c), points[j]);
       }
     }
+  }
+  return kept;
+}
+
+ProblemOptions WithoutUnobserved(const ProblemOptions& options,
+                                 const Measurements& measurements,
+                                 const Unobserved& unobserved) {
+  ProblemOptions kept = options;
+  kept.observation_weights =
+      WithoutUnobserved(options.observation_weights, measurements, unobserved);
+  int& reference = kept.smoothness_edges.reference_frame;
+  if (reference >= 0) {
+    const auto& dropped = unobserved.frames;
+    if (std::binary_search(dropped.begin(), dropped.end(), reference)) {
+      reference = -1;  // a left-out frame: the default choice among the kept
+    } else {
+      reference -= static_cast<int>(
+          std::lower_bound(dropped.begin(), dropped.end(), reference) -
+          dropped.begin());
+    }
+  }
+  return kept;
+}
+
+Model WithoutUnobserved(const Model& model, const Unobserved& unobserved) {
+  const std::vector<int> frames = Kept(model.num_frames, unobserved.frames);
+  const std::vector<int> points = Kept(model.num_points, unobserved.points);
+  Model kept;
+  kept.Resize(static_cast<int>(frames.size()), model.num_cameras,
+              static_cast<int>(points.size()), model.num_bases);
+  kept.camera = model.camera;
+  kept.intrinsics = model.intrinsics;
+  kept.rig_rotations = model.rig_rotations;
+  kept.rig_scales = model.rig_scales;
+  for (size_t k = 0; k < frames.size(); ++k) {
+    for (int c = 0; c < model.num_cameras; ++c) {
+      const int from = model.View(frames[k], c), to = kept.View(k, c);
+      kept.rotations.col(to) = model.rotations.col(from);
+      kept.translations.col(to) = model.translations.col(from);
+      kept.scales(to) = model.scales(from);
+      kept.depths(to) = model.depths(from);
+    }
+    kept.weights.col(k) = model.weights.col(frames[k]);
+  }
+  for (size_t k = 0; k < points.size(); ++k) {
+    kept.basis.col(k) = model.basis.col(points[k]);
   }
   return kept;
 }

@@ -43,6 +43,7 @@
 #include "core/model/measurements.h"
 #include "core/model/model.h"
 #include "core/model/status.h"
+#include "problems/problem_options.h"
 
 namespace nrsfm {
 
@@ -78,6 +79,16 @@ Measurements WithoutUnobserved(const Measurements& measurements,
 Eigen::ArrayXXd WithoutUnobserved(const Eigen::ArrayXXd& per_observation,
                                   const Measurements& measurements,
                                   const Unobserved& unobserved);
+
+// The problem options for WithoutUnobserved(measurements): the observation
+// weights of the kept observations, the smoothness reference frame
+// renumbered (a left-out one becomes -1, the default choice).
+ProblemOptions WithoutUnobserved(const ProblemOptions& options,
+                                 const Measurements& measurements,
+                                 const Unobserved& unobserved);
+
+// The model of the kept frames and points (the inverse of ExpandModel).
+Model WithoutUnobserved(const Model& model, const Unobserved& unobserved);
 
 // A model of WithoutUnobserved(measurements) on the full index of
 // `measurements` (F, M, P of the input, K of the model): the kept frames'

@@ -221,22 +221,8 @@ Status ReconstructInUnits(const ReconstructOptions& options,
   NRSFM_RETURN_IF_ERROR(
       FindUnobserved(measurements, options.start.num_bases, &unobserved));
   if (!unobserved.empty()) {
-    // The options that index observations or frames follow the kept ones.
     ReconstructOptions kept = options;
-    kept.problem.observation_weights = WithoutUnobserved(
-        options.problem.observation_weights, measurements, unobserved);
-    int& reference = kept.problem.smoothness_edges.reference_frame;
-    if (reference >= 0) {
-      const auto& dropped = unobserved.frames;
-      if (std::binary_search(dropped.begin(), dropped.end(), reference)) {
-        // a left-out frame: the default choice among the kept ones
-        reference = -1;
-      } else {
-        reference -= static_cast<int>(
-            std::lower_bound(dropped.begin(), dropped.end(), reference) -
-            dropped.begin());
-      }
-    }
+    kept.problem = WithoutUnobserved(options.problem, measurements, unobserved);
     NRSFM_RETURN_IF_ERROR(ReconstructInUnits(
         kept, WithoutUnobserved(measurements, unobserved), result));
     result->model = ExpandModel(result->model, measurements, unobserved);
