@@ -96,6 +96,8 @@ struct Reconstruction {
   py::object points_camera, points_object;
   py::dict summary;
   py::list dropped_points, dropped_frames;
+  // uncertainty=True: (F, M, P, 3, 3) and (F, M, 3, 3); None otherwise.
+  py::object points_covariance = py::none(), rotations_covariance = py::none();
 };
 
 // The arrays of `model` (summary and dropped lists left empty).

@@ -196,6 +196,26 @@ Reconstruction Reconstruct(py::handle w, py::handle k, py::handle mask,
   }
   result.dropped_points = py::cast(run.result.dropped_points);
   result.dropped_frames = py::cast(run.result.dropped_frames);
+  if (run.uncertainty_requested && run.uncertainty_status.ok()) {
+    const py::ssize_t f = measurements.num_frames, m = measurements.num_cameras,
+                      p = measurements.num_points;
+    py::array_t<double> points({f, m, p, py::ssize_t{3}, py::ssize_t{3}});
+    py::array_t<double> rotations({f, m, py::ssize_t{3}, py::ssize_t{3}});
+    double* out = points.mutable_data();
+    for (const Eigen::Matrix3d& c : run.uncertainty.points) {
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) *out++ = c(i, j);
+      }
+    }
+    out = rotations.mutable_data();
+    for (const Eigen::Matrix3d& c : run.uncertainty.rotations) {
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) *out++ = c(i, j);
+      }
+    }
+    result.points_covariance = points;
+    result.rotations_covariance = rotations;
+  }
   Warn(report.warnings);
   if (!run.result.refine.usable) {
     ThrowUnusable("the refinement did not give a usable solution (" +

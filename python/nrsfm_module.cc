@@ -281,6 +281,14 @@ PYBIND11_MODULE(nrsfm, m) {
       .def_readonly(
           "dropped_frames", &Reconstruction::dropped_frames,
           "frames left out for too few observations (NaN in the arrays)")
+      .def_readonly("points_covariance", &Reconstruction::points_covariance,
+                    "uncertainty=True: (F, M, P, 3, 3) covariance of each "
+                    "centred point of points_camera (docs/uncertainty.md); "
+                    "else None")
+      .def_readonly("rotations_covariance",
+                    &Reconstruction::rotations_covariance,
+                    "uncertainty=True: (F, M, 3, 3) covariance of each "
+                    "rotation's body-frame perturbation, rad^2; else None")
       .def("__repr__", [](const Reconstruction& r) {
         const py::array w = r.weights, b = r.basis, rot = r.rotations;
         return "<nrsfm.Reconstruction F=" + std::to_string(rot.shape(0)) +

@@ -4,12 +4,14 @@
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "core/eval/metrics.h"
+#include "core/eval/uncertainty_metrics.h"
 #include "core/io/ground_truth.h"
 #include "core/io/mat_io.h"
 #include "core/io/read_measurements.h"
@@ -282,7 +284,28 @@ Status RunEvaluate(const CommandFlags& flags, std::ostream& out) {
   if (num_bases > 0 && errors.e3d_frame == EvaluationFrame::kObject) {
     floor = ComputeRankFloorE3D(truth.points_in_object, num_bases);
   }
-  out << EvaluationJson(errors, num_bases, floor) << "\n";
+  std::string line = EvaluationJson(errors, num_bases, floor);
+  // A result with --uncertainty: how well its covariances describe the
+  // actual errors (core/eval/uncertainty_metrics.h).
+  if (std::filesystem::exists(
+          std::filesystem::path(flags.result) / "points_covariance.csv", ec)) {
+    std::vector<Eigen::Matrix3d> covariances;
+    NRSFM_RETURN_IF_ERROR(ReadPointsCovarianceCsv(
+        flags.result, /*camera=*/0, estimate.NumFrames(), estimate.NumPoints(),
+        &covariances));
+    if (truth.NumFrames() == estimate.NumFrames() &&
+        truth.NumPoints() == estimate.NumPoints()) {
+      const UncertaintyCalibration score = ScoreUncertainty(
+          truth.points_in_camera, estimate.points_in_camera, covariances);
+      nlohmann::ordered_json json = nlohmann::ordered_json::parse(line);
+      json["uncertainty_inside_95"] = score.inside_95;
+      json["uncertainty_mean_mahalanobis2"] = score.mean_mahalanobis_squared;
+      json["uncertainty_spearman_per_point"] = score.spearman_per_point;
+      json["uncertainty_spearman_per_entry"] = score.spearman_per_entry;
+      line = json.dump();
+    }
+  }
+  out << line << "\n";
   return Status::OK();
 }
 

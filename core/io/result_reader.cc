@@ -204,6 +204,50 @@ Status ReadResultShapes(const std::string& dir, int camera,
   return Status::OK();
 }
 
+Status ReadPointsCovarianceCsv(const std::string& dir, int camera,
+                               int num_frames, int num_points,
+                               std::vector<Eigen::Matrix3d>* covariances) {
+  const std::string file =
+      (std::filesystem::path(dir) / "points_covariance.csv").string();
+  Eigen::MatrixXd table;
+  NRSFM_RETURN_IF_ERROR(ReadCsvTable(
+      file, {"frame", "camera", "point", "xx", "xy", "xz", "yy", "yz", "zz"},
+      &table));
+  NRSFM_RETURN_IF_ERROR(CheckIndexColumns(table, 3, file));
+  const Eigen::Matrix3d nan = Eigen::Matrix3d::Constant(NAN);
+  std::vector<Eigen::Matrix3d> result(
+      static_cast<size_t>(num_frames) * num_points, nan);
+  std::vector<bool> seen(result.size(), false);
+  for (Eigen::Index r = 0; r < table.rows(); ++r) {
+    if (static_cast<int>(table(r, 1)) != camera) continue;
+    const long t = static_cast<long>(table(r, 0));
+    const long p = static_cast<long>(table(r, 2));
+    const std::string where = file + ": row " + std::to_string(r + 1);
+    if (t >= num_frames || p >= num_points) {
+      return Status::Error(where + ": frame " + std::to_string(t) + ", point " +
+                           std::to_string(p) + " outside the result's " +
+                           std::to_string(num_frames) + " frames x " +
+                           std::to_string(num_points) + " points");
+    }
+    const size_t i = static_cast<size_t>(t) * num_points + p;
+    if (seen[i]) return Status::Error(where + ": (frame, point) appears twice");
+    seen[i] = true;
+    Eigen::Matrix3d& c = result[i];
+    c << table(r, 3), table(r, 4), table(r, 5), table(r, 4), table(r, 6),
+        table(r, 7), table(r, 5), table(r, 7), table(r, 8);
+  }
+  for (size_t i = 0; i < seen.size(); ++i) {
+    if (!seen[i]) {
+      return Status::Error(file + ": no row for frame " +
+                           std::to_string(i / num_points) + ", point " +
+                           std::to_string(i % num_points) + ", camera " +
+                           std::to_string(camera));
+    }
+  }
+  *covariances = std::move(result);
+  return Status::OK();
+}
+
 Status ReadResultNumBases(const std::string& dir, int* num_bases) {
   const std::string path =
       (std::filesystem::path(dir) / "result.json").string();

@@ -32,6 +32,15 @@ Status ReadPointsCameraCsv(const std::string& path, int camera,
 Status ReadResultShapes(const std::string& dir, int camera,
                         GroundTruth* shapes);
 
+// Reads camera `camera`'s point covariances of points_covariance.csv in
+// result directory `dir` (header frame,camera,point,xx,xy,xz,yy,yz,zz;
+// core/io/result_writer.h WriteCovariances) for F frames and P points:
+// covariances[t · P + p]. Fails, naming the file and row, on a wrong header
+// or field, an index outside F × P, a duplicate or missing (frame, point).
+Status ReadPointsCovarianceCsv(const std::string& dir, int camera,
+                               int num_frames, int num_points,
+                               std::vector<Eigen::Matrix3d>* covariances);
+
 // The number of basis shapes K of a result directory: result.json's
 // "num_bases". Fails, naming the file, when it is missing, not JSON, or has
 // no integer num_bases ≥ 1.

@@ -264,3 +264,19 @@ def test_a_calibrated_pinhole_camera_with_intrinsics():
         nrsfm.reconstruct(w, 2, camera="perspective", intrinsics=[[f, f, cx]])
     assert str(error.value) == ("intrinsics has shape (1, 3), expected (1, 4): fx, fy, cx, cy "
                                 "of each of the M = 1 cameras (or (4,))")
+
+
+def test_uncertainty_arrays_are_symmetric_positive_and_estimate_the_noise():
+    # F 60, P 25, K 2, noise 0.01, 10 % missing: the per-point covariances
+    # (docs/uncertainty.md); their calibration is tested in C++
+    # (tests/solvers/pipeline/result_uncertainty_test.cc).
+    s = nrsfm.synth(dataset="random", frames=60, points=25, K=2, noise=0.01,
+                    missing=0.1, seed=4)
+    r = nrsfm.reconstruct(s.W, 2, mask=s.mask, uncertainty=True)
+    assert r.points_covariance.shape == (60, 1, 25, 3, 3)
+    assert r.rotations_covariance.shape == (60, 1, 3, 3)
+    c = r.points_covariance
+    assert np.allclose(c, np.swapaxes(c, -1, -2))
+    assert np.all(np.linalg.eigvalsh(c) > 0)
+    assert abs(r.summary["diagnostics"]["uncertainty_noise_std"] - 0.01) < 0.001
+    assert nrsfm.reconstruct(s.W, 2, mask=s.mask).points_covariance is None
