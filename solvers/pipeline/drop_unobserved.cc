@@ -11,19 +11,6 @@ namespace {
 
 constexpr int kMaxListed = 20;
 
-// 0 … n − 1 without the ascending `left_out`.
-std::vector<int> Kept(int n, const std::vector<int>& left_out) {
-  std::vector<int> kept;
-  for (int i = 0, j = 0; i < n; ++i) {
-    if (j < static_cast<int>(left_out.size()) && left_out[j] == i) {
-      ++j;
-    } else {
-      kept.push_back(i);
-    }
-  }
-  return kept;
-}
-
 // The least number of kept points a view of frame t sees, and that view's
 // camera.
 int FewestPointsOfFrame(const Measurements& m,
@@ -43,7 +30,8 @@ int FewestPointsOfFrame(const Measurements& m,
   return fewest;
 }
 
-// The indices 0 … count − 1 that are not in `left_out` (ascending), in order.
+}  // namespace
+
 std::vector<int> KeptIndices(int count, const std::vector<int>& left_out) {
   std::vector<int> kept;
   for (int index = 0, i = 0; index < count; ++index) {
@@ -55,8 +43,6 @@ std::vector<int> KeptIndices(int count, const std::vector<int>& left_out) {
   }
   return kept;
 }
-
-}  // namespace
 
 int MinViewsPerPoint(int num_bases) {
   return std::max(2, (3 * num_bases + 1) / 2);
@@ -200,8 +186,10 @@ ProblemOptions WithoutUnobserved(const ProblemOptions& options,
 }
 
 Model WithoutUnobserved(const Model& model, const Unobserved& unobserved) {
-  const std::vector<int> frames = Kept(model.num_frames, unobserved.frames);
-  const std::vector<int> points = Kept(model.num_points, unobserved.points);
+  const std::vector<int> frames =
+      KeptIndices(model.num_frames, unobserved.frames);
+  const std::vector<int> points =
+      KeptIndices(model.num_points, unobserved.points);
   Model kept;
   kept.Resize(static_cast<int>(frames.size()), model.num_cameras,
               static_cast<int>(points.size()), model.num_bases);

@@ -80,6 +80,10 @@ Eigen::ArrayXXd WithoutUnobserved(const Eigen::ArrayXXd& per_observation,
                                   const Measurements& measurements,
                                   const Unobserved& unobserved);
 
+// The indices 0 … count − 1 that are not in the ascending `left_out`, in
+// order (the kept frames or points).
+std::vector<int> KeptIndices(int count, const std::vector<int>& left_out);
+
 // The problem options for WithoutUnobserved(measurements): the observation
 // weights of the kept observations, the smoothness reference frame
 // renumbered (a left-out one becomes -1, the default choice).

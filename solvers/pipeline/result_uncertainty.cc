@@ -58,23 +58,8 @@ Status ComputeResultUncertainty(const UncertaintyOptions& options,
       Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN());
   uncertainty->points.assign(static_cast<size_t>(F) * M * P, nan);
   uncertainty->rotations.assign(static_cast<size_t>(F) * M, nan);
-  std::vector<int> frame_of, point_of;
-  for (int t = 0, i = 0; t < F; ++t) {
-    const auto& d = unobserved.frames;
-    if (i < static_cast<int>(d.size()) && d[i] == t) {
-      ++i;
-    } else {
-      frame_of.push_back(t);
-    }
-  }
-  for (int p = 0, i = 0; p < P; ++p) {
-    const auto& d = unobserved.points;
-    if (i < static_cast<int>(d.size()) && d[i] == p) {
-      ++i;
-    } else {
-      point_of.push_back(p);
-    }
-  }
+  const std::vector<int> frame_of = KeptIndices(F, unobserved.frames);
+  const std::vector<int> point_of = KeptIndices(P, unobserved.points);
   const int kept_points = static_cast<int>(point_of.size());
   for (size_t k = 0; k < frame_of.size(); ++k) {
     for (int c = 0; c < M; ++c) {
