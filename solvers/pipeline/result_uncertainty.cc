@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "solvers/pipeline/drop_unobserved.h"
@@ -50,8 +51,12 @@ Status ComputeResultUncertainty(const UncertaintyOptions& options,
   Uncertainty of_kept;
   NRSFM_RETURN_IF_ERROR(
       ComputeUncertainty(options, problem, kept, model, &of_kept));
-  // Back on the full index.
-  *uncertainty = of_kept;
+  // Back on the full index (the kept covariances moved out, not copied).
+  const std::vector<Eigen::Matrix3d> kept_point_covariances =
+      std::move(of_kept.points);
+  const std::vector<Eigen::Matrix3d> kept_rotation_covariances =
+      std::move(of_kept.rotations);
+  *uncertainty = std::move(of_kept);
   const int F = measurements.num_frames, M = measurements.num_cameras,
             P = measurements.num_points;
   const Eigen::Matrix3d nan =
@@ -65,10 +70,10 @@ Status ComputeResultUncertainty(const UncertaintyOptions& options,
     for (int c = 0; c < M; ++c) {
       const size_t from = k * M + c,
                    to = static_cast<size_t>(frame_of[k]) * M + c;
-      uncertainty->rotations[to] = of_kept.rotations[from];
+      uncertainty->rotations[to] = kept_rotation_covariances[from];
       for (int q = 0; q < kept_points; ++q) {
         uncertainty->points[to * P + point_of[q]] =
-            of_kept.points[from * kept_points + q];
+            kept_point_covariances[from * kept_points + q];
       }
     }
   }
