@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "core/io/text_io.h"
+#include "core/math/statistics.h"
 
 namespace nrsfm {
 namespace track {
@@ -107,10 +108,7 @@ TrackScore ScoreTracks(const Tracks& tracks, const TrackTruth& truth,
   for (double& e : errors) {
     if (!std::isfinite(e)) e = std::numeric_limits<double>::infinity();
   }
-  std::vector<double> sorted = errors;
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2,
-                   sorted.end());
-  score.median_error = sorted[sorted.size() / 2];
+  score.median_error = UpperMedian(errors, 0.0);
   double delta = 0.0;
   for (double threshold : thresholds) {
     delta += static_cast<double>(std::count_if(

@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "core/eval/metrics.h"
+#include "core/math/statistics.h"
 
 namespace nrsfm {
 namespace {
@@ -27,13 +28,6 @@ std::vector<double> Ranks(const std::vector<double>& values) {
     i = j + 1;
   }
   return ranks;
-}
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const size_t middle = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + middle, values.end());
-  return values[middle];
 }
 
 }  // namespace
@@ -106,8 +100,8 @@ UncertaintyCalibration ScoreUncertainty(
   }
   score.spearman_per_point =
       SpearmanCorrelation(per_point_predicted, per_point_actual);
-  score.median_predicted = Median(predicted);
-  score.median_actual = Median(actual);
+  score.median_predicted = UpperMedian(predicted, 0.0);
+  score.median_actual = UpperMedian(actual, 0.0);
   return score;
 }
 

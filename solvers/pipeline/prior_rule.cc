@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/math/rotation.h"
+#include "core/math/statistics.h"
 #include "core/math/svd.h"
 #include "core/model/option_checker.h"
 #include "problems/extra_terms.h"
@@ -15,13 +16,6 @@ namespace nrsfm {
 namespace {
 
 constexpr double kDegreesPerRadian = 180.0 / M_PI;
-
-double Median(std::vector<double> values) {
-  if (values.empty()) return -1.0;
-  const std::size_t mid = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + mid, values.end());
-  return values[mid];
-}
 
 // The tracks view by view (a view's rows of W and of `visible` contiguous;
 // in the measurements its entries are 2·F·M values apart), copied once for
@@ -75,7 +69,7 @@ double MedianTrackStep(const Measurements& measurements,
     }
     if (count > 0) steps.push_back(std::sqrt(sum / count) / tracks.spread);
   }
-  return Median(std::move(steps));
+  return UpperMedian(std::move(steps), -1.0);
 }
 
 double TrackOrder(const Measurements& measurements,
@@ -145,7 +139,7 @@ double MedianPathAccelerationDeg(const Model& model, int lag) {
         model.Rotation(t + lag, 0) * model.Rotation(t, 0).transpose());
     accelerations.push_back((after - before).norm() / lag2 * kDegreesPerRadian);
   }
-  return Median(std::move(accelerations));
+  return UpperMedian(std::move(accelerations), -1.0);
 }
 
 double PathAccelerationDeg(const Model& model) {
@@ -181,7 +175,7 @@ double TemporalNoiseRms(const Measurements& measurements) {
     }
   }
   if (differences.empty()) return -1.0;
-  return 1.4826 * Median(std::move(differences)) / std::sqrt(20.0);
+  return 1.4826 * UpperMedian(std::move(differences), -1.0) / std::sqrt(20.0);
 }
 
 int LargestSupportedBases(const Measurements& measurements) {

@@ -6,17 +6,13 @@
 #include <utility>
 #include <vector>
 
+#include "core/math/statistics.h"
 #include "solvers/pipeline/drop_unobserved.h"
 
 namespace nrsfm {
 namespace {
 
-double Median(std::vector<double> values) {
-  if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
-  const size_t middle = values.size() / 2;
-  std::nth_element(values.begin(), values.begin() + middle, values.end());
-  return values[middle];
-}
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 }  // namespace
 
@@ -130,9 +126,9 @@ UncertaintySummary SummariseUncertainty(const Uncertainty& uncertainty,
       summary.worst_frame = t;
     }
   }
-  summary.median_point_std = Median(stds);
-  summary.median_depth_std = Median(depths);
-  const double extent = Median(extents);
+  summary.median_point_std = UpperMedian(stds, kNaN);
+  summary.median_depth_std = UpperMedian(depths, kNaN);
+  const double extent = UpperMedian(extents, kNaN);
   summary.relative_depth_std =
       extent > 0 ? summary.median_depth_std / extent : 0.0;
   return summary;

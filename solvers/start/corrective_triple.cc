@@ -9,10 +9,12 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/math/parallel_for.h"
 #include "core/math/random.h"
+#include "core/math/statistics.h"
 #include "core/math/svd.h"
 #include "core/model/model.h"
 #include "problems/orthonormality_error.h"
@@ -117,10 +119,7 @@ double ScaleMargin(const Eigen::MatrixXd& q_hat, const Eigen::MatrixXd& g) {
   }
   const double smallest =
       *std::min_element(squared_scales.begin(), squared_scales.end());
-  std::nth_element(squared_scales.begin(),
-                   squared_scales.begin() + squared_scales.size() / 2,
-                   squared_scales.end());
-  const double median = squared_scales[squared_scales.size() / 2];
+  const double median = UpperMedian(std::move(squared_scales), 0.0);
   return median > 0.0 ? smallest / median : 0.0;
 }
 
