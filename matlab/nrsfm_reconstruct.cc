@@ -32,6 +32,11 @@
 //          rig_rotations 3 x 3 x (M - 1), rig_scales (M - 1) x 1
 //          dropped_points, dropped_frames  1-based indices of what was left
 //                        out for too few observations (NaN in the arrays)
+//          points_covariance     3 x 3 x P x F x M  with 'uncertainty', true:
+//                        the covariance of each centred point of
+//                        points_camera (docs/uncertainty.md); else []
+//          rotations_covariance  3 x 3 x F x M  of each rotation's body-frame
+//                        perturbation, rad^2; else []
 //        so that W(2(tM + c) + (1:2), :) = points_camera(1:2, :, t, c) +
 //        translations(:, t, c) for t, c 1-based.
 // info   the summary: result.json of the tool as a struct (jsondecode),
@@ -43,6 +48,8 @@
 // error. Only the C MEX API that MATLAB and Octave share is used, and no
 // C++ object is alive when an error is raised (MATLAB's mexErrMsgIdAndTxt
 // does not unwind C++ frames).
+#include <glog/logging.h>
+
 #include <Eigen/Core>
 #include <cctype>
 #include <cstdio>
@@ -171,9 +178,29 @@ mxArray* IndexRow(const std::vector<int>& indices) {
   return a;
 }
 
-// The model struct of the header.
+// 3 x 3 x n x F x M (3 x 3 x F x M for n = 1) from covariances in
+// Uncertainty's order (view t·M + c, then n per view), or [] when there are
+// none.
+mxArray* CovarianceArray(const std::vector<Eigen::Matrix3d>& covariances,
+                         mwSize n, mwSize f, mwSize m) {
+  if (covariances.empty()) return mxCreateDoubleMatrix(0, 0, mxREAL);
+  CHECK_EQ(covariances.size(), n * f * m);
+  mxArray* a = n == 1 ? NewArray({3, 3, f, m}) : NewArray({3, 3, n, f, m});
+  for (mwSize t = 0; t < f; ++t) {
+    for (mwSize c = 0; c < m; ++c) {
+      for (mwSize i = 0; i < n; ++i) {
+        Eigen::Map<Eigen::Matrix3d>(mxGetPr(a) + 9 * (i + n * (t + f * c))) =
+            covariances[(t * m + c) * n + i];
+      }
+    }
+  }
+  return a;
+}
+
+// The model struct of the header; `uncertainty` empty when not computed.
 mxArray* ModelStruct(const Model& model, const std::vector<int>& dropped_points,
-                     const std::vector<int>& dropped_frames) {
+                     const std::vector<int>& dropped_frames,
+                     const nrsfm::Uncertainty& uncertainty) {
   const mwSize f = model.num_frames, m = model.num_cameras,
                p = model.num_points, k = model.num_bases;
   mxArray* rotations = NewArray({3, 3, f, m});
@@ -211,10 +238,19 @@ mxArray* ModelStruct(const Model& model, const std::vector<int>& dropped_points,
         nrsfm::AngleAxisToRotation(model.rig_rotations.col(c));
     mxGetPr(rig_scales)[c] = model.rig_scales(c);
   }
-  const char* fields[] = {"rotations",      "translations",  "scales",
-                          "weights",        "basis",         "points_object",
-                          "points_camera",  "rig_rotations", "rig_scales",
-                          "dropped_points", "dropped_frames"};
+  const char* fields[] = {"rotations",
+                          "translations",
+                          "scales",
+                          "weights",
+                          "basis",
+                          "points_object",
+                          "points_camera",
+                          "rig_rotations",
+                          "rig_scales",
+                          "dropped_points",
+                          "dropped_frames",
+                          "points_covariance",
+                          "rotations_covariance"};
   mxArray* out =
       mxCreateStructMatrix(1, 1, sizeof(fields) / sizeof(fields[0]), fields);
   mxArray* values[] = {rotations,
@@ -227,7 +263,9 @@ mxArray* ModelStruct(const Model& model, const std::vector<int>& dropped_points,
                        rig_rotations,
                        rig_scales,
                        IndexRow(dropped_points),
-                       IndexRow(dropped_frames)};
+                       IndexRow(dropped_frames),
+                       CovarianceArray(uncertainty.points, p, f, m),
+                       CovarianceArray(uncertainty.rotations, 1, f, m)};
   for (std::size_t i = 0; i < sizeof(fields) / sizeof(fields[0]); ++i) {
     mxSetField(out, 0, fields[i], values[i]);
   }
@@ -329,8 +367,9 @@ Status Run(int nlhs, int nrhs, const mxArray* prhs[], Outcome* outcome) {
                               {"curve", curve}};
   }
   outcome->warnings = report.warnings;
-  outcome->model = ModelStruct(run.result.model, run.result.dropped_points,
-                               run.result.dropped_frames);
+  outcome->model = ModelStruct(
+      run.result.model, run.result.dropped_points, run.result.dropped_frames,
+      run.uncertainty_status.ok() ? run.uncertainty : nrsfm::Uncertainty());
   outcome->summary_json = mxCreateString(summary.dump().c_str());
   return Status::OK();
 }
