@@ -1,4 +1,4 @@
-function e = nrsfm_e3d(S_true, S_est)
+function [e, Y] = nrsfm_e3d(S_true, S_est)
 % NRSFM_E3D  e3D of Akhter et al. (their compareStructs), as nrsfm computes it.
 %   e = nrsfm_e3d(S_true, S_est) compares two sequences of F shapes of P
 %   points, each 3F x P with rows x_t, y_t, z_t (the layout of the Akhter
@@ -8,6 +8,8 @@ function e = nrsfm_e3d(S_true, S_est)
 %   estimate to truth followed by its nearest orthogonal matrix (reflection
 %   allowed); e = mean_t mean_p ||X_tp - Y Xhat_tp|| / s (docs/metrics.md,
 %   core/eval/metrics.h). Dimensionless.
+%   [e, Y] = nrsfm_e3d(...) also returns the 3 x 3 alignment Y (an estimated
+%   point X maps to Y * X; a covariance C to Y * C * Y').
 if ~isequal(size(S_true), size(S_est)) || mod(size(S_true, 1), 3) ~= 0
   error('nrsfm:e3d', 'nrsfm_e3d: S_true and S_est must both be 3F x P');
 end

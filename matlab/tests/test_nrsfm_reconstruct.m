@@ -108,15 +108,7 @@ assert(worst - 1 == iu.diagnostics.uncertainty_worst_frame, 'frame order (0-base
 X = truth - repmat(mean(truth, 2), 1, P);
 camera = reshape(permute(mu.points_camera, [1 3 2]), [], P);
 Xhat = camera - repmat(mean(camera, 2), 1, P);
-C = zeros(3);
-M = zeros(3);
-for t = 1:F
-  rows = 3 * t - 2 : 3 * t;
-  C = C + X(rows, :) * Xhat(rows, :)';
-  M = M + Xhat(rows, :) * Xhat(rows, :)';
-end
-[U, ~, V] = svd(C * pinv(M));
-Y = U * V';
+[~, Y] = nrsfm_e3d(truth, camera);
 inside = 0;
 for t = 1:F
   for q = 1:P
