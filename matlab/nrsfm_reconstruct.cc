@@ -197,10 +197,12 @@ mxArray* CovarianceArray(const std::vector<Eigen::Matrix3d>& covariances,
   return a;
 }
 
-// The model struct of the header; `uncertainty` empty when not computed.
+// The model struct of the header; `uncertainty` null when not computed.
 mxArray* ModelStruct(const Model& model, const std::vector<int>& dropped_points,
                      const std::vector<int>& dropped_frames,
-                     const nrsfm::Uncertainty& uncertainty) {
+                     const nrsfm::Uncertainty* uncertainty) {
+  const nrsfm::Uncertainty none;
+  if (uncertainty == nullptr) uncertainty = &none;
   const mwSize f = model.num_frames, m = model.num_cameras,
                p = model.num_points, k = model.num_bases;
   mxArray* rotations = NewArray({3, 3, f, m});
@@ -264,8 +266,8 @@ mxArray* ModelStruct(const Model& model, const std::vector<int>& dropped_points,
                        rig_scales,
                        IndexRow(dropped_points),
                        IndexRow(dropped_frames),
-                       CovarianceArray(uncertainty.points, p, f, m),
-                       CovarianceArray(uncertainty.rotations, 1, f, m)};
+                       CovarianceArray(uncertainty->points, p, f, m),
+                       CovarianceArray(uncertainty->rotations, 1, f, m)};
   for (std::size_t i = 0; i < sizeof(fields) / sizeof(fields[0]); ++i) {
     mxSetField(out, 0, fields[i], values[i]);
   }
@@ -369,7 +371,7 @@ Status Run(int nlhs, int nrhs, const mxArray* prhs[], Outcome* outcome) {
   outcome->warnings = report.warnings;
   outcome->model = ModelStruct(
       run.result.model, run.result.dropped_points, run.result.dropped_frames,
-      run.uncertainty_status.ok() ? run.uncertainty : nrsfm::Uncertainty());
+      run.uncertainty_status.ok() ? &run.uncertainty : nullptr);
   outcome->summary_json = mxCreateString(summary.dump().c_str());
   return Status::OK();
 }
