@@ -463,6 +463,23 @@ Status GatherViewData(const ViewDataOptions& options, ViewData* data) {
     }
   }
   NRSFM_RETURN_IF_ERROR(ReadResultJson(dir, &result));
+  if (fs::exists(fs::path(dir) / "points_covariance.csv", ec)) {
+    std::vector<Eigen::Matrix3d> covariances;
+    NRSFM_RETURN_IF_ERROR(
+        ReadPointsCovarianceCsv(dir, /*camera=*/0, f, p, &covariances));
+    result.point_std.resize(f * p);
+    for (int i = 0; i < f * p; ++i) {
+      const double variance = covariances[i].trace() / 3.0;  // NaN: left out
+      if (variance < 0.0 || std::isinf(variance)) {
+        return Status::Error(dir + "/points_covariance.csv: frame " +
+                             Str(i / p) + ", point " + Str(i % p) +
+                             ": the variances xx + yy + zz are not a "
+                             "non-negative number");
+      }
+      result.point_std(i) = std::sqrt(variance);
+    }
+    result.has_uncertainty = true;
+  }
 
   GroundTruth truth;
   if (!options.truth_path.empty()) {

@@ -83,6 +83,14 @@ struct ViewData {
   Eigen::VectorXd frame_reprojection_rms;
   double reprojection_rms = 0.0;
 
+  // With points_covariance.csv in the result (has_uncertainty, written by
+  // `nrsfm reconstruct --uncertainty`): each point's predicted standard
+  // deviation sqrt(trace Σ_tp / 3), the RMS over the three axes of camera
+  // 0's covariance (a trace, so the same in the object frame), in the units
+  // of W; F · P entries (t · P + p), NaN for a point left out.
+  bool has_uncertainty = false;
+  Eigen::VectorXd point_std;
+
   // With frames_dir: each frame's image file as a data: URL, F entries.
   std::vector<std::string> frame_images;
 
@@ -98,8 +106,9 @@ struct ViewData {
 // Reads and checks everything. Fails, naming the path, on a missing result
 // directory or one without a valid points_camera.csv / translations.csv, a
 // truth or tracks that cannot be read or whose F, P (tracks: F, M, P) differ
-// from the result's, a degenerate truth, and a skeleton `list` variable that
-// is not an n × 2 table of 1-based point indices.
+// from the result's, a degenerate truth, a skeleton `list` variable that
+// is not an n × 2 table of 1-based point indices, and a points_covariance.csv
+// that does not hold every (frame, point) of camera 0 once.
 Status GatherViewData(const ViewDataOptions& options, ViewData* data);
 
 }  // namespace tools

@@ -103,6 +103,7 @@ std::string DataJson(const ViewData& data, const ViewPageSources& sources) {
   meta["scoring_frame"] = data.scoring_frame;
   meta["has_truth"] = data.has_truth;
   meta["has_tracks"] = data.has_tracks;
+  meta["has_uncertainty"] = data.has_uncertainty;
   if (data.has_truth) {
     nlohmann::ordered_json metrics;
     for (const auto& [name, value] : MetricList(data.metrics))
@@ -129,6 +130,8 @@ std::string DataJson(const ViewData& data, const ViewPageSources& sources) {
       ",\n\"truth\":" + (data.has_truth ? Shapes(data.truth_aligned) : "null");
   json += ",\n\"frame_error\":" +
           (data.has_truth ? Vector(data.frame_error) : "null");
+  json += ",\n\"point_std\":" +
+          (data.has_uncertainty ? Vector(data.point_std) : "null");
   json += ",\n\"reprojection\":" + Tracks(data.reprojection);
   json += ",\n\"tracks\":" + (data.has_tracks ? Tracks(data.tracks) : "null");
   // The frames' data: URLs hold only base64 characters and the prefix.

@@ -7,6 +7,9 @@
 //     shots of the same frame);
 //   * the frame slider moves the frame (its input event, driven by the page's
 //     #slide_to= fragment), and playback advances it;
+//   * a result with --uncertainty colours the reconstruction by each point's
+//     predicted std (viridis: its most uncertain points yellow), and #std=0
+//     turns that off;
 //   * the console shows no script error and no blocked load.
 // Skips when Chromium is not installed.
 
@@ -17,6 +20,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -194,6 +198,8 @@ int CountDifferent(const Image& a, const Image& b, const Rect& r) {
 constexpr std::array<int, 3> kEstimate = {0x1f, 0x5f, 0xbf};
 constexpr std::array<int, 3> kTruth = {0xe0, 0x7b, 0x00};
 constexpr std::array<int, 3> kTrack = {0x1a, 0x96, 0x41};
+constexpr std::array<int, 3> kStdHigh = {0xfd, 0xe7, 0x25};  // viridis(1)
+constexpr std::array<int, 3> kStdLow = {0x44, 0x01, 0x54};   // viridis(0)
 
 class ViewBrowserTest : public ::testing::Test {
  protected:
@@ -366,6 +372,39 @@ TEST_F(ViewBrowserTest, SliderAndPlaybackMoveTheFrame) {
       std::regex_match(title, m, std::regex("nrsfm view: frame (\\d+) of 40")))
       << title;
   EXPECT_GE(std::stoi(m[1]), 10) << title;
+}
+
+TEST_F(ViewBrowserTest, PointsAreColouredByTheirPredictedStd) {
+  RunResult r = Run(NRSFM_CLI,
+                    "reconstruct --input r.mat --K 2 --output ru --uncertainty "
+                    "--quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  r = Run(NRSFM_CLI,
+          "view --result ru --truth r.mat --input r.mat --output page.html "
+          "--overwrite");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // The frame with the largest predicted spread holds points above the
+  // scale's 95th percentile (yellow); with #std=0 the plain colour again.
+  // Measured (Chromium 1200 x 800): 167 yellow pixels and none of the plain
+  // colour; with std=0 262 of the plain colour and none of either end.
+  const nlohmann::json result = nlohmann::json::parse(
+      testing_util::ReadFileToString((fs::path(dir_) / "ru/result.json")));
+  const int worst = static_cast<int>(
+      result["diagnostics"]["uncertainty_worst_frame"].get<double>());
+  const std::string frame = "frame=" + std::to_string(worst);
+  std::string dom;
+  const Image coloured = Screenshot(frame, "std.png", &dom);
+  const Image plain = Screenshot(frame + "&std=0", "plain.png");
+  const Rect view3d = BodyRect(dom, "data-view3d");
+  ASSERT_GT(view3d.w, 200) << dom.substr(0, 2000);
+  EXPECT_GT(CountColour(coloured, view3d, kStdHigh, 30), 20);
+  EXPECT_LT(CountColour(coloured, view3d, kEstimate, 30), 20);
+  EXPECT_LT(CountColour(plain, view3d, kStdHigh, 30), 5);
+  EXPECT_LT(CountColour(plain, view3d, kStdLow, 30), 5);
+  EXPECT_GT(CountColour(plain, view3d, kEstimate, 30), 100);
+  // The legend names the scale's ends; the controls offer the switch.
+  EXPECT_NE(dom.find("predicted std "), std::string::npos);
+  EXPECT_NE(dom.find("colour by std"), std::string::npos);
 }
 
 }  // namespace

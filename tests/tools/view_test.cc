@@ -449,6 +449,59 @@ TEST_F(ViewTest, TwoCamerasHaveTheirOwnReprojections) {
   EXPECT_NEAR(data["meta"]["reprojection_rms"].get<double>(), rms, 1e-9 * rms);
 }
 
+// A result with --uncertainty: each point's std on the page is
+// sqrt(trace / 3) of its covariance in points_covariance.csv; a result
+// without one has none; a covariance file that is cut short, or holds a
+// negative variance, is one error line naming the file.
+TEST_F(ViewTest, PredictedStdOfEachPointComesFromItsCovariance) {
+  MakeReconstruction();
+  ASSERT_EQ(Run("reconstruct --input r.mat --K 2 --output ru --uncertainty "
+                "--quiet")
+                .exit_code,
+            0);
+  ASSERT_EQ(Run("view --result ru --output u.html").exit_code, 0);
+  const nlohmann::json data =
+      PageData(testing_util::ReadFileToString(Path("u.html")));
+  ASSERT_TRUE(data.is_object());
+  EXPECT_TRUE(data["meta"]["has_uncertainty"].get<bool>());
+  const int f = 40, p = 25;
+  std::vector<Eigen::Matrix3d> covariances;
+  ASSERT_TRUE(ReadPointsCovarianceCsv(Path("ru"), 0, f, p, &covariances).ok());
+  ASSERT_EQ(data["point_std"].size(), static_cast<size_t>(f * p));
+  double smallest = 1e300, largest = 0.0;
+  for (int i = 0; i < f * p; ++i) {
+    const double expected = std::sqrt(covariances[i].trace() / 3.0);
+    EXPECT_NEAR(data["point_std"][i].get<double>(), expected, 1e-5 * expected)
+        << "entry " << i;
+    smallest = std::min(smallest, expected);
+    largest = std::max(largest, expected);
+  }
+  // Noise 0.02 on tracks of about unit size: stds of that order, and not
+  // all alike (the colour scale has something to show).
+  EXPECT_GT(smallest, 1e-3);
+  EXPECT_LT(largest, 0.2);
+  EXPECT_GT(largest, 1.5 * smallest);
+  ASSERT_EQ(Run("view --result r --output plain.html").exit_code, 0);
+  const nlohmann::json plain =
+      PageData(testing_util::ReadFileToString(Path("plain.html")));
+  EXPECT_FALSE(plain["meta"]["has_uncertainty"].get<bool>());
+  EXPECT_TRUE(plain["point_std"].is_null());
+
+  // Cut short: the reader names the missing (frame, point).
+  std::string csv =
+      testing_util::ReadFileToString(Path("ru/points_covariance.csv"));
+  std::ofstream(Path("ru/points_covariance.csv"))
+      << csv.substr(0, csv.rfind('\n', csv.size() - 2) + 1);
+  ExpectRejected("--result ru --output v.html", "ru/points_covariance.csv");
+  // A negative variance (xx of the first row).
+  const size_t header = csv.find('\n') + 1;
+  const size_t xx = csv.find(',', csv.find(',', csv.find(',', header) + 1) + 1);
+  std::ofstream(Path("ru/points_covariance.csv"))
+      << csv.substr(0, xx + 1) << "-1" << csv.substr(csv.find(',', xx + 1));
+  ExpectRejected("--result ru --output v.html",
+                 "ru/points_covariance.csv: frame 0, point 0: the variances");
+}
+
 TEST_F(ViewTest, HelpDescribesTheCommand) {
   const RunResult r = Run("--help");
   EXPECT_EQ(r.exit_code, 0);

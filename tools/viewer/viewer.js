@@ -17,13 +17,25 @@
 
   var state = {
     frame: 0, playing: false, fps: 25, camera: 0, truth: true, edges: true, residuals: true,
-    vUp: false
+    vUp: false, std: !!data.point_std
   };
   var timer = null;
 
   var util = nrsfmViewerUtil;
   var $ = util.$, format = util.format, fragment = util.fragment, intIn = util.intIn,
       message = util.message, discTexture = util.discTexture, overlay = util.overlay;
+
+  // The colour scale of the predicted standard deviation (points_covariance.csv):
+  // viridis from its 5th to its 95th percentile over the sequence, clamped, so
+  // that one badly determined point does not wash out the rest and a frame's
+  // colours compare with every other frame's.
+  var stdScale = data.point_std ? {
+    low: util.quantile(data.point_std, 0.05), high: util.quantile(data.point_std, 0.95)
+  } : null;
+  function stdColour(s) {
+    var span = stdScale.high - stdScale.low;
+    return util.viridis(span > 0 ? (s - stdScale.low) / span : 0.5);
+  }
 
   // ---- 3D view (three.js) ----
   // The camera frame is right-handed with x, y along the image's u, v. With v
@@ -108,6 +120,14 @@
     }
     three.estimateEdges = makeLines(scene, COLOR.estimateEdge, edges.length);
     three.estimate = makePoints(scene, COLOR.estimate, 6, texture);
+    if (data.point_std) {
+      // The same points coloured by their predicted std (white times the
+      // vertex colour), drawn instead of the plain ones while state.std.
+      three.estimateStd = makePoints(scene, '#ffffff', 8, texture);
+      three.estimateStd.geometry.setAttribute(
+          'color', new THREE.BufferAttribute(new Float32Array(3 * P), 3));
+      three.estimateStd.material.vertexColors = THREE.VertexColors;
+    }
     controls.addEventListener('change', render3d);
   }
 
@@ -140,6 +160,20 @@
     var t = state.frame;
     fillPoints(three.estimate, data.estimate, t);
     fillEdges(three.estimateEdges, data.estimate, t);
+    if (three.estimateStd) {
+      fillPoints(three.estimateStd, data.estimate, t);
+      var colours = three.estimateStd.geometry.attributes.color.array;
+      for (var q = 0; q < P; ++q) {
+        var s = data.point_std[t * P + q];
+        var rgb = s === null ? [0.6, 0.6, 0.6] : stdColour(s);
+        colours[3 * q] = rgb[0];
+        colours[3 * q + 1] = rgb[1];
+        colours[3 * q + 2] = rgb[2];
+      }
+      three.estimateStd.geometry.attributes.color.needsUpdate = true;
+      three.estimateStd.visible = state.std;
+      three.estimate.visible = !state.std;
+    }
     three.estimateEdges.visible = state.edges;
     if (three.truth) {
       fillPoints(three.truth, data.truth, t);
@@ -322,6 +356,13 @@
   }
 
   // ---- per-frame error plot ----
+  // The median predicted std of each frame's points (null when none).
+  var frameStd = data.point_std ? (function () {
+    var out = [];
+    for (var t = 0; t < F; ++t) out.push(util.quantile(data.point_std.slice(t * P, (t + 1) * P), 0.5));
+    return out;
+  })() : null;
+
   function plotSeries() {
     var series = [];
     if (data.frame_error) {
@@ -330,6 +371,10 @@
     if (data.frame_reprojection_rms) {
       series.push({values: data.frame_reprojection_rms, color: COLOR.rms,
                    name: 'reprojection RMS'});
+    }
+    if (frameStd) {
+      series.push({values: frameStd, color: util.cssColour(util.viridis(0.15)),
+                   name: 'median predicted std'});
     }
     return series;
   }
@@ -445,7 +490,7 @@
       });
     }
     [['show-truth', 'truth'], ['show-edges', 'edges'], ['show-residuals', 'residuals'],
-     ['v-up', 'vUp']]
+     ['v-up', 'vUp'], ['show-std', 'std']]
         .forEach(function (pair) {
           $(pair[0]).addEventListener('change', function () {
             state[pair[1]] = $(pair[0]).checked;
@@ -454,6 +499,8 @@
           });
         });
     if (!data.truth) $('show-truth').parentNode.hidden = true;
+    if (!data.point_std) $('show-std').parentNode.hidden = true;
+    $('show-std').checked = state.std;
     document.addEventListener('keydown', function (event) {
       if (event.target && event.target.tagName === 'SELECT') return;
       if (event.key === ' ') { setPlaying(!state.playing); event.preventDefault(); }
@@ -487,6 +534,15 @@
     var items3d = [[COLOR.estimate, 'reconstruction']];
     if (data.truth) items3d.push([COLOR.truth, 'truth'], [COLOR.error3d, '3D error']);
     legend('legend3d', items3d);
+    if (stdScale) {
+      // The std scale: its two ends and middle, in the units of the tracks.
+      var mid = 0.5 * (stdScale.low + stdScale.high);
+      legend('legend3d', [
+        [util.cssColour(util.viridis(0)), 'predicted std ' + format(stdScale.low, 3) + ' or less'],
+        [util.cssColour(util.viridis(0.5)), format(mid, 3)],
+        [util.cssColour(util.viridis(1)), format(stdScale.high, 3) + ' or more (input units)']
+      ]);
+    }
     var items2d = [[COLOR.reprojection, 'reprojection']];
     if (data.tracks) {
       items2d.unshift([COLOR.track, 'track']);
@@ -520,6 +576,12 @@
       rows.push(['reprojection RMS', format(meta.reprojection_rms, 6) + ' (input units)']);
     }
     if (meta.start_used) rows.push(['start', meta.start_used]);
+    if (stdScale) {
+      rows.push(['predicted std', 'median ' + format(util.quantile(data.point_std, 0.5), 4) +
+                 ', 95th percentile ' + format(stdScale.high, 4) + ', largest ' +
+                 format(util.quantile(data.point_std, 1), 4) + ' (input units; sqrt of the ' +
+                 'trace of each point\'s covariance / 3, points_covariance.csv)']);
+    }
     rows.push(['solution usable', meta.solution_usable ? 'yes' : 'NO']);
     rows.push(['edges', edges.length + ' from ' + meta.edge_source]);
     meta.warnings.forEach(function (w) { rows.push(['warning', w]); });
@@ -561,6 +623,11 @@
     if (f.vup === '1' || f.vup === '0') {
       state.vUp = f.vup === '1';
       $('v-up').checked = state.vUp;
+      setFrame(state.frame);
+    }
+    if (data.point_std && (f.std === '1' || f.std === '0')) {
+      state.std = f.std === '1';
+      $('show-std').checked = state.std;
       setFrame(state.frame);
     }
     if (f.play === '1') setPlaying(true);
