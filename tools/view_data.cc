@@ -51,14 +51,17 @@ Eigen::Matrix3Xd Centred(const Eigen::Matrix3Xd& x) {
          (count > 0 ? Eigen::Vector3d(sum / count) : Eigen::Vector3d::Zero());
 }
 
-// translations.csv (frame,camera,tx,ty,scale): T_tc per view, 2 × FM
-// (column tM + c). Sets *num_cameras to the largest camera index + 1.
+// translations.csv (frame,camera,tx,ty,scale; frame,camera,tx,ty,tz for a
+// perspective result): T_tc per view, 2 × FM (column tM + c). Sets
+// *num_cameras to the largest camera index + 1.
 Status ReadTranslations(const std::string& dir, int num_frames,
-                        Eigen::Matrix2Xd* translations, int* num_cameras) {
+                        bool perspective, Eigen::Matrix2Xd* translations,
+                        int* num_cameras) {
   const std::string file = (fs::path(dir) / "translations.csv").string();
   Eigen::MatrixXd table;
-  NRSFM_RETURN_IF_ERROR(
-      ReadCsvTable(file, {"frame", "camera", "tx", "ty", "scale"}, &table));
+  NRSFM_RETURN_IF_ERROR(ReadCsvTable(
+      file, {"frame", "camera", "tx", "ty", perspective ? "tz" : "scale"},
+      &table));
   int cameras = 0;
   for (Eigen::Index r = 0; r < table.rows(); ++r) {
     for (int j = 0; j < 2; ++j) {
@@ -103,6 +106,49 @@ Status ReadTranslations(const std::string& dir, int num_frames,
   }
   *translations = std::move(result);
   *num_cameras = cameras;
+  return Status::OK();
+}
+
+// The camera model of result.json ("camera", "intrinsics": M rows of fx,
+// fy, cx, cy in pixels): weak perspective when the file or the key is
+// absent. A perspective result needs its intrinsics, fx, fy > 0.
+Status ReadResultCamera(const std::string& dir, bool* perspective,
+                        Eigen::Matrix4Xd* intrinsics) {
+  *perspective = false;
+  const fs::path file = fs::path(dir) / "result.json";
+  std::error_code ec;
+  if (!fs::exists(file, ec)) return Status::OK();
+  std::ifstream in(file);
+  const nlohmann::json json =
+      nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (json.is_discarded() || !json.is_object()) {
+    return Status::Error(file.string() + ": not a valid JSON object");
+  }
+  if (!json.contains("camera") || json["camera"] != "perspective") {
+    return Status::OK();
+  }
+  const std::string what =
+      file.string() +
+      ": a perspective result needs \"intrinsics\", one row "
+      "[fx, fy, cx, cy] (fx, fy > 0) per camera";
+  if (!json.contains("intrinsics") || !json["intrinsics"].is_array() ||
+      json["intrinsics"].empty()) {
+    return Status::Error(what);
+  }
+  const nlohmann::json& rows = json["intrinsics"];
+  Eigen::Matrix4Xd k(4, rows.size());
+  for (size_t c = 0; c < rows.size(); ++c) {
+    if (!rows[c].is_array() || rows[c].size() != 4) return Status::Error(what);
+    for (int i = 0; i < 4; ++i) {
+      if (!rows[c][i].is_number()) return Status::Error(what);
+      k(i, c) = rows[c][i].get<double>();
+    }
+    if (!(k(0, c) > 0 && k(1, c) > 0) || !k.col(c).allFinite()) {
+      return Status::Error(what);
+    }
+  }
+  *perspective = true;
+  *intrinsics = std::move(k);
   return Status::OK();
 }
 
@@ -204,9 +250,11 @@ Status ReadSkeleton(const std::string& path, int num_points,
 // Scores the result against the truth as `nrsfm evaluate` does
 // (core/eval/metrics.h EvaluateShapes: the object frame for S + Rs truth, the
 // camera frame otherwise) and shows the shapes of that frame: the centred
-// estimate, the truth mapped onto it by the e3D alignment, each frame's error.
+// estimate, the truth mapped onto it by the e3D alignment, each frame's error;
+// for a perspective result (fixed up to scale) by the alignment and one
+// global scale, as e3d_scaled.
 Status AddTruth(const ViewDataOptions& options, const GroundTruth& estimate,
-                const GroundTruth& truth, ViewData* data) {
+                const GroundTruth& truth, bool perspective, ViewData* data) {
   NRSFM_RETURN_IF_ERROR(
       EvaluateShapes(truth, estimate, &data->metrics)
           .WithContext("--truth '" + options.truth_path + "'"));
@@ -217,6 +265,9 @@ Status AddTruth(const ViewDataOptions& options, const GroundTruth& estimate,
             "the truth), "
             "as nrsfm evaluate scores it"
           : "camera 0's frame (points_camera.csv), as nrsfm evaluate scores it";
+  if (perspective) {
+    data->scoring_frame += " with one global scale (e3d_scaled)";
+  }
   const std::vector<Eigen::Matrix3Xd>& shown = ScoredShapes(estimate, frame);
   const std::vector<Eigen::Matrix3Xd>& truth_shapes =
       ScoredShapes(truth, frame);
@@ -236,7 +287,8 @@ Status AddTruth(const ViewDataOptions& options, const GroundTruth& estimate,
     kept_truth.push_back(truth_shapes[t](Eigen::all, kept_points));
     kept_shown.push_back(shown[t](Eigen::all, kept_points));
   }
-  const E3DDetail detail = ComputeE3DDetail(kept_truth, kept_shown);
+  const E3DDetail detail = ComputeE3DDetail(kept_truth, kept_shown,
+                                            /*with_scale=*/perspective);
   const auto centred =
       [&kept_points](const Eigen::Matrix3Xd& x) -> Eigen::Matrix3Xd {
     const Eigen::Vector3d mean = x(Eigen::all, kept_points).rowwise().mean();
@@ -247,9 +299,11 @@ Status AddTruth(const ViewDataOptions& options, const GroundTruth& estimate,
   data->frame_error = Eigen::VectorXd::Constant(data->num_frames, kNaN);
   for (int t = 0, k = 0; t < data->num_frames; ++t) {
     data->estimate.push_back(centred(shown[t]));
-    // Y is orthogonal: ||X − Y X̂|| = ||Yᵀ X − X̂||.
+    // Y is orthogonal: ||X − c Y X̂|| = c ||Yᵀ X / c − X̂||; the page shows
+    // the truth in the estimate's frame and scale.
     data->truth_aligned.push_back(detail.alignment.transpose() *
-                                  centred(truth_shapes[t]));
+                                  centred(truth_shapes[t]) /
+                                  detail.estimate_scale);
     if (!std::binary_search(out_frames.begin(), out_frames.end(), t)) {
       data->frame_error(t) = detail.frame_errors[k++];
     }
@@ -433,16 +487,27 @@ Status GatherViewData(const ViewDataOptions& options, ViewData* data) {
   ViewData result;
 
   // Camera-frame points of every camera and the translations: the
-  // reprojections w_tcp = Π X_tc[:, p] + T_tc (core/io/result_writer.h).
+  // reprojections w_tcp = Π X_tc[:, p] + T_tc (core/io/result_writer.h), or
+  // for a perspective result (core/model/model.h) the pinhole projection
+  // (fx x / z + cx, fy y / z + cy) of X_tc, which holds the translation.
   GroundTruth camera0;
   NRSFM_RETURN_IF_ERROR(ReadPointsCameraCsv(dir, 0, &camera0));
   result.num_frames = camera0.NumFrames();
   result.num_points = camera0.NumPoints();
+  bool perspective = false;
+  Eigen::Matrix4Xd intrinsics;
+  NRSFM_RETURN_IF_ERROR(ReadResultCamera(dir, &perspective, &intrinsics));
   Eigen::Matrix2Xd translations;
-  NRSFM_RETURN_IF_ERROR(ReadTranslations(dir, result.num_frames, &translations,
-                                         &result.num_cameras));
+  NRSFM_RETURN_IF_ERROR(ReadTranslations(dir, result.num_frames, perspective,
+                                         &translations, &result.num_cameras));
   const int f = result.num_frames, m = result.num_cameras,
             p = result.num_points;
+  if (perspective && intrinsics.cols() != m) {
+    return Status::Error(
+        dir + "/result.json: " + Str(static_cast<int>(intrinsics.cols())) +
+        " rows of intrinsics but translations.csv has M = " + Str(m) +
+        " cameras");
+  }
   result.reprojection.resize(2 * f * m, p);
   for (int c = 0; c < m; ++c) {
     GroundTruth camera = camera0;
@@ -457,9 +522,15 @@ Status GatherViewData(const ViewDataOptions& options, ViewData* data) {
       }
     }
     for (int t = 0; t < f; ++t) {
-      result.reprojection.block(2 * (t * m + c), 0, 2, p) =
-          camera.points_in_camera[t].topRows<2>().colwise() +
-          translations.col(t * m + c);
+      const Eigen::Matrix3Xd& x = camera.points_in_camera[t];
+      auto w = result.reprojection.block(2 * (t * m + c), 0, 2, p);
+      if (perspective) {
+        const Eigen::Vector4d k = intrinsics.col(c);
+        w.row(0) = (k(0) * x.row(0).cwiseQuotient(x.row(2))).array() + k(2);
+        w.row(1) = (k(1) * x.row(1).cwiseQuotient(x.row(2))).array() + k(3);
+      } else {
+        w = x.topRows<2>().colwise() + translations.col(t * m + c);
+      }
     }
   }
   NRSFM_RETURN_IF_ERROR(ReadResultJson(dir, &result));
@@ -495,6 +566,7 @@ Status GatherViewData(const ViewDataOptions& options, ViewData* data) {
   // Without a truth the camera frame is shown; with one, the frame it is
   // scored in (AddTruth).
   result.scoring_frame = "camera 0's frame (points_camera.csv)";
+  result.camera_model = perspective ? "perspective" : "weak_perspective";
   for (const Eigen::Matrix3Xd& x : camera0.points_in_camera)
     result.estimate.push_back(Centred(x));
   if (!options.truth_path.empty()) {
@@ -502,7 +574,8 @@ Status GatherViewData(const ViewDataOptions& options, ViewData* data) {
     if (truth.HasObjectFrame()) {
       NRSFM_RETURN_IF_ERROR(ReadResultShapes(dir, /*camera=*/0, &estimate));
     }
-    NRSFM_RETURN_IF_ERROR(AddTruth(options, estimate, truth, &result));
+    NRSFM_RETURN_IF_ERROR(
+        AddTruth(options, estimate, truth, perspective, &result));
   } else {
     result.notes.push_back("no ground truth given (--truth): no error shown");
   }

@@ -52,6 +52,10 @@ struct ViewData {
   int num_points = 0;         // P
   int num_bases = -1;         // K from result.json; -1 when unknown
   std::string scoring_frame;  // the frame of `estimate`, in words
+  // result.json's "camera": "weak_perspective" (also without the key) or
+  // "perspective" (points_camera.csv then holds the translation, and the
+  // reprojection is the pinhole projection with result.json's intrinsics).
+  std::string camera_model;
 
   // F entries, 3 × P: the estimate in the scoring frame, centred per frame.
   std::vector<Eigen::Matrix3Xd> estimate;
@@ -59,7 +63,9 @@ struct ViewData {
   // With truth only (has_truth): the truth, centred per frame, mapped into the
   // estimate's frame by Yᵀ; `frame_error`(t) = (1/P) Σ_p ||X_tp − Y X̂_tp|| / s,
   // the term of frame t in e3D (its mean over t is metrics.e3d); `metrics`
-  // as `nrsfm evaluate` prints them.
+  // as `nrsfm evaluate` prints them. A perspective result is aligned with one
+  // global scale c as well (truth shown as Yᵀ X / c; the mean of frame_error
+  // is metrics.e3d_scaled).
   bool has_truth = false;
   std::vector<Eigen::Matrix3Xd> truth_aligned;
   Eigen::VectorXd frame_error;

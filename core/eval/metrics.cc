@@ -122,16 +122,24 @@ double ComputeRankFloorE3D(const std::vector<Eigen::Matrix3Xd>& truth,
 }
 
 E3DDetail ComputeE3DDetail(const std::vector<Eigen::Matrix3Xd>& truth,
-                           const std::vector<Eigen::Matrix3Xd>& estimate) {
+                           const std::vector<Eigen::Matrix3Xd>& estimate,
+                           bool with_scale) {
   CheckSizes(truth, estimate);
   const std::vector<Eigen::Matrix3Xd> x = Centred(truth);
-  const std::vector<Eigen::Matrix3Xd> x_hat = Centred(estimate);
+  std::vector<Eigen::Matrix3Xd> aligned = Centred(estimate);
   E3DDetail detail;
-  detail.alignment = AlignLeastSquaresThenOrthogonal(x, x_hat);
+  detail.alignment = AlignLeastSquaresThenOrthogonal(x, aligned);
   detail.scale = E3DScale(x);
+  double cross = 0.0, norm = 0.0;
+  for (std::size_t t = 0; t < x.size(); ++t) {
+    aligned[t] = detail.alignment * aligned[t];
+    cross += (x[t].array() * aligned[t].array()).sum();
+    norm += aligned[t].squaredNorm();
+  }
+  if (with_scale && norm > 0.0) detail.estimate_scale = cross / norm;
   for (std::size_t t = 0; t < x.size(); ++t) {
     detail.frame_errors.push_back(
-        (x[t] - detail.alignment * x_hat[t]).colwise().norm().mean() /
+        (x[t] - detail.estimate_scale * aligned[t]).colwise().norm().mean() /
         detail.scale);
   }
   return detail;
@@ -139,23 +147,11 @@ E3DDetail ComputeE3DDetail(const std::vector<Eigen::Matrix3Xd>& truth,
 
 double ComputeScaledE3D(const std::vector<Eigen::Matrix3Xd>& truth,
                         const std::vector<Eigen::Matrix3Xd>& estimate) {
-  CheckSizes(truth, estimate);
-  const std::vector<Eigen::Matrix3Xd> x = Centred(truth);
-  std::vector<Eigen::Matrix3Xd> aligned = Centred(estimate);
-  const Eigen::Matrix3d y = AlignLeastSquaresThenOrthogonal(x, aligned);
-  double cross = 0.0, norm = 0.0;
-  for (std::size_t t = 0; t < x.size(); ++t) {
-    aligned[t] = y * aligned[t];
-    cross += (x[t].array() * aligned[t].array()).sum();
-    norm += aligned[t].squaredNorm();
-  }
-  const double c = norm > 0.0 ? cross / norm : 1.0;
-  const double scale = E3DScale(x);
+  const E3DDetail detail =
+      ComputeE3DDetail(truth, estimate, /*with_scale=*/true);
   double sum = 0.0;
-  for (std::size_t t = 0; t < x.size(); ++t) {
-    sum += (x[t] - c * aligned[t]).colwise().norm().mean() / scale;
-  }
-  return sum / static_cast<double>(x.size());
+  for (double e : detail.frame_errors) sum += e;
+  return sum / static_cast<double>(detail.frame_errors.size());
 }
 
 double ComputeFrobeniusZSign(const std::vector<Eigen::Matrix3Xd>& truth,

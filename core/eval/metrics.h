@@ -56,15 +56,18 @@ double ComputeScaledE3D(const std::vector<Eigen::Matrix3Xd>& truth,
                         const std::vector<Eigen::Matrix3Xd>& estimate);
 
 // The parts of ComputeE3D for display: the alignment Y (truth ≈ Y · centred
-// estimate), s, and each frame's (1 / P) Σ_p ||X_tp − Y X̂_tp|| / s, whose
-// mean is e3D. Same CHECKs as ComputeE3D.
+// estimate), s, and each frame's (1 / P) Σ_p ||X_tp − c Y X̂_tp|| / s, whose
+// mean is e3D (c = 1), or with `with_scale` ComputeScaledE3D (c its
+// least-squares scale, estimate_scale). Same CHECKs as ComputeE3D.
 struct E3DDetail {
   Eigen::Matrix3d alignment = Eigen::Matrix3d::Identity();
   double scale = 0.0;
+  double estimate_scale = 1.0;  // c
   std::vector<double> frame_errors;
 };
 E3DDetail ComputeE3DDetail(const std::vector<Eigen::Matrix3Xd>& truth,
-                           const std::vector<Eigen::Matrix3Xd>& estimate);
+                           const std::vector<Eigen::Matrix3Xd>& estimate,
+                           bool with_scale = false);
 
 // The rank-K floor of e3D: ComputeE3D(truth, X̂) of the best rank-K
 // approximation X̂ of the centred truth itself (the truncated SVD of the

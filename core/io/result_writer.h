@@ -2,14 +2,18 @@
 //
 // Files (indices 0-based; numbers in the shortest form that reads back to
 // the same double, core/io/text_io.h TextWriter):
-//   points_camera.csv  frame,camera,point,x,y,z   X_tc = s_tc R_tc S_t, for
+//   points_camera.csv  frame,camera,point,x,y,z   X_tc = s_tc R_tc S_t
+//                      (perspective: R_tc S_t + [T_tc; t_z,tc]), for
 //                      every frame, camera and point (missing ones too);
 //                      F·M·P rows, frame-major, then camera, then point.
 //   points_object.csv  frame,point,x,y,z          S_t (object frame).
 //   rotations.csv      frame,camera,r11,r12,r13,r21,r22,r23,r31,r32,r33
 //                      R_tc row by row (rotation_cam_from_object).
 //   translations.csv   frame,camera,tx,ty,scale   T_tc and s_tc, so that
-//                      w_tcp = Π X_tc[:,p] + T_tc reproduces W.
+//                      w_tcp = Π X_tc[:,p] + T_tc reproduces W;
+//                      perspective: frame,camera,tx,ty,tz, and W is
+//                      (fx x / z + cx, fy y / z + cy) of X_tc with
+//                      result.json's "intrinsics" (core/model/model.h).
 //   weights.csv        frame,l1..lK               l_t (column l(k+1) weighs
 //                                                 basis shape k).
 //   basis.csv          k,point,x,y,z              S_k, k = 0..K-1.

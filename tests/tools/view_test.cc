@@ -502,6 +502,49 @@ TEST_F(ViewTest, PredictedStdOfEachPointComesFromItsCovariance) {
                  "ru/points_covariance.csv: frame 0, point 0: the variances");
 }
 
+// A perspective result: the 2D view reprojects points_camera.csv (which
+// holds the translation) through result.json's intrinsics, reproducing the
+// result's reprojection RMS, and the truth is aligned with one scale as
+// e3d_scaled (the number for an answer fixed up to scale).
+TEST_F(ViewTest, PerspectiveResultIsReprojectedThroughItsIntrinsics) {
+  MakeReconstruction();
+  ASSERT_EQ(Run("synth --dataset reproject --input r.mat --distance_ratio 3 "
+                "--noise_fraction 0.002 --output p.mat")
+                .exit_code,
+            0);
+  RunResult r = Run(
+      "reconstruct --input p.mat --K 2 --camera perspective --priors manual "
+      "--output p --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  r = Run("view --result p --truth p.mat --input p.mat --output p.html");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("with one scale"), std::string::npos) << r.out;
+  const nlohmann::json data =
+      PageData(testing_util::ReadFileToString(Path("p.html")));
+  ASSERT_TRUE(data.is_object());
+  const nlohmann::json& meta = data["meta"];
+  EXPECT_EQ(meta["camera_model"], "perspective");
+  const nlohmann::json result = nlohmann::json::parse(
+      testing_util::ReadFileToString(Path("p/result.json")));
+  const double rms = result["reprojection_rms"].get<double>();
+  EXPECT_GT(rms, 0.3);  // pixels: noise 0.2 % of a 451-pixel image
+  EXPECT_NEAR(meta["reprojection_rms"].get<double>(), rms, 1e-6 * rms);
+  const RunResult e = Run("evaluate --truth p.mat --result p");
+  ASSERT_EQ(e.exit_code, 0) << e.err;
+  const double scaled =
+      nlohmann::json::parse(e.out)["e3d_scaled"].get<double>();
+  ASSERT_EQ(data["frame_error"].size(), 40u);
+  EXPECT_NEAR(Mean(data["frame_error"]), scaled, 1e-8 * scaled);
+  EXPECT_NEAR(meta["metrics"]["e3d_scaled"].get<double>(), scaled,
+              1e-12 * scaled);
+  // A perspective result without its intrinsics is one error line.
+  nlohmann::json cut = result;
+  cut.erase("intrinsics");
+  std::ofstream(Path("p/result.json")) << cut.dump();
+  ExpectRejected("--result p --output v.html",
+                 "p/result.json: a perspective result needs \"intrinsics\"");
+}
+
 TEST_F(ViewTest, HelpDescribesTheCommand) {
   const RunResult r = Run("--help");
   EXPECT_EQ(r.exit_code, 0);

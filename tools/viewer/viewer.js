@@ -523,9 +523,14 @@
 
   function setupText() {
     var m = meta.metrics;
+    // A perspective answer is fixed up to scale: it is scored with one global
+    // scale (e3d_scaled), and the truth and per-frame errors are shown so.
+    var scaled = meta.camera_model === 'perspective';
+    var e3dText = m ? (scaled ? 'e3D with one scale ' + format(m.e3d_scaled, 4)
+                              : 'e3D ' + format(m.e3d, 4)) : '';
     $('summary').textContent = meta.result + ': F = ' + F + ', M = ' + M + ', P = ' + P +
         (meta.num_bases >= 0 ? ', K = ' + meta.num_bases : '') +
-        (m ? ', e3D ' + format(m.e3d, 4) : '') +
+        (m ? ', ' + e3dText : '') +
         (meta.reprojection_rms !== undefined ? ', reprojection RMS ' +
          format(meta.reprojection_rms, 4) : '');
     $('title3d').textContent = '3D: ' + meta.scoring_frame + ', each frame centred' +
@@ -565,10 +570,13 @@
       ['2D tracks', meta.input || 'not given'],
       ['size', F + ' frames, ' + M + ' camera(s), ' + P + ' points' +
                (meta.num_bases >= 0 ? ', K = ' + meta.num_bases : '')],
-      ['3D frame', meta.scoring_frame]
+      ['3D frame', meta.scoring_frame],
+      ['camera', meta.camera_model === 'perspective'
+          ? 'perspective (pinhole, result.json intrinsics)' : 'weak perspective']
     ];
     if (m) {
-      rows.push(['metrics', 'e3D ' + format(m.e3d, 6) + ', frob_zsign ' +
+      rows.push(['metrics', 'e3D ' + format(m.e3d, 6) +
+                 (scaled ? ', with one scale ' + format(m.e3d_scaled, 6) : '') + ', frob_zsign ' +
                  format(m.frob_zsign, 6) + ', 3D error ' + format(m.error3d_pct, 4) +
                  ' %, z error ' + format(m.zerror_pct, 4) + ' %']);
     }
