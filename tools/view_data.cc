@@ -19,6 +19,7 @@
 #include "core/math/procrustes.h"
 #include "core/model/measurements.h"
 #include "problems/delaunay_edges.h"
+#include "solvers/uncertainty/uncertainty.h"
 #include "tools/flag_table.h"
 #include "tools/reconstruction_steps.h"
 #include "track/tracks.h"
@@ -106,49 +107,6 @@ Status ReadTranslations(const std::string& dir, int num_frames,
   }
   *translations = std::move(result);
   *num_cameras = cameras;
-  return Status::OK();
-}
-
-// The camera model of result.json ("camera", "intrinsics": M rows of fx,
-// fy, cx, cy in pixels): weak perspective when the file or the key is
-// absent. A perspective result needs its intrinsics, fx, fy > 0.
-Status ReadResultCamera(const std::string& dir, bool* perspective,
-                        Eigen::Matrix4Xd* intrinsics) {
-  *perspective = false;
-  const fs::path file = fs::path(dir) / "result.json";
-  std::error_code ec;
-  if (!fs::exists(file, ec)) return Status::OK();
-  std::ifstream in(file);
-  const nlohmann::json json =
-      nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
-  if (json.is_discarded() || !json.is_object()) {
-    return Status::Error(file.string() + ": not a valid JSON object");
-  }
-  if (!json.contains("camera") || json["camera"] != "perspective") {
-    return Status::OK();
-  }
-  const std::string what =
-      file.string() +
-      ": a perspective result needs \"intrinsics\", one row "
-      "[fx, fy, cx, cy] (fx, fy > 0) per camera";
-  if (!json.contains("intrinsics") || !json["intrinsics"].is_array() ||
-      json["intrinsics"].empty()) {
-    return Status::Error(what);
-  }
-  const nlohmann::json& rows = json["intrinsics"];
-  Eigen::Matrix4Xd k(4, rows.size());
-  for (size_t c = 0; c < rows.size(); ++c) {
-    if (!rows[c].is_array() || rows[c].size() != 4) return Status::Error(what);
-    for (int i = 0; i < 4; ++i) {
-      if (!rows[c][i].is_number()) return Status::Error(what);
-      k(i, c) = rows[c][i].get<double>();
-    }
-    if (!(k(0, c) > 0 && k(1, c) > 0) || !k.col(c).allFinite()) {
-      return Status::Error(what);
-    }
-  }
-  *perspective = true;
-  *intrinsics = std::move(k);
   return Status::OK();
 }
 
@@ -494,9 +452,10 @@ Status GatherViewData(const ViewDataOptions& options, ViewData* data) {
   NRSFM_RETURN_IF_ERROR(ReadPointsCameraCsv(dir, 0, &camera0));
   result.num_frames = camera0.NumFrames();
   result.num_points = camera0.NumPoints();
-  bool perspective = false;
+  CameraModel camera_model = CameraModel::kWeakPerspective;
   Eigen::Matrix4Xd intrinsics;
-  NRSFM_RETURN_IF_ERROR(ReadResultCamera(dir, &perspective, &intrinsics));
+  NRSFM_RETURN_IF_ERROR(ReadResultCamera(dir, &camera_model, &intrinsics));
+  const bool perspective = camera_model == CameraModel::kPerspective;
   Eigen::Matrix2Xd translations;
   NRSFM_RETURN_IF_ERROR(ReadTranslations(dir, result.num_frames, perspective,
                                          &translations, &result.num_cameras));
@@ -540,14 +499,15 @@ Status GatherViewData(const ViewDataOptions& options, ViewData* data) {
         ReadPointsCovarianceCsv(dir, /*camera=*/0, f, p, &covariances));
     result.point_std.resize(f * p);
     for (int i = 0; i < f * p; ++i) {
-      const double variance = covariances[i].trace() / 3.0;  // NaN: left out
+      const double variance = covariances[i].trace();  // NaN: left out
       if (variance < 0.0 || std::isinf(variance)) {
         return Status::Error(dir + "/points_covariance.csv: frame " +
                              Str(i / p) + ", point " + Str(i % p) +
                              ": the variances xx + yy + zz are not a "
                              "non-negative number");
       }
-      result.point_std(i) = std::sqrt(variance);
+      result.point_std(i) =
+          std::isnan(variance) ? kNaN : PointStd(covariances[i]);
     }
     result.has_uncertainty = true;
   }

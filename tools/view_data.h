@@ -91,8 +91,8 @@ struct ViewData {
 
   // With points_covariance.csv in the result (has_uncertainty, written by
   // `nrsfm reconstruct --uncertainty`): each point's predicted standard
-  // deviation sqrt(trace Σ_tp / 3), the RMS over the three axes of camera
-  // 0's covariance (a trace, so the same in the object frame), in the units
+  // deviation PointStd (solvers/uncertainty/uncertainty.h: sqrt(trace Σ_tp)
+  // of camera 0's covariance, the same in the object frame), in the units
   // of W; F · P entries (t · P + p), NaN for a point left out.
   bool has_uncertainty = false;
   Eigen::VectorXd point_std;

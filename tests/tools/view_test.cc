@@ -450,7 +450,7 @@ TEST_F(ViewTest, TwoCamerasHaveTheirOwnReprojections) {
 }
 
 // A result with --uncertainty: each point's std on the page is
-// sqrt(trace / 3) of its covariance in points_covariance.csv; a result
+// sqrt(trace) of its covariance in points_covariance.csv; a result
 // without one has none; a covariance file that is cut short, or holds a
 // negative variance, is one error line naming the file.
 TEST_F(ViewTest, PredictedStdOfEachPointComesFromItsCovariance) {
@@ -470,7 +470,7 @@ TEST_F(ViewTest, PredictedStdOfEachPointComesFromItsCovariance) {
   ASSERT_EQ(data["point_std"].size(), static_cast<size_t>(f * p));
   double smallest = 1e300, largest = 0.0;
   for (int i = 0; i < f * p; ++i) {
-    const double expected = std::sqrt(covariances[i].trace() / 3.0);
+    const double expected = std::sqrt(covariances[i].trace());
     EXPECT_NEAR(data["point_std"][i].get<double>(), expected, 1e-5 * expected)
         << "entry " << i;
     smallest = std::min(smallest, expected);

@@ -588,7 +588,7 @@
       rows.push(['predicted std', 'median ' + format(util.quantile(data.point_std, 0.5), 4) +
                  ', 95th percentile ' + format(stdScale.high, 4) + ', largest ' +
                  format(util.quantile(data.point_std, 1), 4) + ' (input units; sqrt of the ' +
-                 'trace of each point\'s covariance / 3, points_covariance.csv)']);
+                 'trace of each point\'s covariance, points_covariance.csv, as result.json)']);
     }
     rows.push(['solution usable', meta.solution_usable ? 'yes' : 'NO']);
     rows.push(['edges', edges.length + ' from ' + meta.edge_source]);
