@@ -295,8 +295,14 @@ Status RunEvaluate(const CommandFlags& flags, std::ostream& out) {
         &covariances));
     if (truth.NumFrames() == estimate.NumFrames() &&
         truth.NumPoints() == estimate.NumPoints()) {
+      // A perspective answer is fixed up to scale: aligned with one scale.
+      CameraModel camera = CameraModel::kWeakPerspective;
+      Eigen::Matrix4Xd intrinsics;
+      NRSFM_RETURN_IF_ERROR(
+          ReadResultCamera(flags.result, &camera, &intrinsics));
       const UncertaintyCalibration score = ScoreUncertainty(
-          truth.points_in_camera, estimate.points_in_camera, covariances);
+          truth.points_in_camera, estimate.points_in_camera, covariances,
+          /*with_scale=*/camera == CameraModel::kPerspective);
       nlohmann::ordered_json json = nlohmann::ordered_json::parse(line);
       json["uncertainty_inside_95"] = score.inside_95;
       json["uncertainty_mean_mahalanobis2"] = score.mean_mahalanobis_squared;

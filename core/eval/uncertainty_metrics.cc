@@ -51,13 +51,14 @@ double SpearmanCorrelation(const std::vector<double>& a,
 UncertaintyCalibration ScoreUncertainty(
     const std::vector<Eigen::Matrix3Xd>& truth,
     const std::vector<Eigen::Matrix3Xd>& estimate,
-    const std::vector<Eigen::Matrix3d>& covariances) {
+    const std::vector<Eigen::Matrix3d>& covariances, bool with_scale) {
   CHECK(!truth.empty());
   CHECK_EQ(truth.size(), estimate.size());
   const int F = static_cast<int>(truth.size());
   const int P = static_cast<int>(truth[0].cols());
   CHECK_EQ(covariances.size(), static_cast<size_t>(F) * P);
-  const Eigen::Matrix3d y = ComputeE3DDetail(truth, estimate).alignment;
+  const E3DDetail detail = ComputeE3DDetail(truth, estimate, with_scale);
+  const Eigen::Matrix3d y = detail.estimate_scale * detail.alignment;
   UncertaintyCalibration score;
   std::vector<double> predicted, actual;
   std::vector<double> point_predicted(P, 0.0), point_actual(P, 0.0);
@@ -80,7 +81,7 @@ UncertaintyCalibration ScoreUncertainty(
       ++score.num_points;
       mahalanobis += m2;
       if (m2 <= kChiSquare3At95) ++inside;
-      const double std = std::sqrt(std::max(0.0, cov.trace()));
+      const double std = std::sqrt(std::max(0.0, aligned.trace()));
       predicted.push_back(std);
       actual.push_back(e.norm());
       point_predicted[p] += std;

@@ -36,10 +36,13 @@ struct UncertaintyCalibration {
   double median_predicted = 0.0, median_actual = 0.0;
 };
 
+// With `with_scale` (an answer fixed up to scale: a perspective result) the
+// alignment has one global scale c too (ComputeE3DDetail): the estimate
+// becomes c Y X̂ and each covariance c² Y Σ Yᵀ.
 UncertaintyCalibration ScoreUncertainty(
     const std::vector<Eigen::Matrix3Xd>& truth,
     const std::vector<Eigen::Matrix3Xd>& estimate,
-    const std::vector<Eigen::Matrix3d>& covariances);
+    const std::vector<Eigen::Matrix3d>& covariances, bool with_scale = false);
 
 // Spearman's ρ of two equally long samples (average ranks for ties); 0 for
 // fewer than 2 values or a constant sample.

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <utility>
 #include <vector>
 
 #include "core/io/text_io.h"
@@ -263,6 +264,46 @@ Status ReadResultNumBases(const std::string& dir, int* num_bases) {
     return Status::Error(path + ": no integer num_bases >= 1");
   }
   *num_bases = static_cast<int>(it->get<long long>());
+  return Status::OK();
+}
+
+Status ReadResultCamera(const std::string& dir, CameraModel* camera,
+                        Eigen::Matrix4Xd* intrinsics) {
+  *camera = CameraModel::kWeakPerspective;
+  const std::filesystem::path file = std::filesystem::path(dir) / "result.json";
+  std::error_code ec;
+  if (!std::filesystem::exists(file, ec)) return Status::OK();
+  std::ifstream in(file);
+  const nlohmann::json json =
+      nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (json.is_discarded() || !json.is_object()) {
+    return Status::Error(file.string() + ": not a valid JSON object");
+  }
+  if (!json.contains("camera") || json["camera"] != "perspective") {
+    return Status::OK();
+  }
+  const std::string what =
+      file.string() +
+      ": a perspective result needs \"intrinsics\", one row "
+      "[fx, fy, cx, cy] (fx, fy > 0) per camera";
+  if (!json.contains("intrinsics") || !json["intrinsics"].is_array() ||
+      json["intrinsics"].empty()) {
+    return Status::Error(what);
+  }
+  const nlohmann::json& rows = json["intrinsics"];
+  Eigen::Matrix4Xd k(4, rows.size());
+  for (size_t c = 0; c < rows.size(); ++c) {
+    if (!rows[c].is_array() || rows[c].size() != 4) return Status::Error(what);
+    for (int i = 0; i < 4; ++i) {
+      if (!rows[c][i].is_number()) return Status::Error(what);
+      k(i, c) = rows[c][i].get<double>();
+    }
+    if (!(k(0, c) > 0 && k(1, c) > 0) || !k.col(c).allFinite()) {
+      return Status::Error(what);
+    }
+  }
+  *camera = CameraModel::kPerspective;
+  *intrinsics = std::move(k);
   return Status::OK();
 }
 

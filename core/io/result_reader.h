@@ -3,9 +3,11 @@
 #ifndef NRSFM_CORE_IO_RESULT_READER_H_
 #define NRSFM_CORE_IO_RESULT_READER_H_
 
+#include <Eigen/Core>
 #include <string>
 
 #include "core/io/ground_truth.h"
+#include "core/model/model.h"
 #include "core/model/status.h"
 
 namespace nrsfm {
@@ -45,6 +47,14 @@ Status ReadPointsCovarianceCsv(const std::string& dir, int camera,
 // "num_bases". Fails, naming the file, when it is missing, not JSON, or has
 // no integer num_bases ≥ 1.
 Status ReadResultNumBases(const std::string& dir, int* num_bases);
+
+// The camera model of a result directory's result.json ("camera"; weak
+// perspective when the file or the key is absent) and, for a perspective
+// result, its "intrinsics": M rows [fx, fy, cx, cy] in pixels, fx, fy > 0,
+// as 4 × M. Fails, naming the file, on JSON that is not an object or a
+// perspective result without valid intrinsics.
+Status ReadResultCamera(const std::string& dir, CameraModel* camera,
+                        Eigen::Matrix4Xd* intrinsics);
 
 }  // namespace nrsfm
 

@@ -97,11 +97,6 @@ Status ComputeUncertainty(const UncertaintyOptions& options,
                           Uncertainty* uncertainty) {
   const auto start_time = std::chrono::steady_clock::now();
   NRSFM_RETURN_IF_ERROR(options.Check().WithContext("uncertainty"));
-  if (model.camera == CameraModel::kPerspective) {
-    return Status::Error(
-        "uncertainty: only the weak-perspective camera is covered (the "
-        "perspective model's scale gauge is not handled)");
-  }
   NRSFM_RETURN_IF_ERROR(model.Validate().WithContext("uncertainty"));
   Model values = model;  // the builder's blocks; nothing is solved
   ProblemBuilder builder(&measurements, &values);
@@ -186,6 +181,19 @@ Status ComputeUncertainty(const UncertaintyOptions& options,
     if (is_held) gauge_size += size;
   }
   const int num_parameters = side_size[0] + side_size[1];
+  // Blocks the problem holds constant (the perspective camera's gauge:
+  // problems/problem_builder.h) have no column: zero perturbation.
+  const auto add_constant = [&](double* block, int side) {
+    if (!ceres_problem->HasParameterBlock(block) ||
+        !ceres_problem->IsParameterBlockConstant(block)) {
+      return;
+    }
+    Columns& columns = columns_of[block];
+    columns.side = side;
+    columns.index.assign(ceres_problem->ParameterBlockSize(block), -1);
+  };
+  for (double* block : builder.NonPointBlocks()) add_constant(block, kFrames);
+  for (double* block : builder.PointBlocks()) add_constant(block, kPoints);
 
   // The Jacobian at the solution (loss and manifolds applied) and the data
   // term's fit.

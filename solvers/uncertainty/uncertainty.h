@@ -12,7 +12,10 @@
 //   views of their body-frame perturbation removed are invariant to every
 //   continuous gauge of the data term (docs/model.md), so their covariance
 //   does not depend on that choice. A term that is not gauge-invariant makes
-//   Σ the covariance given the gauge at its value.
+//   Σ the covariance given the gauge at its value. A perspective model's
+//   further gauges (each frame's scale, the basis shift) are the blocks its
+//   problem holds constant (every depth, the most observed point's basis:
+//   problems/problem_builder.h): Σ is given each frame's scale.
 //
 // The inverse is never formed: the frames' (ω, T, l, s per frame) and the
 // points' (b_p) parameters are split, the larger side is factored sparsely
