@@ -154,10 +154,15 @@ Status ComputeUncertainty(const UncertaintyOptions& options,
   // Columns: the frames' side (every block but the points), then the points'.
   std::vector<double*> blocks;
   std::vector<int> block_side;
-  for (double* block : builder.NonPointBlocks()) {
-    if (ceres_problem->IsParameterBlockConstant(block)) continue;
-    blocks.push_back(block);
-    block_side.push_back(kFrames);
+  // In an order that does not depend on where the blocks are in memory
+  // (NonPointBlocks' does), so that the factor's ordering and every sum are
+  // the same from run to run.
+  for (const std::vector<double*>& group : builder.NonPointBlockGroups()) {
+    for (double* block : group) {
+      if (ceres_problem->IsParameterBlockConstant(block)) continue;
+      blocks.push_back(block);
+      block_side.push_back(kFrames);
+    }
   }
   for (double* block : builder.PointBlocks()) {
     if (ceres_problem->IsParameterBlockConstant(block)) continue;
@@ -265,12 +270,14 @@ Status ComputeUncertainty(const UncertaintyOptions& options,
       if (index < 0 || value == 0.0) continue;
       (side == large ? row_large : row_small).emplace_back(index, value);
     }
-    for (const auto& [i, vi] : row_large) {
-      large_entries.emplace_back(r, i, vi);
-      for (const auto& [j, vj] : row_small) h_ls(i, j) += vi * vj;
-    }
-    for (const auto& [i, vi] : row_small) {
-      for (const auto& [j, vj] : row_small) h_ss(i, j) += vi * vj;
+    for (const auto& [i, vi] : row_large) large_entries.emplace_back(r, i, vi);
+    // Column by column (column-major storage: a row's indices on one side
+    // are mostly consecutive), each entry summed in row order.
+    for (const auto& [j, vj] : row_small) {
+      double* ls = h_ls.col(j).data();
+      for (const auto& [i, vi] : row_large) ls[i] += vi * vj;
+      double* ss = h_ss.col(j).data();
+      for (const auto& [i, vi] : row_small) ss[i] += vi * vj;
     }
   }
   SparseMatrix j_large(jacobian.num_rows, nl);
