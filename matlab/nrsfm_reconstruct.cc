@@ -62,6 +62,7 @@
 
 #include "core/io/result_writer.h"
 #include "core/math/rotation.h"
+#include "matlab/mex_util.h"
 #include "mex.h"
 #include "tools/command_flags.h"
 #include "tools/flag_table.h"
@@ -69,6 +70,7 @@
 
 namespace {
 
+namespace mex = ::nrsfm::mex;
 using nrsfm::Model;
 using nrsfm::Status;
 using nrsfm::tools::CommandFlags;
@@ -81,95 +83,6 @@ struct Outcome {
   mxArray* model = nullptr;
   mxArray* summary_json = nullptr;  // a char array, decoded by jsondecode
 };
-
-std::string Lower(std::string s) {
-  for (char& c : s)
-    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-std::string SizeText(const mxArray* a) {
-  const mwSize n = mxGetNumberOfDimensions(a);
-  const mwSize* dims = mxGetDimensions(a);
-  std::string text;
-  for (mwSize i = 0; i < n; ++i)
-    text += (i ? " x " : "") + std::to_string(dims[i]);
-  return text;
-}
-
-// A real, full, 2-D numeric or logical array as a double matrix; `name`
-// names it in errors.
-Status ToMatrix(const mxArray* a, const std::string& name,
-                Eigen::MatrixXd* out) {
-  if (!(mxIsNumeric(a) || mxIsLogical(a)) || mxIsComplex(a) || mxIsSparse(a) ||
-      mxGetNumberOfDimensions(a) != 2) {
-    return Status::Error(name +
-                         " must be a real full 2-D numeric matrix, got a " +
-                         std::string(mxGetClassName(a)) + " array of size " +
-                         SizeText(a) + (mxIsSparse(a) ? " (sparse)" : ""));
-  }
-  const mwSize rows = mxGetM(a), cols = mxGetN(a);
-  out->resize(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(cols));
-  if (mxIsDouble(a)) {
-    *out = Eigen::Map<const Eigen::MatrixXd>(mxGetPr(a), rows, cols);
-    return Status::OK();
-  }
-  // Other classes element by element (mxGetScalar reads only the first).
-  mxArray* converted = nullptr;
-  mxArray* input = const_cast<mxArray*>(a);
-  if (mexCallMATLABWithTrap(1, &converted, 1, &input, "double") != nullptr ||
-      converted == nullptr) {
-    return Status::Error(name + ": cannot convert a " +
-                         std::string(mxGetClassName(a)) + " array to double");
-  }
-  *out = Eigen::Map<const Eigen::MatrixXd>(mxGetPr(converted), rows, cols);
-  mxDestroyArray(converted);
-  return Status::OK();
-}
-
-// An option's value as the tool's flag text: a char row, a logical or a
-// numeric real scalar.
-Status ValueText(const mxArray* a, const std::string& name, std::string* text) {
-  if (mxIsChar(a)) {
-    char* s = mxArrayToString(a);
-    if (s == nullptr) return Status::Error(name + " must be a char row vector");
-    *text = s;
-    mxFree(s);
-    return Status::OK();
-  }
-  if ((mxIsNumeric(a) || mxIsLogical(a)) && !mxIsComplex(a) &&
-      mxGetNumberOfElements(a) == 1) {
-    if (mxIsLogical(a)) {
-      *text = mxGetLogicals(a)[0] ? "true" : "false";
-      return Status::OK();
-    }
-    char buffer[64];
-    std::snprintf(buffer, sizeof(buffer), "%.17g", mxGetScalar(a));
-    *text = buffer;
-    return Status::OK();
-  }
-  return Status::Error(
-      name +
-      " must be a char row, or a real numeric or logical scalar; got a " +
-      std::string(mxGetClassName(a)) + " array of size " + SizeText(a));
-}
-
-// The options nrsfm_reconstruct takes by name (the tool's flags that apply
-// to arrays), lower-case name -> flag name.
-std::vector<std::pair<std::string, std::string>> OptionNames() {
-  std::vector<std::pair<std::string, std::string>> names;
-  for (const nrsfm::tools::FlagInfo& flag : nrsfm::tools::CommandFlagTable()) {
-    if (flag.role == nrsfm::tools::FlagRole::kStart ||
-        flag.role == nrsfm::tools::FlagRole::kOption) {
-      names.emplace_back(Lower(flag.name), flag.name);
-    }
-  }
-  return names;
-}
-
-mxArray* NewArray(std::vector<mwSize> dims) {
-  return mxCreateNumericArray(dims.size(), dims.data(), mxDOUBLE_CLASS, mxREAL);
-}
 
 mxArray* IndexRow(const std::vector<int>& indices) {
   mxArray* a = mxCreateDoubleMatrix(1, indices.size(), mxREAL);
@@ -185,7 +98,8 @@ mxArray* CovarianceArray(const std::vector<Eigen::Matrix3d>& covariances,
                          mwSize n, mwSize f, mwSize m) {
   if (covariances.empty()) return mxCreateDoubleMatrix(0, 0, mxREAL);
   CHECK_EQ(covariances.size(), n * f * m);
-  mxArray* a = n == 1 ? NewArray({3, 3, f, m}) : NewArray({3, 3, n, f, m});
+  mxArray* a =
+      n == 1 ? mex::NewArray({3, 3, f, m}) : mex::NewArray({3, 3, n, f, m});
   for (mwSize t = 0; t < f; ++t) {
     for (mwSize c = 0; c < m; ++c) {
       for (mwSize i = 0; i < n; ++i) {
@@ -205,15 +119,15 @@ mxArray* ModelStruct(const Model& model, const std::vector<int>& dropped_points,
   if (uncertainty == nullptr) uncertainty = &none;
   const mwSize f = model.num_frames, m = model.num_cameras,
                p = model.num_points, k = model.num_bases;
-  mxArray* rotations = NewArray({3, 3, f, m});
-  mxArray* translations = NewArray({2, f, m});
-  mxArray* scales = NewArray({f, m});
-  mxArray* weights = NewArray({f, k});
-  mxArray* basis = NewArray({3, p, k});
-  mxArray* points_object = NewArray({3, p, f});
-  mxArray* points_camera = NewArray({3, p, f, m});
-  mxArray* rig_rotations = NewArray({3, 3, m - 1});
-  mxArray* rig_scales = NewArray({m - 1, 1});
+  mxArray* rotations = mex::NewArray({3, 3, f, m});
+  mxArray* translations = mex::NewArray({2, f, m});
+  mxArray* scales = mex::NewArray({f, m});
+  mxArray* weights = mex::NewArray({f, k});
+  mxArray* basis = mex::NewArray({3, p, k});
+  mxArray* points_object = mex::NewArray({3, p, f});
+  mxArray* points_camera = mex::NewArray({3, p, f, m});
+  mxArray* rig_rotations = mex::NewArray({3, 3, m - 1});
+  mxArray* rig_scales = mex::NewArray({m - 1, 1});
   for (mwSize t = 0; t < f; ++t) {
     for (mwSize c = 0; c < m; ++c) {
       const int view = model.View(static_cast<int>(t), static_cast<int>(c));
@@ -286,36 +200,38 @@ Status Run(int nlhs, int nrhs, const mxArray* prhs[], Outcome* outcome) {
   CommandFlags flags;
   if (mxIsLogical(prhs[1]))
     return Status::Error("K must be a positive integer or 'auto'");
-  NRSFM_RETURN_IF_ERROR(ValueText(prhs[1], "K", &flags.K));
+  NRSFM_RETURN_IF_ERROR(mex::ValueText(prhs[1], "K", &flags.K));
   nrsfm::tools::NumBasesFlag num_bases;
   NRSFM_RETURN_IF_ERROR(
       nrsfm::tools::ParseNumBasesFlag(flags.K, &num_bases).WithContext("--K"));
 
   Eigen::MatrixXd w, mask, observation_weights;
-  NRSFM_RETURN_IF_ERROR(ToMatrix(prhs[0], "W", &w));
+  NRSFM_RETURN_IF_ERROR(mex::ToMatrix(prhs[0], "W", &w));
   int cameras = 1;
-  const std::vector<std::pair<std::string, std::string>> names = OptionNames();
+  const std::vector<std::pair<std::string, std::string>> names =
+      mex::OptionNames(
+          {nrsfm::tools::FlagRole::kStart, nrsfm::tools::FlagRole::kOption});
   for (int i = 2; i < nrhs; i += 2) {
     if (!mxIsChar(prhs[i])) {
       return Status::Error("argument " + std::to_string(i + 1) +
                            " must be an option name (a char row)");
     }
     std::string name;
-    NRSFM_RETURN_IF_ERROR(ValueText(prhs[i], "an option name", &name));
-    const std::string lower = Lower(name);
+    NRSFM_RETURN_IF_ERROR(mex::ValueText(prhs[i], "an option name", &name));
+    const std::string lower = mex::Lower(name);
     const mxArray* value = prhs[i + 1];
     if (lower == "mask") {
-      NRSFM_RETURN_IF_ERROR(ToMatrix(value, "mask", &mask));
+      NRSFM_RETURN_IF_ERROR(mex::ToMatrix(value, "mask", &mask));
       continue;
     }
     if (lower == "observation_weights") {
       NRSFM_RETURN_IF_ERROR(
-          ToMatrix(value, "observation_weights", &observation_weights));
+          mex::ToMatrix(value, "observation_weights", &observation_weights));
       continue;
     }
     if (lower == "cameras") {
       std::string text;
-      NRSFM_RETURN_IF_ERROR(ValueText(value, "cameras", &text));
+      NRSFM_RETURN_IF_ERROR(mex::ValueText(value, "cameras", &text));
       NRSFM_RETURN_IF_ERROR(
           nrsfm::tools::SetFlagFromText("cameras", text, &flags));
       cameras = flags.cameras;
@@ -332,7 +248,7 @@ Status Run(int nlhs, int nrhs, const mxArray* prhs[], Outcome* outcome) {
                            known);
     }
     std::string text;
-    NRSFM_RETURN_IF_ERROR(ValueText(value, flag, &text));
+    NRSFM_RETURN_IF_ERROR(mex::ValueText(value, flag, &text));
     NRSFM_RETURN_IF_ERROR(nrsfm::tools::SetFlagFromText(flag, text, &flags));
   }
 

@@ -8,7 +8,7 @@
 
 #include "core/io/read_measurements.h"
 #include "tools/flag_table.h"
-#include "tools/reconstruction_steps.h"  // VersionString()
+#include "tools/track_summary.h"
 #include "track/tracker.h"
 
 namespace nrsfm {
@@ -72,30 +72,8 @@ Status RunTrack(const CommandFlags& flags, std::ostream& out,
   NRSFM_RETURN_IF_ERROR(
       track::WriteTracksMat((output / kTrackOutputFile).string(), tracks));
 
-  nlohmann::json result;
-  result["version"] = VersionString();
-  result["source"] = frames.name();
-  result["frames"] = tracks.x.rows();
-  result["points"] = tracks.x.cols();
-  result["width"] = frames.size().width;
-  result["height"] = frames.size().height;
-  nlohmann::json options = nlohmann::json::object();
-  for (const FlagInfo& flag : CommandFlagTable()) {
-    if (flag.role == FlagRole::kTracking) options[flag.name] = flag.text(flags);
-  }
-  result["options"] = options;
-  result["window_start_frames"] = nlohmann::json::array();
-  for (int w : tracks.window_start) {
-    result["window_start_frames"].push_back(tracks.frame_numbers[w]);
-  }
-  result["window_rank"] = tracks.window_rank;
-  result["windows_without_basis"] = tracks.windows_without_basis;
-  result["points_lost"] = track::PointsLost(tracks);
-  result["visible_fraction"] =
-      tracks.visible.size() == 0
-          ? 0.0
-          : static_cast<double>(tracks.visible.sum()) / tracks.visible.size();
-  result["seconds"] = tracks.seconds;
+  const nlohmann::json result = TrackSummaryJson(
+      flags, frames.name(), frames.size().width, frames.size().height, tracks);
   const fs::path json_path = output / "result.json";
   std::ofstream json(json_path);
   json << result.dump(2) << "\n";
