@@ -34,9 +34,9 @@ Status RunView(const CommandFlags& flags, std::ostream& out) {
       << data.edge_source << ")";
   if (data.has_truth)
     out << std::setprecision(6) << ", e3D " << data.metrics.e3d;
-    if (data.camera_model == "perspective") {
-      out << " (with one scale " << data.metrics.e3d_scaled << ")";
-    }
+  if (data.camera_model == "perspective") {
+    out << " (with one scale " << data.metrics.e3d_scaled << ")";
+  }
   if (data.has_tracks) {
     out << std::setprecision(6) << ", reprojection RMS "
         << data.reprojection_rms;
