@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
+#include <exception>
 
 namespace nrsfm {
 namespace mex {
@@ -88,6 +89,15 @@ std::vector<std::pair<std::string, std::string>> OptionNames(
 
 mxArray* NewArray(std::vector<mwSize> dims) {
   return mxCreateNumericArray(dims.size(), dims.data(), mxDOUBLE_CLASS, mxREAL);
+}
+
+std::string ErrorOf(const std::function<Status()>& run) {
+  try {
+    const Status status = run();
+    return status.ok() ? std::string() : status.message();
+  } catch (const std::exception& e) {
+    return std::string("internal error: ") + e.what();
+  }
 }
 
 }  // namespace mex

@@ -5,6 +5,7 @@
 #define NRSFM_MATLAB_MEX_UTIL_H_
 
 #include <Eigen/Core>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -32,6 +33,11 @@ std::vector<std::pair<std::string, std::string>> OptionNames(
     const std::vector<tools::FlagRole>& roles);
 // A double array of these dimensions, zeros.
 mxArray* NewArray(std::vector<mwSize> dims);
+// Runs `run` and returns its error text: "" on success, the Status's
+// message, or "internal error: …" for an exception. A MEX function raises
+// it only after every C++ object of the call is gone (MATLAB's
+// mexErrMsgIdAndTxt does not unwind C++ frames).
+std::string ErrorOf(const std::function<Status()>& run);
 
 }  // namespace mex
 }  // namespace nrsfm

@@ -299,12 +299,7 @@ void mexFunction(int nlhs, mxArray* plhs[], int nrhs, const mxArray* prhs[]) {
   // mexErrMsgIdAndTxt leaves it.
   static Outcome outcome;
   outcome = Outcome();
-  try {
-    const Status status = Run(nlhs, nrhs, prhs, &outcome);
-    if (!status.ok()) outcome.error = status.message();
-  } catch (const std::exception& e) {
-    outcome.error = std::string("internal error: ") + e.what();
-  }
+  outcome.error = mex::ErrorOf([&] { return Run(nlhs, nrhs, prhs, &outcome); });
   if (!outcome.error.empty()) {
     mexErrMsgIdAndTxt("nrsfm:error", "%s", outcome.error.c_str());
   }

@@ -29,6 +29,19 @@ inline SyntheticSequence RandomBasisSequence(int frames, int points, int bases,
   return sequence;
 }
 
+// The truth of a sequence as GenerateReprojection takes it: the object-frame
+// shapes S_t, camera 0's rotations and camera-frame shapes ("S+Rs").
+inline GroundTruth ObjectFrameTruth(const SyntheticSequence& sequence) {
+  GroundTruth truth;
+  truth.source = "S+Rs";
+  for (int t = 0; t < sequence.truth.num_frames; ++t) {
+    truth.points_in_object.push_back(sequence.truth.ShapeInObject(t));
+    truth.rotations.push_back(sequence.truth.Rotation(t, 0));
+    truth.points_in_camera.push_back(sequence.truth.ShapeInCamera(t, 0));
+  }
+  return truth;
+}
+
 }  // namespace testing_util
 }  // namespace nrsfm
 

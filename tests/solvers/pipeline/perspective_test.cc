@@ -19,13 +19,7 @@ namespace {
 ReprojectedSequence Pinhole(double distance_ratio) {
   const SyntheticSequence source =
       testing_util::RandomBasisSequence(300, 50, 3);
-  GroundTruth truth;
-  truth.source = "S+Rs";
-  for (int t = 0; t < source.truth.num_frames; ++t) {
-    truth.points_in_object.push_back(source.truth.ShapeInObject(t));
-    truth.rotations.push_back(source.truth.Rotation(t, 0));
-    truth.points_in_camera.push_back(source.truth.ShapeInCamera(t, 0));
-  }
+  const GroundTruth truth = testing_util::ObjectFrameTruth(source);
   ReprojectOptions options;
   options.distance_ratio = distance_ratio;
   options.noise_fraction = 1e-3;

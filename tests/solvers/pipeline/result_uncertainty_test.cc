@@ -113,13 +113,7 @@ TEST(ResultUncertainty, PerspectiveCalibratedGivenEachFramesScale) {
       SCOPED_TRACE(testing::Message() << "ratio " << ratio << " seed " << seed);
       const SyntheticSequence source =
           testing_util::RandomBasisSequence(100, 40, 3, 0.0, 0.0, seed);
-      GroundTruth truth;
-      truth.source = "S+Rs";
-      for (int t = 0; t < source.truth.num_frames; ++t) {
-        truth.points_in_object.push_back(source.truth.ShapeInObject(t));
-        truth.rotations.push_back(source.truth.Rotation(t, 0));
-        truth.points_in_camera.push_back(source.truth.ShapeInCamera(t, 0));
-      }
+      const GroundTruth truth = testing_util::ObjectFrameTruth(source);
       ReprojectOptions reproject;
       reproject.distance_ratio = ratio;
       reproject.noise_fraction = 2e-3;
