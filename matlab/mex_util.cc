@@ -87,6 +87,25 @@ std::vector<std::pair<std::string, std::string>> OptionNames(
   return names;
 }
 
+Status SetOption(const std::vector<std::pair<std::string, std::string>>& names,
+                 const std::string& name, const mxArray* value,
+                 const std::string& others, tools::CommandFlags* flags) {
+  const std::string lower = Lower(name);
+  std::string flag;
+  for (const auto& [key, flag_name] : names) {
+    if (key == lower) flag = flag_name;
+  }
+  if (flag.empty()) {
+    std::string known = others;
+    for (const auto& entry : names) known += ", " + entry.second;
+    return Status::Error("unknown option '" + name + "'; the options are " +
+                         known);
+  }
+  std::string text;
+  NRSFM_RETURN_IF_ERROR(ValueText(value, flag, &text));
+  return tools::SetFlagFromText(flag, text, flags);
+}
+
 mxArray* NewArray(std::vector<mwSize> dims) {
   return mxCreateNumericArray(dims.size(), dims.data(), mxDOUBLE_CLASS, mxREAL);
 }

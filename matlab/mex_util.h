@@ -12,6 +12,7 @@
 
 #include "core/model/status.h"
 #include "mex.h"
+#include "tools/command_flags.h"
 #include "tools/flag_table.h"
 
 namespace nrsfm {
@@ -31,6 +32,12 @@ Status ValueText(const mxArray* a, const std::string& name, std::string* text);
 // flag name.
 std::vector<std::pair<std::string, std::string>> OptionNames(
     const std::vector<tools::FlagRole>& roles);
+// Sets the tool's flag `name` (any case; one of `names`, from OptionNames)
+// from `value` (ValueText). An unknown name is an error listing `others`
+// (the function's own options, ", "-separated) and the flags.
+Status SetOption(const std::vector<std::pair<std::string, std::string>>& names,
+                 const std::string& name, const mxArray* value,
+                 const std::string& others, tools::CommandFlags* flags);
 // A double array of these dimensions, zeros.
 mxArray* NewArray(std::vector<mwSize> dims);
 // Runs `run` and returns its error text: "" on success, the Status's

@@ -237,19 +237,8 @@ Status Run(int nlhs, int nrhs, const mxArray* prhs[], Outcome* outcome) {
       cameras = flags.cameras;
       continue;
     }
-    std::string flag;
-    for (const auto& [key, flag_name] : names) {
-      if (key == lower) flag = flag_name;
-    }
-    if (flag.empty()) {
-      std::string known = "mask, cameras, observation_weights";
-      for (const auto& entry : names) known += ", " + entry.second;
-      return Status::Error("unknown option '" + name + "'; the options are " +
-                           known);
-    }
-    std::string text;
-    NRSFM_RETURN_IF_ERROR(mex::ValueText(value, flag, &text));
-    NRSFM_RETURN_IF_ERROR(nrsfm::tools::SetFlagFromText(flag, text, &flags));
+    NRSFM_RETURN_IF_ERROR(mex::SetOption(
+        names, name, value, "mask, cameras, observation_weights", &flags));
   }
 
   flags.cameras = cameras;

@@ -200,19 +200,8 @@ Status Run(int nlhs, int nrhs, const mxArray* prhs[], Outcome* outcome) {
       mask_array = prhs[i + 1];
       continue;
     }
-    std::string flag;
-    for (const auto& [key, flag_name] : names) {
-      if (key == lower) flag = flag_name;
-    }
-    if (flag.empty()) {
-      std::string known = "queries, mask";
-      for (const auto& entry : names) known += ", " + entry.second;
-      return Status::Error("unknown option '" + name + "'; the options are " +
-                           known);
-    }
-    std::string text;
-    NRSFM_RETURN_IF_ERROR(mex::ValueText(prhs[i + 1], flag, &text));
-    NRSFM_RETURN_IF_ERROR(nrsfm::tools::SetFlagFromText(flag, text, &flags));
+    NRSFM_RETURN_IF_ERROR(
+        mex::SetOption(names, name, prhs[i + 1], "queries, mask", &flags));
   }
   nrsfm::tools::FlagTargets targets;
   NRSFM_RETURN_IF_ERROR(nrsfm::tools::ApplyFlags(flags, &targets));

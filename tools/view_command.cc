@@ -34,7 +34,7 @@ Status RunView(const CommandFlags& flags, std::ostream& out) {
       << data.edge_source << ")";
   if (data.has_truth)
     out << std::setprecision(6) << ", e3D " << data.metrics.e3d;
-  if (data.camera_model == "perspective") {
+  if (data.camera_model == CameraModel::kPerspective) {
     out << " (with one scale " << data.metrics.e3d_scaled << ")";
   }
   if (data.has_tracks) {

@@ -22,7 +22,7 @@
 #include "solvers/uncertainty/uncertainty.h"
 #include "tools/flag_table.h"
 #include "tools/reconstruction_steps.h"
-#include "track/tracks.h"
+#include "tools/view_frame_images.h"
 
 namespace nrsfm {
 namespace tools {
@@ -359,77 +359,6 @@ Status AddEdges(const ViewDataOptions& options, const Measurements* tracks,
   return Status::OK();
 }
 
-// RFC 4648 base64 of `bytes`, with padding.
-std::string Base64(const std::string& bytes) {
-  static constexpr char kAlphabet[] =
-      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  out.reserve((bytes.size() + 2) / 3 * 4);
-  std::size_t i = 0;
-  for (; i + 2 < bytes.size(); i += 3) {
-    const unsigned v = (static_cast<unsigned char>(bytes[i]) << 16) |
-                       (static_cast<unsigned char>(bytes[i + 1]) << 8) |
-                       static_cast<unsigned char>(bytes[i + 2]);
-    out += kAlphabet[v >> 18];
-    out += kAlphabet[(v >> 12) & 63];
-    out += kAlphabet[(v >> 6) & 63];
-    out += kAlphabet[v & 63];
-  }
-  if (i < bytes.size()) {
-    unsigned v = static_cast<unsigned char>(bytes[i]) << 16;
-    if (i + 1 < bytes.size())
-      v |= static_cast<unsigned char>(bytes[i + 1]) << 8;
-    out += kAlphabet[v >> 18];
-    out += kAlphabet[(v >> 12) & 63];
-    out += i + 1 < bytes.size() ? kAlphabet[(v >> 6) & 63] : '=';
-    out += '=';
-  }
-  return out;
-}
-
-// The frames of options.frames_dir as data: URLs (the files' bytes; the
-// browser decodes them), one per frame of the result.
-Status AddFrameImages(const ViewDataOptions& options, ViewData* data) {
-  const std::string& dir = options.frames_dir;
-  if (data->num_cameras != 1) {
-    return Status::Error("--frames_dir '" + dir + "': the result has " +
-                         Str(data->num_cameras) +
-                         " cameras; frames are drawn for one camera");
-  }
-  std::vector<track::FrameFile> files;
-  NRSFM_RETURN_IF_ERROR(
-      track::ListFrameFiles(dir, &files).WithContext("--frames_dir"));
-  if (static_cast<int>(files.size()) != data->num_frames) {
-    return Status::Error(
-        "--frames_dir '" + dir + "' holds " +
-        Str(static_cast<int>(files.size())) +
-        " frames but the result has F = " + Str(data->num_frames));
-  }
-  for (const track::FrameFile& file : files) {
-    std::string ext = fs::path(file.path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return std::tolower(c); });
-    const char* mime = ext == ".png"                     ? "image/png"
-                       : ext == ".jpg" || ext == ".jpeg" ? "image/jpeg"
-                       : ext == ".bmp"                   ? "image/bmp"
-                       : ext == ".webp"                  ? "image/webp"
-                                                         : nullptr;
-    if (mime == nullptr) {
-      return Status::Error("--frames_dir: " + file.path +
-                           ": a page shows PNG, JPEG, BMP or WebP frames");
-    }
-    std::ifstream in(file.path, std::ios::binary);
-    const std::string bytes((std::istreambuf_iterator<char>(in)),
-                            std::istreambuf_iterator<char>());
-    if (!in && !in.eof()) {
-      return Status::Error("--frames_dir: " + file.path + ": cannot read it");
-    }
-    data->frame_images.push_back(std::string("data:") + mime + ";base64," +
-                                 Base64(bytes));
-  }
-  return Status::OK();
-}
-
 }  // namespace
 
 Status GatherViewData(const ViewDataOptions& options, ViewData* data) {
@@ -452,10 +381,10 @@ Status GatherViewData(const ViewDataOptions& options, ViewData* data) {
   NRSFM_RETURN_IF_ERROR(ReadPointsCameraCsv(dir, 0, &camera0));
   result.num_frames = camera0.NumFrames();
   result.num_points = camera0.NumPoints();
-  CameraModel camera_model = CameraModel::kWeakPerspective;
   Eigen::Matrix4Xd intrinsics;
-  NRSFM_RETURN_IF_ERROR(ReadResultCamera(dir, &camera_model, &intrinsics));
-  const bool perspective = camera_model == CameraModel::kPerspective;
+  NRSFM_RETURN_IF_ERROR(
+      ReadResultCamera(dir, &result.camera_model, &intrinsics));
+  const bool perspective = result.camera_model == CameraModel::kPerspective;
   Eigen::Matrix2Xd translations;
   NRSFM_RETURN_IF_ERROR(ReadTranslations(dir, result.num_frames, perspective,
                                          &translations, &result.num_cameras));
@@ -526,7 +455,6 @@ Status GatherViewData(const ViewDataOptions& options, ViewData* data) {
   // Without a truth the camera frame is shown; with one, the frame it is
   // scored in (AddTruth).
   result.scoring_frame = "camera 0's frame (points_camera.csv)";
-  result.camera_model = perspective ? "perspective" : "weak_perspective";
   for (const Eigen::Matrix3Xd& x : camera0.points_in_camera)
     result.estimate.push_back(Centred(x));
   if (!options.truth_path.empty()) {

@@ -23,6 +23,7 @@
 
 #include "core/eval/metrics.h"
 #include "core/io/read_measurements.h"
+#include "core/model/model.h"
 #include "core/model/status.h"
 
 namespace nrsfm {
@@ -52,10 +53,10 @@ struct ViewData {
   int num_points = 0;         // P
   int num_bases = -1;         // K from result.json; -1 when unknown
   std::string scoring_frame;  // the frame of `estimate`, in words
-  // result.json's "camera": "weak_perspective" (also without the key) or
-  // "perspective" (points_camera.csv then holds the translation, and the
-  // reprojection is the pinhole projection with result.json's intrinsics).
-  std::string camera_model;
+  // result.json's camera (core/io/result_reader.h ReadResultCamera): with a
+  // perspective one points_camera.csv holds the translation, and the
+  // reprojection is the pinhole projection with result.json's intrinsics.
+  CameraModel camera_model = CameraModel::kWeakPerspective;
 
   // F entries, 3 × P: the estimate in the scoring frame, centred per frame.
   std::vector<Eigen::Matrix3Xd> estimate;

@@ -101,7 +101,7 @@ std::string DataJson(const ViewData& data, const ViewPageSources& sources) {
   meta["truth"] = sources.truth_path;
   meta["input"] = sources.input_path;
   meta["scoring_frame"] = data.scoring_frame;
-  meta["camera_model"] = data.camera_model;
+  meta["camera_model"] = CameraModelName(data.camera_model);
   meta["has_truth"] = data.has_truth;
   meta["has_tracks"] = data.has_tracks;
   meta["has_uncertainty"] = data.has_uncertainty;

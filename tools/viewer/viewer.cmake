@@ -33,5 +33,6 @@ add_custom_command(OUTPUT ${_viewer_assets}
 set(NRSFM_VIEWER_SOURCES
   ${CMAKE_CURRENT_SOURCE_DIR}/view_command.cc
   ${CMAKE_CURRENT_SOURCE_DIR}/view_data.cc
+  ${CMAKE_CURRENT_SOURCE_DIR}/view_frame_images.cc
   ${CMAKE_CURRENT_SOURCE_DIR}/view_page.cc
   ${_viewer_assets})
