@@ -335,8 +335,20 @@ Model ModelFromPython(py::handle object, const Measurements& m) {
   };
   const auto rotations =
       WithShape(required("rotations"), "model.rotations", {f, cams, 3, 3});
-  const auto translations =
-      WithShape(required("translations"), "model.translations", {f, cams, 2});
+  const bool perspective = m.intrinsics.cols() == cams;
+  if (perspective) {
+    model.camera = CameraModel::kPerspective;
+    model.intrinsics = m.intrinsics;
+  }
+  py::object translations_object = required("translations");
+  const auto given = AsDoubleArray(translations_object, "model.translations");
+  if (!perspective && given.ndim() == 3 && given.shape(2) == 3) {
+    ThrowValueError(
+        "model.translations has a depth t_z (shape (F, M, 3)): a perspective "
+        "model, which refine() takes with intrinsics=[fx, fy, cx, cy]");
+  }
+  const auto translations = WithShape(translations_object, "model.translations",
+                                      {f, cams, perspective ? 3 : 2});
   const auto basis = WithShape(required("basis"), "model.basis", {k, 3, p});
   auto rot = rotations.unchecked<4>();
   auto tra = translations.unchecked<3>();
@@ -364,6 +376,7 @@ Model ModelFromPython(py::handle object, const Measurements& m) {
       model.SetRotation(t, c, r);
       for (int i = 0; i < 2; ++i)
         model.translations(i, model.View(t, c)) = tra(t, c, i);
+      if (perspective) model.depths(model.View(t, c)) = tra(t, c, 2);
     }
   }
   auto wei = weights_array.unchecked<2>();

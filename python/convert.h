@@ -107,7 +107,9 @@ Reconstruction FromModel(const Model& model);
 py::object Field(py::handle object, const char* name);
 
 // A model for refine() from a Reconstruction or a mapping with its fields,
-// sized by `m`; ValueError naming the field that does not fit.
+// sized by `m`; ValueError naming the field that does not fit. With the
+// intrinsics of every camera in `m` it is a pinhole model (docs/camera.md):
+// translations (F, M, 3), t_z last; else weak perspective, (F, M, 2).
 Model ModelFromPython(py::handle object, const Measurements& m);
 
 }  // namespace python

@@ -229,13 +229,13 @@ Reconstruction Reconstruct(py::handle w, py::handle k, py::handle mask,
 
 Reconstruction Refine(py::handle w, py::handle model_object, py::handle mask,
                       int cameras, py::object progress,
-                      py::handle observation_weights,
+                      py::handle observation_weights, py::handle intrinsics,
                       const py::kwargs& kwargs) {
   CommandFlags flags;
   ApplyKeywords(RefineOptionsOf(), "refine", kwargs, &flags);
   tools::FlagTargets targets;
-  const Measurements measurements =
-      ArrayTargets(w, mask, cameras, observation_weights, &flags, &targets);
+  const Measurements measurements = ArrayTargets(
+      w, mask, cameras, observation_weights, &flags, &targets, intrinsics);
   ReconstructOptions& options = targets.reconstruct;
   Model model = ModelFromPython(model_object, measurements);
 

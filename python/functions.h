@@ -42,7 +42,8 @@ Reconstruction Reconstruct(py::handle w, py::handle k, py::handle mask,
                            py::handle intrinsics, const py::kwargs& kwargs);
 Reconstruction Refine(py::handle w, py::handle model_object, py::handle mask,
                       int cameras, py::object progress,
-                      py::handle observation_weights, const py::kwargs& kwargs);
+                      py::handle observation_weights, py::handle intrinsics,
+                      const py::kwargs& kwargs);
 Tracks Read(py::handle path_object, const py::kwargs& kwargs);
 Tracks Synth(const py::kwargs& kwargs);
 Tracks Track(py::handle frames, py::handle queries, py::handle mask,

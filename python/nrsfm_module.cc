@@ -107,7 +107,7 @@ std::string ReconstructDoc() {
 std::string RefineDoc() {
   return "refine(W, model, mask=None, cameras=1, progress=None, "
          "observation_weights=None,\n"
-         "       **options) -> Reconstruction\n"
+         "       intrinsics=None, **options) -> Reconstruction\n"
          "\n"
          "Levenberg-Marquardt refinement of a model of your own (the library's "
          "Refine(),\n"
@@ -120,6 +120,11 @@ std::string RefineDoc() {
          "rig_scales\n"
          "optional (1, identity, 1); shapes as below. The model given is not "
          "changed.\n"
+         "With intrinsics ((M, 4) or (4,), fx, fy, cx, cy) the model is a "
+         "pinhole one:\n"
+         "translations (F, M, 3), t_z last; its depths and the basis of the "
+         "most observed\n"
+         "point are held (the gauges, docs/camera.md).\n"
          "progress, Ctrl-C and observation_weights as for reconstruct. "
          "summary: usable,\n"
          "converged, stopped,\n"
@@ -340,7 +345,8 @@ PYBIND11_MODULE(nrsfm, m) {
   m.def("refine", &Refine, Keep(RefineDoc()), py::arg("W"), py::arg("model"),
         py::arg("mask") = py::none(), py::arg("cameras") = 1,
         py::arg("progress") = py::none(),
-        py::arg("observation_weights") = py::none());
+        py::arg("observation_weights") = py::none(),
+        py::arg("intrinsics") = py::none());
   m.def("read", &Read, Keep(ReadDoc()), py::arg("path"));
   m.def("evaluate", &Evaluate, Keep(EvaluateDoc()), py::arg("truth"),
         py::arg("result"));
