@@ -340,15 +340,15 @@ Model ModelFromPython(py::handle object, const Measurements& m) {
     model.camera = CameraModel::kPerspective;
     model.intrinsics = m.intrinsics;
   }
-  py::object translations_object = required("translations");
-  const auto given = AsDoubleArray(translations_object, "model.translations");
+  const auto given =
+      AsDoubleArray(required("translations"), "model.translations");
   if (!perspective && given.ndim() == 3 && given.shape(2) == 3) {
     ThrowValueError(
         "model.translations has a depth t_z (shape (F, M, 3)): a perspective "
         "model, which refine() takes with intrinsics=[fx, fy, cx, cy]");
   }
-  const auto translations = WithShape(translations_object, "model.translations",
-                                      {f, cams, perspective ? 3 : 2});
+  const auto translations =
+      WithShape(given, "model.translations", {f, cams, perspective ? 3 : 2});
   const auto basis = WithShape(required("basis"), "model.basis", {k, 3, p});
   auto rot = rotations.unchecked<4>();
   auto tra = translations.unchecked<3>();

@@ -259,10 +259,9 @@ def _pinhole_sequence():
 def test_a_calibrated_pinhole_camera_with_intrinsics():
     w, truth, _, intrinsics = _pinhole_sequence()
     frames = truth.shape[0]
-    f, _, cx, cy = intrinsics
     errors = {}
     for camera in ("weak_perspective", "perspective"):
-        r = nrsfm.reconstruct(w, 2, camera=camera, intrinsics=[f, f, cx, cy],
+        r = nrsfm.reconstruct(w, 2, camera=camera, intrinsics=intrinsics,
                               priors="manual", depth=truth[0, 2].mean())
         assert r.translations.shape == (frames, 1, 3 if camera == "perspective" else 2)
         errors[camera] = _scaled_e3d(r.points_camera[:, 0], truth)
@@ -273,7 +272,7 @@ def test_a_calibrated_pinhole_camera_with_intrinsics():
     # --depth: the first frame's mean depth is the truth's, so the depths are in its units.
     assert abs(r.translations[:, 0, 2].mean() - truth[:, 2].mean()) < 0.05 * truth[:, 2].mean()
     with pytest.raises(ValueError) as error:
-        nrsfm.reconstruct(w, 2, camera="perspective", intrinsics=[[f, f, cx]])
+        nrsfm.reconstruct(w, 2, camera="perspective", intrinsics=[intrinsics[:3]])
     assert str(error.value) == ("intrinsics has shape (1, 3), expected (1, 4): fx, fy, cx, cy "
                                 "of each of the M = 1 cameras (or (4,))")
 
